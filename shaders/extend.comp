@@ -1,0 +1,17 @@
+#version 460
+// Stage 2: closest hit for every queued path. One ray per invocation, so the
+// traversal's bounded step count is the invocation's whole loop budget.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/kernel.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
+  uint path = queues[pc.queueIn * pc.capacity + i];
+  Hit h;
+  if (trace_ray(paths[path].origin, paths[path].dir, WP_INF, false, h) != TRACE_OK) {
+    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
+    h.prim = WP_INVALID;
+  }
+  hits[path] = h;
+}

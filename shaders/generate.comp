@@ -1,0 +1,14 @@
+#version 460
+// Stage 1: one camera ray per pixel of the wave; every path enters queue 0.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/kernel.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i == 0u) counters[COUNTER_QUEUE0] = pc.pathCount;
+  if (i >= pc.pathCount) return;
+  PathState p;
+  path_begin(p, pc.waveStart + i, pc.sampleIndex);
+  paths[i] = p;
+  queues[i] = i;
+}

@@ -1,0 +1,26 @@
+#version 460
+// Sizes the next indirect dispatch from a queue counter, and resets the queues
+// the next stage appends to. Runs as a single invocation.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/kernel.glsl"
+
+uint groups_for(uint n) {
+  return (n + uint(WORKGROUP_SIZE) - 1u) / uint(WORKGROUP_SIZE);
+}
+
+void main() {
+  if (gl_GlobalInvocationID.x != 0u) return;
+  if (pc.phase == PREPARE_EXTEND) {
+    uint base = INDIRECT_EXTEND * 3u;
+    indirect[base] = groups_for(counters[COUNTER_QUEUE0 + pc.queueIn]);
+    indirect[base + 1u] = 1u;
+    indirect[base + 2u] = 1u;
+    counters[COUNTER_QUEUE0 + (1u - pc.queueIn)] = 0u;
+    counters[COUNTER_SHADOW] = 0u;
+  } else {
+    uint base = INDIRECT_CONNECT * 3u;
+    indirect[base] = groups_for(counters[COUNTER_SHADOW]);
+    indirect[base + 1u] = 1u;
+    indirect[base + 2u] = 1u;
+  }
+}

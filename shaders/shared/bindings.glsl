@@ -1,0 +1,57 @@
+// bindings.glsl — the one descriptor set every kernel uses, and the push
+// constants. The binding numbers are shared with the host (src/gpu/wavefront.cpp
+// binds buffers by these names); the buffer declarations are GLSL only.
+#ifndef WP_BINDINGS_GLSL
+#define WP_BINDINGS_GLSL
+
+#define BINDING_SCENE 0
+#define BINDING_NODES 1
+#define BINDING_TRIANGLES 2
+#define BINDING_SPHERES 3
+#define BINDING_MATERIALS 4
+#define BINDING_EMITTERS 5
+#define BINDING_PATHS 6
+#define BINDING_HITS 7
+#define BINDING_QUEUES 8
+#define BINDING_SHADOW_RAYS 9
+#define BINDING_COUNTERS 10
+#define BINDING_INDIRECT 11
+#define BINDING_ACCUM 12
+#define BINDING_COUNT 13
+
+#define WORKGROUP_SIZE 64
+
+// Push constants of every kernel. Queues live in one buffer: queue q occupies
+// [q * capacity, (q + 1) * capacity).
+struct KernelPush {
+  uint waveStart;   // first pixel of this wave
+  uint pathCount;   // paths in this wave
+  uint sampleIndex; // sample number of every path of this wave
+  uint queueIn;     // 0 or 1: the queue of paths to extend / shade
+  uint capacity;    // path slots per queue
+  uint phase;       // prepare kernel: PREPARE_*
+  uint pad0;
+  uint pad1;
+};
+
+#define PREPARE_EXTEND 0u
+#define PREPARE_CONNECT 1u
+
+#ifndef __cplusplus
+layout(std140, set = 0, binding = BINDING_SCENE) uniform SceneBlock { SceneParams scene; };
+layout(std430, set = 0, binding = BINDING_NODES) readonly buffer NodeBuffer { BvhNode nodes[]; };
+layout(std430, set = 0, binding = BINDING_TRIANGLES) readonly buffer TriangleBuffer { Triangle triangles[]; };
+layout(std430, set = 0, binding = BINDING_SPHERES) readonly buffer SphereBuffer { Sphere spheres[]; };
+layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { Material materials[]; };
+layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer EmitterBuffer { Emitter emitters[]; };
+layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
+layout(std430, set = 0, binding = BINDING_HITS) buffer HitBuffer { Hit hits[]; };
+layout(std430, set = 0, binding = BINDING_QUEUES) buffer QueueBuffer { uint queues[]; };
+layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRay shadowRays[]; };
+layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
+layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
+layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };
+layout(push_constant) uniform PushBlock { KernelPush pc; };
+#endif
+
+#endif  // WP_BINDINGS_GLSL

@@ -1,0 +1,34 @@
+// common.glsl — the bridge that lets every file in shaders/shared/ compile twice:
+// as GLSL 4.60 for the compute kernels, and as C++17 (with GLM) for the host and
+// the CPU reference renderer. Shared code follows a few rules so both compilers
+// accept it:
+//   * no swizzles (GLM only has them behind a slow macro): write vec3(a.x, a.y, a.z);
+//   * out / inout parameters are spelled OUT(T) / INOUT(T);
+//   * constants are #defines or namespace-scope `const` (never inside functions
+//     that C++ compiles as struct members);
+//   * structs are vec4 / uvec4 / (vec3 + one 4-byte scalar) so std430 and C++ agree;
+//     tests/test_layout.cpp checks that against the SPIR-V the kernels compile to.
+#ifndef WP_COMMON_GLSL
+#define WP_COMMON_GLSL
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+namespace wp::shader {
+using namespace glm;
+using uint = std::uint32_t;
+}  // namespace wp::shader
+#define OUT(T) T&
+#define INOUT(T) T&
+#else
+#define OUT(T) out T
+#define INOUT(T) inout T
+#endif
+
+#define WP_PI 3.14159265358979323846f
+#define WP_INV_PI 0.31830988618379067154f
+#define WP_INF 3.402823466e+38f
+#define WP_INVALID 0xffffffffu
+
+#endif  // WP_COMMON_GLSL

@@ -1,0 +1,77 @@
+// sampling.glsl — warps from the unit square to the domains a path tracer samples,
+// each paired with its pdf, plus the MIS heuristic. tests/test_sampling.cpp
+// checks every warp against its pdf with a chi-square test.
+#ifndef WP_SAMPLING_GLSL
+#define WP_SAMPLING_GLSL
+
+// Shirley-Chiu concentric map to the unit disk (area-preserving, low distortion).
+vec2 square_to_disk_concentric(vec2 u) {
+  float ox = 2.0f * u.x - 1.0f;
+  float oy = 2.0f * u.y - 1.0f;
+  if (ox == 0.0f && oy == 0.0f) return vec2(0.0f);
+  float r;
+  float theta;
+  if (abs(ox) > abs(oy)) {
+    r = ox;
+    theta = (WP_PI / 4.0f) * (oy / ox);
+  } else {
+    r = oy;
+    theta = (WP_PI / 2.0f) - (WP_PI / 4.0f) * (ox / oy);
+  }
+  return vec2(r * cos(theta), r * sin(theta));
+}
+
+float square_to_disk_concentric_pdf(vec2 p) {
+  return dot(p, p) <= 1.0f ? WP_INV_PI : 0.0f;
+}
+
+// Cosine-weighted hemisphere around +Z (Malley's method).
+vec3 square_to_cosine_hemisphere(vec2 u) {
+  vec2 d = square_to_disk_concentric(u);
+  float z = sqrt(max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
+  return vec3(d.x, d.y, z);
+}
+
+float square_to_cosine_hemisphere_pdf(vec3 v) {
+  return v.z > 0.0f ? v.z * WP_INV_PI : 0.0f;
+}
+
+vec3 square_to_uniform_sphere(vec2 u) {
+  float z = 1.0f - 2.0f * u.x;
+  float r = sqrt(max(0.0f, 1.0f - z * z));
+  float phi = 2.0f * WP_PI * u.y;
+  return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+float square_to_uniform_sphere_pdf(vec3 v) {
+  return 1.0f / (4.0f * WP_PI);
+}
+
+// Uniform barycentrics (b1, b2) on a triangle: the point is (1-b1-b2)v0 + b1 v1 + b2 v2.
+// Uses the square-root parameterisation (Osada et al.); pdf is 1 / area.
+vec2 square_to_triangle_barycentric(vec2 u) {
+  float su = sqrt(u.x);
+  return vec2(1.0f - su, u.y * su);
+}
+
+// Power heuristic with beta = 2 (Veach).
+float power_heuristic(float pdfA, float pdfB) {
+  float a = pdfA * pdfA;
+  float b = pdfB * pdfB;
+  return a + b > 0.0f ? a / (a + b) : 0.0f;
+}
+
+// Orthonormal basis around unit n (Duff et al., JCGT 2017), no branch on n.z.
+void make_frame(vec3 n, OUT(vec3) t, OUT(vec3) b) {
+  float s = n.z >= 0.0f ? 1.0f : -1.0f;
+  float a = -1.0f / (s + n.z);
+  float c = n.x * n.y * a;
+  t = vec3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+  b = vec3(c, s + n.y * n.y * a, -n.y);
+}
+
+vec3 frame_to_world(vec3 v, vec3 t, vec3 b, vec3 n) {
+  return t * v.x + b * v.y + n * v.z;
+}
+
+#endif  // WP_SAMPLING_GLSL

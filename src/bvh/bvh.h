@@ -1,0 +1,53 @@
+// bvh.h — BVH2 over triangles and spheres, built on the host with binned SAH
+// (or the darts "middle" / "equal" splits), in parallel, directly into the flat
+// node array the kernels and the CPU reference traverse (shader::BvhNode).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+#include "render/shader_cpp.h"
+#include "scene/scene.h"
+
+namespace wp {
+
+struct Aabb {
+  glm::vec3 lo{3.0e38f};
+  glm::vec3 hi{-3.0e38f};
+  void grow(const Aabb& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  void grow(glm::vec3 p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  bool empty() const { return lo.x > hi.x; }
+  float half_area() const {
+    if (empty()) return 0.0f;
+    glm::vec3 d = hi - lo;
+    return d.x * d.y + d.y * d.z + d.z * d.x;
+  }
+};
+
+struct BvhInput {
+  std::vector<Aabb> bounds;      // one per primitive
+  std::vector<uint8_t> isSphere; // leaves never mix the two kinds
+};
+
+struct Bvh {
+  std::vector<shader::BvhNode> nodes;  // node 0 is the root
+  // Leaf order: primitive ids as given to build_bvh, leaf after leaf. A leaf's
+  // leftFirst indexes this array until compile_scene rewrites it to index the
+  // reordered triangle or sphere array.
+  std::vector<uint32_t> order;
+  int depth = 0;
+  double sahCost = 0.0;  // expected cost per ray, traversal = 1, intersection = 1
+  double buildSeconds = 0.0;
+};
+
+Bvh build_bvh(const BvhInput& input, const AcceleratorSettings& settings);
+
+}  // namespace wp

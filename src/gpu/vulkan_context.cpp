@@ -1,0 +1,228 @@
+#include "gpu/vulkan_context.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                     VkDebugUtilsMessageTypeFlagsEXT,
+                                                     const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+  if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
+  static_cast<std::atomic<uint64_t>*>(user)->fetch_add(1);
+  std::fprintf(stderr, "wavepath: validation: %s\n", data->pMessage ? data->pMessage : "(no message)");
+  return VK_FALSE;
+}
+
+std::string type_name(vk::PhysicalDeviceType t) {
+  switch (t) {
+    case vk::PhysicalDeviceType::eDiscreteGpu: return "discrete";
+    case vk::PhysicalDeviceType::eIntegratedGpu: return "integrated";
+    case vk::PhysicalDeviceType::eVirtualGpu: return "virtual";
+    case vk::PhysicalDeviceType::eCpu: return "cpu";
+    default: return "other";
+  }
+}
+
+int type_rank(vk::PhysicalDeviceType t) {
+  switch (t) {
+    case vk::PhysicalDeviceType::eDiscreteGpu: return 0;
+    case vk::PhysicalDeviceType::eIntegratedGpu: return 1;
+    case vk::PhysicalDeviceType::eVirtualGpu: return 2;
+    case vk::PhysicalDeviceType::eCpu: return 3;
+    default: return 4;
+  }
+}
+
+std::optional<uint32_t> compute_queue_family(const vk::raii::PhysicalDevice& pd) {
+  auto families = pd.getQueueFamilyProperties();
+  for (uint32_t i = 0; i < families.size(); ++i)
+    if (families[i].queueFlags & vk::QueueFlagBits::eCompute) return i;
+  return std::nullopt;
+}
+
+GpuDeviceInfo describe(const vk::raii::PhysicalDevice& pd, uint32_t index) {
+  GpuDeviceInfo info;
+  info.index = index;
+  auto chain = pd.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties,
+                                 vk::PhysicalDeviceSubgroupProperties>();
+  const auto& p = chain.get<vk::PhysicalDeviceProperties2>().properties;
+  const auto& d = chain.get<vk::PhysicalDeviceDriverProperties>();
+  info.name = p.deviceName.data();
+  info.type = type_name(p.deviceType);
+  info.driver = std::string(d.driverName.data()) + " " + d.driverInfo.data();
+  info.apiVersion = std::to_string(VK_API_VERSION_MAJOR(p.apiVersion)) + "." + std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) +
+                    "." + std::to_string(VK_API_VERSION_PATCH(p.apiVersion));
+  info.maxStorageBufferRange = p.limits.maxStorageBufferRange;
+  info.maxComputeWorkGroupCount = p.limits.maxComputeWorkGroupCount[0];
+  info.maxComputeWorkGroupInvocations = p.limits.maxComputeWorkGroupInvocations;
+  info.subgroupSize = chain.get<vk::PhysicalDeviceSubgroupProperties>().subgroupSize;
+  auto mem = pd.getMemoryProperties();
+  for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
+    if (mem.memoryHeaps[h].flags & vk::MemoryHeapFlagBits::eDeviceLocal) info.deviceLocalMemory += mem.memoryHeaps[h].size;
+  info.suitable = p.apiVersion >= VK_API_VERSION_1_1 && compute_queue_family(pd).has_value();
+  return info;
+}
+
+std::unique_ptr<vk::raii::Instance> make_instance(const vk::raii::Context& ctx, bool validation) {
+  vk::ApplicationInfo app("wavepath", 1, "wavepath", 1, VK_API_VERSION_1_1);
+  std::vector<const char*> layers;
+  std::vector<const char*> extensions;
+  if (validation) {
+    bool found = false;
+    for (const auto& l : ctx.enumerateInstanceLayerProperties()) found = found || std::strcmp(l.layerName, kValidationLayer) == 0;
+    if (!found) throw RenderError("validation was requested but VK_LAYER_KHRONOS_validation is not installed (Debian: vulkan-validationlayers)");
+    layers.push_back(kValidationLayer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  vk::InstanceCreateInfo ci({}, &app, layers, extensions);
+  try {
+    return std::make_unique<vk::raii::Instance>(ctx, ci);
+  } catch (const vk::SystemError& e) {
+    throw RenderError(std::string("no Vulkan device: cannot create a Vulkan instance (") + e.what() +
+                      "); install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+  }
+}
+
+std::unique_ptr<vk::raii::Context> make_context() {
+  try {
+    return std::make_unique<vk::raii::Context>();
+  } catch (const std::exception& e) {
+    throw RenderError(std::string("no Vulkan device: the Vulkan loader is missing (") + e.what() + "); install libvulkan1");
+  }
+}
+
+}  // namespace
+
+bool VulkanContext::validation_requested_by_environment() {
+  const char* v = std::getenv("WAVEPATH_VALIDATION");
+  return v && std::strcmp(v, "0") != 0 && *v != '\0';
+}
+
+std::vector<GpuDeviceInfo> VulkanContext::list_devices(bool validation) {
+  auto ctx = make_context();
+  auto instance = make_instance(*ctx, validation);
+  std::vector<GpuDeviceInfo> out;
+  vk::raii::PhysicalDevices devices(*instance);
+  for (uint32_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], i));
+  return out;
+}
+
+VulkanContext::VulkanContext(const std::string& selector, bool validation) {
+  context_ = make_context();
+  instance_ = make_instance(*context_, validation);
+  if (validation) {
+    using S = vk::DebugUtilsMessageSeverityFlagBitsEXT;
+    using T = vk::DebugUtilsMessageTypeFlagBitsEXT;
+    vk::DebugUtilsMessengerCreateInfoEXT ci({}, S::eWarning | S::eError, T::eGeneral | T::eValidation | T::ePerformance,
+                                            &on_validation_message, validationMessages_.get());
+    messenger_ = std::make_unique<vk::raii::DebugUtilsMessengerEXT>(*instance_, ci);
+  }
+  vk::raii::PhysicalDevices devices(*instance_);
+  if (devices.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+  std::vector<GpuDeviceInfo> infos;
+  for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
+
+  int chosen = -1;
+  if (selector.empty()) {
+    for (uint32_t i = 0; i < infos.size(); ++i) {
+      if (!infos[i].suitable) continue;
+      if (chosen < 0 || type_rank(devices[i].getProperties().deviceType) < type_rank(devices[size_t(chosen)].getProperties().deviceType))
+        chosen = int(i);
+    }
+    if (chosen < 0) throw RenderError("no suitable Vulkan device (Vulkan 1.1 with a compute queue) found");
+  } else {
+    char* end = nullptr;
+    long idx = std::strtol(selector.c_str(), &end, 10);
+    if (end != selector.c_str() && *end == '\0') {
+      if (idx < 0 || size_t(idx) >= infos.size())
+        throw InputError("--device " + selector + ": no such device index (wavepath devices lists " + std::to_string(infos.size()) + ")");
+      chosen = int(idx);
+    } else {
+      std::string want = selector;
+      std::transform(want.begin(), want.end(), want.begin(), ::tolower);
+      for (uint32_t i = 0; i < infos.size() && chosen < 0; ++i) {
+        std::string name = infos[i].name;
+        std::transform(name.begin(), name.end(), name.begin(), ::tolower);
+        if (name.find(want) != std::string::npos) chosen = int(i);
+      }
+      if (chosen < 0) throw InputError("--device " + selector + ": no device name contains that text (see wavepath devices)");
+    }
+    if (!infos[size_t(chosen)].suitable) throw RenderError("device " + infos[size_t(chosen)].name + " lacks Vulkan 1.1 or a compute queue");
+  }
+  physical_ = std::make_unique<vk::raii::PhysicalDevice>(std::move(devices[size_t(chosen)]));
+  info_ = infos[size_t(chosen)];
+  queueFamily_ = *compute_queue_family(*physical_);
+  float priority = 1.0f;
+  vk::DeviceQueueCreateInfo qci({}, queueFamily_, 1, &priority);
+  vk::DeviceCreateInfo dci({}, qci);
+  device_ = std::make_unique<vk::raii::Device>(*physical_, dci);
+  queue_ = *device_->getQueue(queueFamily_, 0);
+  pool_ = std::make_unique<vk::raii::CommandPool>(
+      *device_, vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queueFamily_));
+}
+
+VulkanContext::~VulkanContext() {
+  if (device_) device_->waitIdle();
+}
+
+uint32_t VulkanContext::memory_type(uint32_t typeBits, vk::MemoryPropertyFlags want) const {
+  auto props = physical_->getMemoryProperties();
+  for (uint32_t i = 0; i < props.memoryTypeCount; ++i)
+    if ((typeBits & (1u << i)) && (props.memoryTypes[i].propertyFlags & want) == want) return i;
+  return UINT32_MAX;
+}
+
+void VulkanContext::run_now(const std::function<void(vk::CommandBuffer)>& record) const {
+  vk::raii::CommandBuffers cbs(*device_, vk::CommandBufferAllocateInfo(**pool_, vk::CommandBufferLevel::ePrimary, 1));
+  vk::CommandBuffer cb = *cbs[0];
+  cb.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+  record(cb);
+  cb.end();
+  vk::raii::Fence fence(*device_, vk::FenceCreateInfo());
+  queue_.submit(vk::SubmitInfo({}, {}, cb), *fence);
+  while (device_->waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
+  }
+}
+
+void VulkanContext::upload(const Buffer& dst, const void* data, size_t bytes) const {
+  if (bytes == 0) return;
+  if (dst.mapped()) {
+    std::memcpy(dst.mapped(), data, bytes);
+    return;
+  }
+  Buffer staging(*this, bytes, vk::BufferUsageFlagBits::eTransferSrc, true);
+  std::memcpy(staging.mapped(), data, bytes);
+  run_now([&](vk::CommandBuffer cb) { cb.copyBuffer(staging.handle(), dst.handle(), vk::BufferCopy(0, 0, bytes)); });
+}
+
+Buffer::Buffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage, bool hostVisible)
+    : size_(size),
+      memory_(nullptr),
+      buffer_(ctx.device(), vk::BufferCreateInfo({}, std::max<vk::DeviceSize>(size, 16), usage)) {
+  auto req = buffer_.getMemoryRequirements();
+  using M = vk::MemoryPropertyFlagBits;
+  uint32_t type = hostVisible ? ctx.memory_type(req.memoryTypeBits, M::eHostVisible | M::eHostCoherent)
+                              : ctx.memory_type(req.memoryTypeBits, M::eDeviceLocal);
+  if (type == UINT32_MAX) type = ctx.memory_type(req.memoryTypeBits, {});
+  if (type == UINT32_MAX) throw RenderError("no Vulkan memory type fits a buffer");
+  try {
+    memory_ = vk::raii::DeviceMemory(ctx.device(), vk::MemoryAllocateInfo(req.size, type));
+  } catch (const vk::SystemError& e) {
+    throw RenderError("out of GPU memory allocating " + std::to_string(size >> 20) + " MiB (" + e.what() + ")");
+  }
+  buffer_.bindMemory(*memory_, 0);
+  auto flags = ctx.physical().getMemoryProperties().memoryTypes[type].propertyFlags;
+  if ((flags & M::eHostVisible) && (flags & M::eHostCoherent)) mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
+}
+
+}  // namespace wp

@@ -1,0 +1,82 @@
+// vulkan_context.h — the Vulkan instance, the chosen device and its compute
+// queue, owned through Vulkan-Hpp's RAII wrappers. With validation on, every
+// message of the Khronos validation layer is printed and counted, and the
+// program fails if any was reported.
+#pragma once
+
+#include <vulkan/vulkan_raii.hpp>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace wp {
+
+struct GpuDeviceInfo {
+  uint32_t index = 0;
+  std::string name;
+  std::string type;  // discrete, integrated, virtual, cpu, other
+  std::string driver;
+  std::string apiVersion;
+  uint64_t maxStorageBufferRange = 0;
+  uint32_t maxComputeWorkGroupCount = 0;
+  uint32_t maxComputeWorkGroupInvocations = 0;
+  uint32_t subgroupSize = 0;
+  uint64_t deviceLocalMemory = 0;
+  bool suitable = false;  // Vulkan 1.1 with a compute queue
+};
+
+class Buffer {
+ public:
+  Buffer(const class VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage, bool hostVisible);
+  vk::Buffer handle() const { return *buffer_; }
+  vk::DeviceSize size() const { return size_; }
+  void* mapped() const { return mapped_; }  // null unless host visible
+
+ private:
+  vk::DeviceSize size_;
+  vk::raii::DeviceMemory memory_;  // declared first: destroyed after the buffer bound to it
+  vk::raii::Buffer buffer_;
+  void* mapped_ = nullptr;
+};
+
+class VulkanContext {
+ public:
+  // selector: "" picks the best device (discrete > integrated > virtual > cpu);
+  // otherwise an index from list_devices() or part of a device name.
+  VulkanContext(const std::string& selector, bool validation);
+  ~VulkanContext();
+
+  static std::vector<GpuDeviceInfo> list_devices(bool validation);
+  static bool validation_requested_by_environment();  // WAVEPATH_VALIDATION=1
+
+  const GpuDeviceInfo& info() const { return info_; }
+  const vk::raii::Device& device() const { return *device_; }
+  const vk::raii::PhysicalDevice& physical() const { return *physical_; }
+  vk::Queue queue() const { return queue_; }
+  uint32_t queue_family() const { return queueFamily_; }
+  uint64_t validation_messages() const { return validationMessages_->load(); }
+
+  // Copies host data into a device buffer (through a staging buffer if needed).
+  void upload(const Buffer& dst, const void* data, size_t bytes) const;
+  // Records into a one-shot command buffer, submits and waits.
+  void run_now(const std::function<void(vk::CommandBuffer)>& record) const;
+  uint32_t memory_type(uint32_t typeBits, vk::MemoryPropertyFlags want) const;
+
+ private:
+  std::unique_ptr<vk::raii::Context> context_;
+  std::unique_ptr<vk::raii::Instance> instance_;
+  std::unique_ptr<vk::raii::DebugUtilsMessengerEXT> messenger_;
+  std::unique_ptr<vk::raii::PhysicalDevice> physical_;
+  std::unique_ptr<vk::raii::Device> device_;
+  std::unique_ptr<vk::raii::CommandPool> pool_;
+  vk::Queue queue_;
+  uint32_t queueFamily_ = 0;
+  GpuDeviceInfo info_;
+  std::shared_ptr<std::atomic<uint64_t>> validationMessages_ = std::make_shared<std::atomic<uint64_t>>(0);
+};
+
+}  // namespace wp

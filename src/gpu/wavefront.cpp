@@ -1,0 +1,265 @@
+#include "gpu/wavefront.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+#include "util/error.h"
+
+// SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
+#include "accumulate.spv.h"
+#include "connect.spv.h"
+#include "extend.spv.h"
+#include "generate.spv.h"
+#include "prepare.spv.h"
+#include "shade.spv.h"
+
+namespace wp {
+
+namespace {
+
+using shader::KernelPush;
+
+struct Kernel {
+  const uint32_t* code;
+  size_t bytes;
+};
+
+template <size_t N>
+Kernel kernel(const uint32_t (&code)[N]) {
+  return Kernel{code, N * sizeof(uint32_t)};
+}
+
+uint32_t groups_for(uint32_t n) {
+  return (n + WORKGROUP_SIZE - 1) / WORKGROUP_SIZE;
+}
+
+// Every stage reads what the previous one wrote, indirect arguments included.
+void stage_barrier(vk::CommandBuffer cb) {
+  vk::MemoryBarrier b(vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                      vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite |
+                          vk::AccessFlagBits::eIndirectCommandRead | vk::AccessFlagBits::eTransferRead |
+                          vk::AccessFlagBits::eTransferWrite);
+  cb.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                     vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eDrawIndirect |
+                         vk::PipelineStageFlagBits::eTransfer,
+                     {}, b, {}, {});
+}
+
+}  // namespace
+
+struct WavefrontRenderer::Impl {
+  const VulkanContext& ctx;
+  const CompiledScene& scene;
+  WavefrontSettings settings;
+  uint32_t capacity = 0;  // path slots per wave
+  std::vector<std::unique_ptr<Buffer>> buffers;  // indexed by BINDING_*
+  std::unique_ptr<Buffer> readAccum;
+  std::unique_ptr<Buffer> readCounters;
+  vk::raii::DescriptorSetLayout setLayout{nullptr};
+  vk::raii::PipelineLayout pipelineLayout{nullptr};
+  vk::raii::DescriptorPool pool{nullptr};
+  vk::raii::DescriptorSet set{nullptr};
+  vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, shade{nullptr}, connect{nullptr},
+      accumulate{nullptr};
+  vk::raii::CommandPool commandPool{nullptr};
+
+  Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
+    const uint64_t maxRange = ctx.info().maxStorageBufferRange;
+    const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+    capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, maxRange / sizeof(shader::PathState),
+                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * WORKGROUP_SIZE});
+    create_buffers(pixels, maxRange);
+    create_pipelines();
+    commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
+                                                          vk::CommandPoolCreateFlagBits::eResetCommandBuffer, ctx.queue_family()));
+  }
+
+  template <typename T>
+  void add_storage(uint32_t binding, const std::vector<T>& data, uint64_t maxRange, const char* what) {
+    uint64_t bytes = data.size() * sizeof(T);
+    if (bytes > maxRange) {
+      throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
+                        ctx.info().name + " allows " + std::to_string(maxRange >> 20) +
+                        " MiB per storage buffer; scenes this large are not supported on this device yet");
+    }
+    buffers[binding] = std::make_unique<Buffer>(ctx, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    ctx.upload(*buffers[binding], data.data(), bytes);
+  }
+
+  void add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra = {}) {
+    using U = vk::BufferUsageFlagBits;
+    buffers[binding] = std::make_unique<Buffer>(ctx, bytes, U::eStorageBuffer | U::eTransferDst | U::eTransferSrc | extra, false);
+  }
+
+  void create_buffers(uint32_t pixels, uint64_t maxRange) {
+    buffers.resize(BINDING_COUNT);
+    buffers[BINDING_SCENE] = std::make_unique<Buffer>(ctx, sizeof(shader::SceneParams),
+                                                      vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    ctx.upload(*buffers[BINDING_SCENE], &scene.params, sizeof(shader::SceneParams));
+    add_storage(BINDING_NODES, scene.nodes, maxRange, "BVH nodes");
+    add_storage(BINDING_TRIANGLES, scene.triangles, maxRange, "triangles");
+    add_storage(BINDING_SPHERES, scene.spheres, maxRange, "spheres");
+    add_storage(BINDING_MATERIALS, scene.materials, maxRange, "materials");
+    add_storage(BINDING_EMITTERS, scene.emitters, maxRange, "emitters");
+    add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
+    add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
+    add_work(BINDING_QUEUES, uint64_t(capacity) * 2 * sizeof(uint32_t));
+    add_work(BINDING_SHADOW_RAYS, uint64_t(capacity) * sizeof(shader::ShadowRay));
+    add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
+    add_work(BINDING_INDIRECT, 6 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
+    uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
+    if (accumBytes > maxRange) {
+      throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image needs " +
+                        std::to_string(accumBytes >> 20) + " MiB of accumulators, more than the " +
+                        std::to_string(maxRange >> 20) + " MiB per storage buffer " + ctx.info().name + " allows");
+    }
+    add_work(BINDING_ACCUM, accumBytes);
+    readAccum = std::make_unique<Buffer>(ctx, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
+    readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
+  }
+
+  vk::raii::Pipeline make_pipeline(Kernel k) {
+    vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
+    vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main");
+    return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
+  }
+
+  void create_pipelines() {
+    std::vector<vk::DescriptorSetLayoutBinding> bindings;
+    for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
+      bindings.emplace_back(b, b == BINDING_SCENE ? vk::DescriptorType::eUniformBuffer : vk::DescriptorType::eStorageBuffer, 1,
+                            vk::ShaderStageFlagBits::eCompute);
+    }
+    setLayout = vk::raii::DescriptorSetLayout(ctx.device(), vk::DescriptorSetLayoutCreateInfo({}, bindings));
+    vk::PushConstantRange push(vk::ShaderStageFlagBits::eCompute, 0, sizeof(KernelPush));
+    vk::DescriptorSetLayout layouts[] = {*setLayout};
+    pipelineLayout = vk::raii::PipelineLayout(ctx.device(), vk::PipelineLayoutCreateInfo({}, layouts, push));
+    vk::DescriptorPoolSize sizes[] = {{vk::DescriptorType::eUniformBuffer, 1}, {vk::DescriptorType::eStorageBuffer, BINDING_COUNT - 1}};
+    pool = vk::raii::DescriptorPool(ctx.device(), vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 1, sizes));
+    set = std::move(vk::raii::DescriptorSets(ctx.device(), vk::DescriptorSetAllocateInfo(*pool, layouts))[0]);
+    std::vector<vk::DescriptorBufferInfo> infos(BINDING_COUNT);
+    std::vector<vk::WriteDescriptorSet> writes;
+    for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
+      infos[b] = vk::DescriptorBufferInfo(buffers[b]->handle(), 0, VK_WHOLE_SIZE);
+      writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, &infos[b]);
+    }
+    ctx.device().updateDescriptorSets(writes, {});
+    generate = make_pipeline(kernel(generate_spv));
+    prepare = make_pipeline(kernel(prepare_spv));
+    extend = make_pipeline(kernel(extend_spv));
+    shade = make_pipeline(kernel(shade_spv));
+    connect = make_pipeline(kernel(connect_spv));
+    accumulate = make_pipeline(kernel(accumulate_spv));
+  }
+
+  void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups) {
+    cb.bindPipeline(vk::PipelineBindPoint::eCompute, *p);
+    cb.pushConstants<KernelPush>(*pipelineLayout, vk::ShaderStageFlagBits::eCompute, 0, push);
+    cb.dispatch(groups, 1, 1);
+    stage_barrier(cb);
+  }
+
+  void dispatch_indirect(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t slot) {
+    cb.bindPipeline(vk::PipelineBindPoint::eCompute, *p);
+    cb.pushConstants<KernelPush>(*pipelineLayout, vk::ShaderStageFlagBits::eCompute, 0, push);
+    cb.dispatchIndirect(buffers[BINDING_INDIRECT]->handle(), slot * 3 * sizeof(uint32_t));
+    stage_barrier(cb);
+  }
+
+  // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
+  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex) {
+    KernelPush push{};
+    push.waveStart = waveStart;
+    push.pathCount = pathCount;
+    push.sampleIndex = sampleIndex;
+    push.capacity = capacity;
+    dispatch(cb, generate, push, groups_for(pathCount));
+    // Bounce b extends the rays of paths with b scattering events behind them;
+    // path_shade ends every path at max bounces, so there are max + 1 passes.
+    const uint32_t passes = scene.params.image.z + 1;
+    for (uint32_t bounce = 0; bounce < passes; ++bounce) {
+      push.queueIn = bounce & 1u;
+      push.phase = PREPARE_EXTEND;
+      dispatch(cb, prepare, push, 1);
+      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND);
+      dispatch_indirect(cb, shade, push, INDIRECT_EXTEND);
+      push.phase = PREPARE_CONNECT;
+      dispatch(cb, prepare, push, 1);
+      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT);
+    }
+    dispatch(cb, accumulate, push, groups_for(pathCount));
+  }
+
+  ImageStats render(Progress& progress) {
+    const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+    const uint32_t spp = uint32_t(scene.spp);
+    ImageStats image(scene.width, scene.height);
+    vk::raii::CommandBuffers cbs(ctx.device(), vk::CommandBufferAllocateInfo(*commandPool, vk::CommandBufferLevel::ePrimary, 1));
+    vk::CommandBuffer cb = *cbs[0];
+    vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
+    uint64_t truncated = 0;
+    uint32_t perSubmit = 1;
+    for (uint32_t sample = 0; sample < spp;) {
+      uint32_t count = std::min(perSubmit, spp - sample);
+      cb.reset();
+      cb.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+      cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
+      cb.fillBuffer(buffers[BINDING_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
+      cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
+      stage_barrier(cb);
+      for (uint32_t s = sample; s < sample + count; ++s)
+        for (uint32_t start = 0; start < pixels; start += capacity) record_wave(cb, start, std::min(capacity, pixels - start), s);
+      cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, readAccum->size()));
+      cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
+      vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
+      cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
+      cb.end();
+      auto t0 = std::chrono::steady_clock::now();
+      ctx.device().resetFences(*fence);
+      ctx.queue().submit(vk::SubmitInfo({}, {}, cb), *fence);
+      while (ctx.device().waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
+      }
+      double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      fold(image, truncated);
+      sample += count;
+      progress.add(uint64_t(count) * pixels);
+      // Aim for submissions of about targetSubmitSeconds: long enough to keep
+      // the device busy, short enough for a live progress line. Float sums in
+      // the accumulators stay exact enough for a few hundred samples.
+      if (seconds < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
+    }
+    progress.finish();
+    if (truncated > 0) {
+      throw RenderError(std::to_string(truncated) + " rays needed more than " + std::to_string(scene.params.counts.z) +
+                        " BVH traversal steps; the image would be wrong, so none was written");
+    }
+    return image;
+  }
+
+  // Adds one submission's float accumulators into the double-precision image.
+  void fold(ImageStats& image, uint64_t& truncated) {
+    const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
+    for (size_t p = 0; p < image.pixels(); ++p) {
+      for (int c = 0; c < 3; ++c) {
+        image.sum[3 * p + size_t(c)] += acc[p].sum[c];
+        image.sumSq[3 * p + size_t(c)] += acc[p].sumSq[c];
+      }
+      image.count[p] += acc[p].sum.w;
+    }
+    const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
+    truncated += counters[COUNTER_TRUNCATED];
+    image.nonFinite += counters[COUNTER_NONFINITE];
+  }
+};
+
+WavefrontRenderer::WavefrontRenderer(const VulkanContext& ctx, const CompiledScene& scene, const WavefrontSettings& settings)
+    : impl_(std::make_unique<Impl>(ctx, scene, settings)) {}
+
+WavefrontRenderer::~WavefrontRenderer() = default;
+
+ImageStats WavefrontRenderer::render(Progress& progress) {
+  return impl_->render(progress);
+}
+
+}  // namespace wp

@@ -1,0 +1,30 @@
+// wavefront.h — the GPU renderer: wavefront path tracing as separate compute
+// pipelines (generate, extend, shade, connect, accumulate) over path queues in
+// storage buffers. See docs/architecture.md for the stage-by-stage picture.
+#pragma once
+
+#include "gpu/vulkan_context.h"
+#include "image/image.h"
+#include "render/compiled_scene.h"
+#include "util/progress.h"
+
+namespace wp {
+
+struct WavefrontSettings {
+  uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
+  double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
+};
+
+class WavefrontRenderer {
+ public:
+  WavefrontRenderer(const VulkanContext& ctx, const CompiledScene& scene, const WavefrontSettings& settings = {});
+  ~WavefrontRenderer();
+  // Throws RenderError if a traversal was truncated (the image would be wrong).
+  ImageStats render(Progress& progress);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace wp

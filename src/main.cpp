@@ -1,0 +1,160 @@
+// wavepath — a wavefront path tracer on Vulkan compute, with a CPU reference.
+//
+//   wavepath render SCENE.json [-o out.png] [--spp N] [--max-bounces N] [--seed N]
+//                              [--device INDEX|NAME] [--cpu] [--threads N] [--exr PATH] [--quiet]
+//   wavepath devices
+//
+// Exit status: 0 success, 2 bad input (scene, mesh, options), 3 rendering failed
+// (no Vulkan device, out of memory, validation messages, truncated traversal).
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "cpu/reference.h"
+#include "gpu/vulkan_context.h"
+#include "gpu/wavefront.h"
+#include "image/image.h"
+#include "render/compiled_scene.h"
+#include "scene/load_scene.h"
+#include "util/error.h"
+#include "util/progress.h"
+
+namespace {
+
+using namespace wp;
+
+struct RenderArgs {
+  std::string scene;
+  std::string output;
+  std::string exr;
+  int spp = -1;
+  int maxBounces = -1;
+  uint32_t seed = 0;
+  std::string device;
+  bool cpu = false;
+  int threads = 0;
+  bool quiet = false;
+  bool validation = false;
+};
+
+std::string default_output(const std::string& scenePath) {
+  return std::filesystem::path(scenePath).stem().string() + ".png";
+}
+
+int run_render(const RenderArgs& a) {
+  std::string out = a.output.empty() ? default_output(a.scene) : a.output;
+  if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
+  std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
+  if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
+
+  Scene scene = load_scene(a.scene);
+  RenderOptions options;
+  options.spp = a.spp;
+  options.maxBounces = a.maxBounces;
+  options.seed = a.seed;
+  CompiledScene compiled = compile_scene(scene, options);
+  bool progressOn = !a.quiet && Progress::stderr_is_terminal();
+  uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
+
+  auto start = std::chrono::steady_clock::now();
+  ImageStats image;
+  std::string where;
+  if (a.cpu) {
+    Progress progress("cpu", total, progressOn);
+    image = render_cpu(compiled, a.threads, progress);
+    where = "the CPU reference";
+  } else {
+    bool validation = a.validation || VulkanContext::validation_requested_by_environment();
+    VulkanContext ctx(a.device, validation);
+    {
+      WavefrontRenderer renderer(ctx, compiled);
+      Progress progress(ctx.info().name, total, progressOn);
+      image = renderer.render(progress);
+    }
+    if (ctx.validation_messages() > 0) {
+      throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
+    }
+    where = ctx.info().name;
+  }
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  write_exr(exr, image);
+  try {
+    write_png(out, image);
+  } catch (...) {
+    std::remove(exr.c_str());  // both images or neither
+    throw;
+  }
+  if (image.nonFinite > 0) {
+    std::fprintf(stderr, "wavepath: warning: %llu non-finite samples were dropped\n", (unsigned long long)image.nonFinite);
+  }
+  if (!a.quiet) {
+    std::printf("wrote %s and %s: %dx%d, %d spp, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
+                compiled.width, compiled.height, compiled.spp, int(compiled.params.image.z), seconds, where.c_str(),
+                double(total) / seconds * 1e-6);
+  }
+  return 0;
+}
+
+int run_devices(bool validation) {
+  auto devices = VulkanContext::list_devices(validation);
+  if (devices.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers");
+  for (const GpuDeviceInfo& d : devices) {
+    std::printf("%u: %s\n   type %s, driver %s, Vulkan %s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
+                d.apiVersion.c_str(), d.suitable ? "" : " (unsuitable: needs Vulkan 1.1 and a compute queue)");
+    std::printf("   max storage buffer %llu MiB, max workgroups %u, max invocations %u, subgroup %u, device-local memory %llu MiB\n",
+                (unsigned long long)(d.maxStorageBufferRange >> 20), d.maxComputeWorkGroupCount,
+                d.maxComputeWorkGroupInvocations, d.subgroupSize, (unsigned long long)(d.deviceLocalMemory >> 20));
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"wavepath: a wavefront path tracer on Vulkan compute, with a CPU reference renderer"};
+  app.require_subcommand(1);
+  RenderArgs r;
+  CLI::App* render = app.add_subcommand("render", "render a darts JSON scene to PNG (and a linear EXR with statistics)");
+  render->add_option("scene", r.scene, "scene file (darts JSON)")->required();
+  render->add_option("-o,--output", r.output, "PNG to write (default: SCENE-NAME.png)");
+  render->add_option("--exr", r.exr, "linear EXR with mean, variance and sample count (default: next to the PNG)");
+  render->add_option("--spp", r.spp, "samples per pixel (default: the scene's sampler)")->check(CLI::Range(1, 1 << 24));
+  render->add_option("--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's)")->check(CLI::Range(0, 1024));
+  render->add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
+  render->add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
+  render->add_flag("--cpu", r.cpu, "render with the CPU reference renderer instead of Vulkan");
+  render->add_option("--threads", r.threads, "CPU threads for --cpu (default: all cores)")->check(CLI::Range(0, 1024));
+  render->add_flag("-q,--quiet", r.quiet, "no progress line and no summary");
+  render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
+  bool devValidation = false;
+  CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices and the limits that matter to wavepath");
+  devices->add_flag("--validation", devValidation, "enable Vulkan validation");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    if (*render) return run_render(r);
+    if (*devices) return run_devices(devValidation);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "wavepath: error: %s\n", e.what());
+    return 2;
+  } catch (const RenderError& e) {
+    std::fprintf(stderr, "wavepath: error: %s\n", e.what());
+    return 3;
+  } catch (const vk::SystemError& e) {
+    std::fprintf(stderr, "wavepath: error: Vulkan: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "wavepath: error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}

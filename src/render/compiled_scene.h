@@ -1,0 +1,52 @@
+// compiled_scene.h — a scene in the form the renderers consume: the BVH node
+// array, triangles and spheres in leaf order, materials, the emitter alias
+// table and the uniform parameters. The GPU uploads these arrays as they are;
+// the CPU reference reads them through shader::SceneView.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "render/shader_cpp.h"
+#include "scene/scene.h"
+
+namespace wp {
+
+struct RenderOptions {
+  int spp = -1;          // -1: the scene's sampler count
+  int maxBounces = -1;   // -1: the scene's integrator setting
+  uint32_t seed = 0;
+  // Iterations one traversal may take before it reports itself truncated.
+  // lavapipe ends all loops of an invocation silently after 65,535 iterations
+  // in total; one traversal per invocation with this cap stays below that.
+  uint32_t traversalStepCap = 60000;
+  // Multiplies every radiance contribution. 1 except in tests that plant a
+  // bias to show that the statistical comparison catches it.
+  float plantedBias = 1.0f;
+};
+
+struct CompiledScene {
+  shader::SceneParams params{};
+  std::vector<shader::BvhNode> nodes;
+  std::vector<shader::Triangle> triangles;
+  std::vector<shader::Sphere> spheres;
+  std::vector<shader::Material> materials;
+  std::vector<shader::Emitter> emitters;
+  int width = 0;
+  int height = 0;
+  int spp = 0;
+  int bvhDepth = 0;
+  double bvhSahCost = 0.0;
+  double bvhBuildSeconds = 0.0;
+
+  shader::SceneView view() const;
+};
+
+CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
+
+// Vose's alias table for sampling index i with probability weights[i] / sum.
+// Exposed for the sampling tests.
+std::vector<shader::Emitter> build_alias_table(const std::vector<double>& weights);
+
+}  // namespace wp

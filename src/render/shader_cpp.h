@@ -1,0 +1,59 @@
+// shader_cpp.h — the kernels' shared GLSL, compiled as C++.
+//
+// Structs land in namespace wp::shader. Functions land in structs: the
+// scene-independent ones in ShaderMath, the ones that read scene buffers in
+// SceneView, whose members have the names the GLSL buffers have, so `nodes[i]`
+// means the same thing in both languages. The CPU reference renderer
+// and the tests call exactly the code the GPU runs.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstddef>
+
+#include "../../shaders/shared/common.glsl"
+
+namespace wp::shader {
+// GLSL built-ins that GLM lacks for scalars.
+inline bool isnan(float x) { return std::isnan(x); }
+inline bool isinf(float x) { return std::isinf(x); }
+
+#include "../../shaders/shared/types.glsl"
+#include "../../shaders/shared/bindings.glsl"
+
+// The scene-independent functions (RNG, sampling, intersection, BSDFs). They
+// are members only so that C++ treats them as inline; they use no state.
+struct ShaderMath {
+#include "../../shaders/shared/rng.glsl"
+#include "../../shaders/shared/sampling.glsl"
+#include "../../shaders/shared/intersect.glsl"
+#include "../../shaders/shared/bsdf.glsl"
+};
+
+// Read-only view of an uploaded scene: the same buffers the kernels bind.
+struct SceneView : ShaderMath {
+  SceneParams scene{};
+  const BvhNode* nodes = nullptr;
+  const Triangle* triangles = nullptr;
+  const Sphere* spheres = nullptr;
+  const Material* materials = nullptr;
+  const Emitter* emitters = nullptr;
+
+#include "../../shaders/shared/scene.glsl"
+#include "../../shaders/shared/integrator.glsl"
+};
+
+// Host-side layout checks; tests/test_layout.cpp checks the GLSL side.
+static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
+static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof(Triangle, sourceIndex) == 44);
+static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
+static_assert(sizeof(Material) == 48 && offsetof(Material, info) == 32);
+static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
+static_assert(sizeof(SceneParams) == 128 && offsetof(SceneParams, debug) == 112);
+static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
+static_assert(sizeof(Hit) == 16);
+static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, contribution) == 32);
+static_assert(sizeof(PixelAccum) == 32);
+static_assert(sizeof(KernelPush) == 32);
+}  // namespace wp::shader

@@ -1,0 +1,63 @@
+// scene.h — a scene as the loaders produce it: world-space triangles, spheres
+// with their transforms, materials, the camera and the render settings. The
+// BVH (src/bvh) and the GPU layout (src/render/compiled_scene.h) are built from it.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/shader_cpp.h"
+
+namespace wp {
+
+struct Camera {
+  glm::mat4 toWorld{1.0f};  // camera looks down its -Z axis
+  float vfovDegrees = 90.0f;
+  int width = 512;
+  int height = 512;
+  float focusDistance = 1.0f;
+  float apertureRadius = 0.0f;
+};
+
+enum class SplitMethod { Sah, Middle, Equal };
+
+struct AcceleratorSettings {
+  int maxLeafSize = 4;
+  SplitMethod split = SplitMethod::Sah;
+};
+
+enum class IntegratorKind { PathMis, PathNee, PathMats };
+
+struct IntegratorSettings {
+  IntegratorKind kind = IntegratorKind::PathMis;
+  int maxBounces = 64;
+  int russianRouletteDepth = 3;  // first depth at which paths may be ended at random
+};
+
+struct SceneTriangle {
+  glm::vec3 v[3];
+  uint32_t material;
+};
+
+struct SceneSphere {
+  glm::mat4 toWorld;  // places the unit sphere
+  uint32_t material;
+};
+
+struct Scene {
+  std::string sourcePath;
+  Camera camera;
+  int samplesPerPixel = 1;
+  glm::vec3 background{0.0f};
+  AcceleratorSettings accelerator;
+  IntegratorSettings integrator;
+  std::vector<shader::Material> materials;
+  std::vector<std::string> materialNames;  // parallel to materials, for messages
+  std::vector<SceneTriangle> triangles;
+  std::vector<SceneSphere> spheres;
+};
+
+}  // namespace wp
