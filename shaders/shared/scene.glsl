@@ -143,15 +143,23 @@ float emitter_pdf_area(uint emitter) {
   return e.pmf / triangle_area(triangles[e.prim]);
 }
 
-// Picks an emitter with the alias table (by power) and a uniform point on it.
-bool sample_emitter(vec3 u, OUT(LightSample) ls) {
+// Picks an emitter index with the alias table (in proportion to power) and
+// returns the probability of that pick.
+uint pick_emitter(float u, OUT(float) pmf) {
   uint count = scene.counts.x;
-  if (count == 0u) return false;
-  float x = u.x * float(count);
+  float x = u * float(count);
   uint i = min(uint(x), count - 1u);
   Emitter e = emitters[i];
   uint chosen = (x - float(i)) < e.threshold ? i : e.alias;
-  Emitter ec = emitters[chosen];
+  pmf = emitters[chosen].pmf;
+  return chosen;
+}
+
+// Picks an emitter, then a uniform point on it.
+bool sample_emitter(vec3 u, OUT(LightSample) ls) {
+  if (scene.counts.x == 0u) return false;
+  float pmf;
+  Emitter ec = emitters[pick_emitter(u.x, pmf)];
   vec2 uv = vec2(u.y, u.z);
   if ((ec.prim & HIT_SPHERE_BIT) != 0u) {
     Sphere sp = spheres[ec.prim & ~HIT_SPHERE_BIT];

@@ -12,6 +12,7 @@
 #include "extend.spv.h"
 #include "generate.spv.h"
 #include "prepare.spv.h"
+#include "raycast.spv.h"
 #include "shade.spv.h"
 
 namespace wp {
@@ -61,7 +62,7 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, shade{nullptr}, connect{nullptr},
-      accumulate{nullptr};
+      accumulate{nullptr}, raycast{nullptr};
   vk::raii::CommandPool commandPool{nullptr};
 
   Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
@@ -151,6 +152,7 @@ struct WavefrontRenderer::Impl {
     shade = make_pipeline(kernel(shade_spv));
     connect = make_pipeline(kernel(connect_spv));
     accumulate = make_pipeline(kernel(accumulate_spv));
+    raycast = make_pipeline(kernel(raycast_spv));
   }
 
   void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups) {
@@ -237,6 +239,33 @@ struct WavefrontRenderer::Impl {
     return image;
   }
 
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated) {
+    std::vector<shader::Hit> hits(rays.size());
+    Buffer readHits(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
+    uint64_t lost = 0;
+    for (size_t start = 0; start < rays.size(); start += capacity) {
+      uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
+      ctx.upload(*buffers[BINDING_SHADOW_RAYS], rays.data() + start, n * sizeof(shader::ShadowRay));
+      ctx.run_now([&](vk::CommandBuffer cb) {
+        cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
+        cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
+        stage_barrier(cb);
+        KernelPush push{};
+        push.pathCount = n;
+        push.capacity = capacity;
+        dispatch(cb, raycast, push, groups_for(n));
+        cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
+        cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
+        vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
+        cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
+      });
+      std::memcpy(hits.data() + start, readHits.mapped(), n * sizeof(shader::Hit));
+      lost += static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
+    }
+    if (truncated) *truncated = lost;
+    return hits;
+  }
+
   // Adds one submission's float accumulators into the double-precision image.
   void fold(ImageStats& image, uint64_t& truncated) {
     const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
@@ -260,6 +289,10 @@ WavefrontRenderer::~WavefrontRenderer() = default;
 
 ImageStats WavefrontRenderer::render(Progress& progress) {
   return impl_->render(progress);
+}
+
+std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated) {
+  return impl_->cast_rays(rays, truncated);
 }
 
 }  // namespace wp

@@ -21,6 +21,10 @@ class WavefrontRenderer {
   ~WavefrontRenderer();
   // Throws RenderError if a traversal was truncated (the image would be wrong).
   ImageStats render(Progress& progress);
+  // Closest hits of arbitrary rays, no shading (BVH tests, traversal benchmarks).
+  // Each ray is origin, dir and tmax of a ShadowRay. Truncated traversals are
+  // counted in *truncated (if given) and reported as misses.
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr);
 
  private:
   struct Impl;

@@ -1,0 +1,148 @@
+// The darts scene loader: the default scene, every transform form, and clear
+// errors (file, place, problem) for bad input.
+#include "test_support.h"
+
+#include <fstream>
+
+#include "scene/transform.h"
+#include "util/error.h"
+
+namespace wp::test {
+namespace {
+
+std::string write_scene(const std::string& name, const std::string& text) {
+  std::string path = testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Loads `text` and expects an InputError whose message contains every part.
+void expect_error(const std::string& text, std::initializer_list<const char*> parts) {
+  std::string path = write_scene("bad.json", text);
+  try {
+    load_scene(path);
+    ADD_FAILURE() << "no error for: " << text;
+  } catch (const InputError& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    for (const char* p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
+  }
+}
+
+glm::vec3 apply(const glm::mat4& m, glm::vec3 p) {
+  return glm::vec3(m * glm::vec4(p, 1.0f));
+}
+
+TEST(Scene, CornellBoxLoads) {
+  Scene s = load_scene(source_path("scenes/cornell-box.json"));
+  EXPECT_EQ(s.triangles.size(), 32u);
+  EXPECT_EQ(s.camera.width, 512);
+  EXPECT_NEAR(s.camera.vfovDegrees, 39.3f, 1e-5f);
+  glm::vec3 eye = apply(s.camera.toWorld, glm::vec3(0));
+  EXPECT_NEAR(glm::distance(eye, glm::vec3(278, 273, -800)), 0.0f, 1e-3f);
+  glm::vec3 forward = glm::vec3(s.camera.toWorld * glm::vec4(0, 0, -1, 0));
+  EXPECT_NEAR(forward.z, 1.0f, 1e-6f);  // looks down -Z in camera space, +Z in the world
+  int lights = 0;
+  for (const auto& m : s.materials) lights += m.emission.x > 0.0f;
+  EXPECT_EQ(lights, 1);
+}
+
+TEST(Transform, EveryFormMapsPointsAsDartsDoes) {
+  std::string file = "t.json";
+  auto parse = [&](const std::string& text) {
+    nlohmann::json j = nlohmann::json::parse(text);
+    return parse_transform(JsonCursor(j, "/transform", file));
+  };
+  EXPECT_NEAR(glm::distance(apply(parse(R"({"translate": [1, 2, 3]})"), glm::vec3(1)), glm::vec3(2, 3, 4)), 0, 1e-6);
+  EXPECT_NEAR(glm::distance(apply(parse(R"({"scale": 2})"), glm::vec3(1, 2, 3)), glm::vec3(2, 4, 6)), 0, 1e-6);
+  EXPECT_NEAR(glm::distance(apply(parse(R"({"scale": [1, 2, 3]})"), glm::vec3(1)), glm::vec3(1, 2, 3)), 0, 1e-6);
+  EXPECT_NEAR(glm::distance(apply(parse(R"({"rotate": [90, 0, 0, 1]})"), glm::vec3(1, 0, 0)), glm::vec3(0, 1, 0)), 0, 1e-6);
+  EXPECT_NEAR(glm::distance(apply(parse(R"({"matrix": [1,0,0,5, 0,1,0,6, 0,0,1,7, 0,0,0,1]})"), glm::vec3(0)),
+                            glm::vec3(5, 6, 7)), 0, 1e-6);
+  EXPECT_NEAR(glm::distance(apply(parse(R"({"o": [1,1,1], "x": [0,1,0], "y": [-1,0,0], "z": [0,0,1]})"), glm::vec3(1, 0, 0)),
+                            glm::vec3(1, 2, 1)), 0, 1e-6);
+  // Arrays apply in order: scale first, then translate.
+  EXPECT_NEAR(glm::distance(apply(parse(R"([{"scale": 2}, {"translate": [1, 0, 0]}])"), glm::vec3(1, 0, 0)),
+                            glm::vec3(3, 0, 0)), 0, 1e-6);
+  glm::mat4 look = parse(R"({"from": [0, 0, 5], "to": [0, 0, 0], "up": [0, 1, 0]})");
+  EXPECT_NEAR(glm::distance(apply(look, glm::vec3(0, 0, -5)), glm::vec3(0)), 0, 1e-5);  // -Z looks at the target
+  EXPECT_NEAR(glm::distance(apply(look, glm::vec3(1, 0, 0)), glm::vec3(1, 0, 5)), 0, 1e-5);
+}
+
+TEST(Scene, QuadFrontIsTheTransformedZAxisEvenWhenMirrored) {
+  for (const char* xf : {R"({"rotate": [90, 1, 0, 0]})", R"([{"scale": [-1, 1, 1]}, {"rotate": [90, 1, 0, 0]}])"}) {
+    std::string text = std::string(R"({"surfaces": [{"type": "quad", "size": [2, 3], "material": {"type": "lambertian"}, "transform": )") + xf + "}]}";
+    Scene s = load_scene(write_scene("quad.json", text));
+    ASSERT_EQ(s.triangles.size(), 2u);
+    for (const SceneTriangle& t : s.triangles) {
+      glm::vec3 n = glm::normalize(glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]));
+      EXPECT_NEAR(n.y, -1.0f, 1e-5f) << xf;  // +Z rotated by 90 degrees about X is -Y
+    }
+  }
+}
+
+TEST(SceneErrors, SyntaxErrorsGiveLineAndColumn) {
+  expect_error("{\n  \"camera\": {\n    \"vfov\": 40,\n    \"resolution\": [16 16]\n  }\n}\n", {":4:", "JSON syntax error"});
+  expect_error("{\n  \"camera\": {\n", {":3:", "JSON syntax error"});
+}
+
+TEST(SceneErrors, UnknownKeysAndTypesAreNamed) {
+  expect_error(R"({"camera": {"fov": 40}})", {"/camera/fov", "unknown key \"fov\""});
+  expect_error(R"({"lights": []})", {"unknown key \"lights\""});
+  expect_error(R"({"surfaces": [{"type": "cone"}]})", {"/surfaces/0/type", "unknown surface type \"cone\""});
+  expect_error(R"({"surfaces": [{"type": "sphere", "material": {"type": "velvet"}}]})", {"/surfaces/0/material/type", "velvet"});
+  expect_error(R"({"surfaces": [{"type": "sphere", "material": "nope"}]})", {"/surfaces/0/material", "no material named \"nope\""});
+  expect_error(R"({"surfaces": [{"type": "sphere", "radius": 1, "colour": 1, "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/colour", "unknown key"});
+  expect_error(R"({"integrator": {"type": "bidirectional"}})", {"/integrator/type", "unknown integrator type"});
+  expect_error(R"({"sampler": {"type": "sobol"}})", {"/sampler/type", "sobol"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "checker"}}]})",
+               {"/materials/0/albedo/type", "not supported yet"});
+}
+
+TEST(SceneErrors, BadValuesAreNamed) {
+  expect_error(R"({"surfaces": [{"type": "sphere", "radius": -1, "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/radius", "positive"});
+  expect_error(R"({"surfaces": [{"type": "quad", "size": [1, 0], "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/size", "zero-area"});
+  expect_error(R"({"camera": {"resolution": [16]}})", {"/camera/resolution", "[width, height]"});
+  expect_error(R"({"camera": {"resolution": [16, "x"]}})", {"/camera/resolution/1", "expected an integer"});
+  expect_error(R"({"camera": {"vfov": 180}})", {"/camera/vfov"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": [1, 2]}]})", {"/materials/0/albedo", "array of 2"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": -0.5}]})", {"/materials/0/albedo", "negative"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a"}, {"type": "lambertian", "name": "a"}]})",
+               {"/materials/1/name", "defined twice"});
+  expect_error(R"({"surfaces": [{"type": "sphere", "material": {"type": "lambertian"}, "transform": {"scale": [1, 0, 1]}}]})",
+               {"/surfaces/0/transform/scale", "non-zero"});
+  expect_error(R"({"surfaces": [{"type": "sphere", "material": {"type": "lambertian"}, "transform": {"translate": [1, 0, 0], "scale": 2}}]})",
+               {"/surfaces/0/transform", "exactly one"});
+  expect_error(R"({"surfaces": [{"type": "triangle", "positions": [[0,0,0],[1,0,0],[2,0,0]], "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/positions", "zero area"});
+  expect_error(R"({"surfaces": [{"type": "sphere", "material": {"type": "diffuse_light", "emit": 1}, "transform": {"scale": [1, 2, 1]}}]})",
+               {"/surfaces/0", "uniform scale"});
+}
+
+TEST(SceneErrors, MissingFilesAndBadMeshesNameTheFile) {
+  try {
+    load_scene("/no/such/scene.json");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/no/such/scene.json: cannot open scene file (no such file)"), std::string::npos) << e.what();
+  }
+  for (auto [scene, parts] : std::vector<std::pair<const char*, std::vector<const char*>>>{
+           {"mesh-bad-index.json", {"bad-index.obj:4", "vertex 99"}},
+           {"mesh-bad-negative.json", {"bad-negative.obj:4", "vertex -7"}},
+           {"mesh-bad-token.json", {"bad-token.obj:4", "not a vertex index"}},
+           {"mesh-missing.json", {"no-such-mesh.obj", "no such file", "/surfaces/0"}}}) {
+    try {
+      load_scene(source_path(std::string("tests/data/") + scene));
+      ADD_FAILURE() << scene;
+    } catch (const InputError& e) {
+      for (const char* p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace wp::test

@@ -1,0 +1,200 @@
+// test_support.h — helpers shared by the tests: paths to test data, scene
+// construction, and Pearson's chi-square goodness-of-fit test as pbrt, Mitsuba
+// and Nori use it (cells with expected count < 5 pooled, Sidak-corrected level).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render/compiled_scene.h"
+#include "render/shader_cpp.h"
+#include "scene/load_scene.h"
+
+namespace wp::test {
+
+inline std::string source_path(const std::string& rel) {
+  return std::string(WAVEPATH_SOURCE_DIR) + "/" + rel;
+}
+
+// Regularised upper incomplete gamma Q(a, x) (series for x < a + 1, Lentz's
+// continued fraction otherwise): the chi-square survival function is Q(k/2, x/2).
+inline double gamma_q(double a, double x) {
+  if (x <= 0.0) return 1.0;
+  double lg = std::lgamma(a);
+  if (x < a + 1.0) {
+    double sum = 1.0 / a, term = sum;
+    for (int n = 1; n < 10000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::fabs(term) < std::fabs(sum) * 1e-15) break;
+    }
+    return 1.0 - sum * std::exp(-x + a * std::log(x) - lg);
+  }
+  double b = x + 1.0 - a, c = 1.0 / 1e-300, d = 1.0 / b, h = d;
+  for (int i = 1; i < 10000; ++i) {
+    double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::fabs(d) < 1e-300) d = 1e-300;
+    c = b + an / c;
+    if (std::fabs(c) < 1e-300) c = 1e-300;
+    d = 1.0 / d;
+    double del = d * c;
+    h *= del;
+    if (std::fabs(del - 1.0) < 1e-15) break;
+  }
+  return std::exp(-x + a * std::log(x) - lg) * h;
+}
+
+struct Chi2Result {
+  double statistic = 0.0;
+  int dof = 0;
+  double pValue = 1.0;
+  std::string problem;  // samples in zero-expectation cells, non-finite values...
+};
+
+// observed and expected counts per cell (expected already scaled to the sample count).
+inline Chi2Result chi2_test(const std::vector<double>& observed, const std::vector<double>& expected, double sampleCount) {
+  Chi2Result r;
+  double expTotal = std::accumulate(expected.begin(), expected.end(), 0.0);
+  if (expTotal > 1.1 * sampleCount) r.problem = "the pdf integrates to more than 1.1";
+  std::vector<size_t> order(observed.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return expected[a] < expected[b]; });
+  double poolObs = 0.0, poolExp = 0.0;
+  int cells = 0;
+  for (size_t i : order) {
+    if (expected[i] == 0.0) {
+      if (observed[i] > sampleCount * 1e-5) r.problem = "samples fell into a cell where the pdf is zero";
+      continue;
+    }
+    if (expected[i] < 5.0) {
+      poolObs += observed[i];
+      poolExp += expected[i];
+      continue;
+    }
+    double d = observed[i] - expected[i];
+    r.statistic += d * d / expected[i];
+    ++cells;
+  }
+  if (poolExp > 0.0) {
+    double d = poolObs - poolExp;
+    r.statistic += d * d / poolExp;
+    ++cells;
+  }
+  r.dof = cells - 1;
+  r.pValue = r.dof > 0 ? gamma_q(0.5 * r.dof, 0.5 * r.statistic) : 1.0;
+  return r;
+}
+
+// Sidak-corrected per-test level for `tests` tests at family-wise level alpha.
+inline double sidak(double alpha, int tests) {
+  return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
+
+// Histogram of directions over (cos theta, phi) cells of equal solid angle,
+// against the pdf integrated over each cell by a 4x4 midpoint rule.
+struct DirectionalChi2 {
+  int thetaRes = 32;
+  int phiRes = 64;
+  std::vector<double> observed, expected;
+
+  int cell(glm::vec3 w) const {
+    float z = std::clamp(w.z, -1.0f, 1.0f);
+    int i = std::min(thetaRes - 1, int((z + 1.0f) * 0.5f * float(thetaRes)));
+    float phi = std::atan2(w.y, w.x);
+    if (phi < 0.0f) phi += 2.0f * float(M_PI);
+    int j = std::min(phiRes - 1, int(phi / (2.0f * float(M_PI)) * float(phiRes)));
+    return i * phiRes + j;
+  }
+
+  // sample() returns a direction and sets ok=false on failure (not counted).
+  Chi2Result run(int n, const std::function<glm::vec3(glm::vec2, bool&)>& sample,
+                 const std::function<double(glm::vec3)>& pdf, uint32_t seed) {
+    observed.assign(size_t(thetaRes * phiRes), 0.0);
+    expected.assign(size_t(thetaRes * phiRes), 0.0);
+    uint32_t state = seed;
+    shader::ShaderMath m;
+    Chi2Result bad;
+    for (int s = 0; s < n; ++s) {
+      glm::vec2 u(m.rng_next(state), m.rng_next(state));
+      bool ok = true;
+      glm::vec3 w = sample(u, ok);
+      if (!ok) continue;
+      if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z) || std::fabs(glm::length(w) - 1.0f) > 1e-3f) {
+        bad.problem = "a sample is not a finite unit vector";
+        return bad;
+      }
+      observed[size_t(cell(w))] += 1.0;
+    }
+    const int k = 4;
+    double dz = 2.0 / thetaRes, dphi = 2.0 * M_PI / phiRes;
+    for (int i = 0; i < thetaRes; ++i)
+      for (int j = 0; j < phiRes; ++j) {
+        double sum = 0.0;
+        for (int a = 0; a < k; ++a)
+          for (int b = 0; b < k; ++b) {
+            double z = -1.0 + (i + (a + 0.5) / k) * dz;
+            double phi = (j + (b + 0.5) / k) * dphi;
+            double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+            sum += pdf(glm::vec3(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)));
+          }
+        expected[size_t(i * phiRes + j)] = sum / (k * k) * dz * dphi * n;
+      }
+    return chi2_test(observed, expected, n);
+  }
+};
+
+// The bunny (28.6k triangles, scaled to about 10 units) with a few spheres,
+// one of them an ellipsoid, some overlapping the mesh.
+Scene bunny_with_spheres(const AcceleratorSettings& accel);
+
+// Rays through the scene's bounds: origins around and inside the box,
+// directions uniform; a quarter aimed at surface points so many of them hit.
+std::vector<shader::ShadowRay> random_rays(const Scene& scene, int count, uint32_t seed);
+
+// Closest hit by testing every primitive: t, or WP_INF on a miss.
+float brute_force_closest(const Scene& scene, const shader::ShadowRay& ray);
+
+}  // namespace wp::test
+
+#include "cpu/reference.h"
+
+namespace wp::test {
+
+inline ImageStats render_reference(const std::string& scenePath, RenderOptions options, int spp = -1) {
+  options.spp = spp;
+  CompiledScene cs = compile_scene(load_scene(scenePath), options);
+  Progress quiet("", 0, false);
+  return render_cpu(cs, 0, quiet);
+}
+
+// Mean over all pixels and channels, and its standard error.
+inline std::pair<double, double> image_mean(const ImageStats& img) {
+  double sum = 0.0, var = 0.0;
+  for (size_t p = 0; p < img.pixels(); ++p) {
+    glm::dvec3 m = img.mean(p), v = img.variance(p);
+    sum += m.x + m.y + m.z;
+    var += (v.x + v.y + v.z) / std::max(img.count[p], 1.0);
+  }
+  double n = 3.0 * double(img.pixels());
+  return {sum / n, std::sqrt(var) / n};
+}
+
+// The image mean must be within 4 standard errors (and 1 %) of `expected`.
+inline void expect_mean(const ImageStats& img, double expected, const char* what) {
+  auto [mean, se] = image_mean(img);
+  EXPECT_LT(std::fabs(mean - expected), 4.0 * se + 1e-4) << what << ": mean " << mean << " +- " << se << ", expected " << expected;
+  EXPECT_LT(std::fabs(mean - expected), 0.01 * expected) << what;
+  EXPECT_EQ(img.nonFinite, 0u) << what;
+}
+
+}  // namespace wp::test
