@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <unistd.h>
 
 #include "cpu/reference.h"
 #include "gpu/vulkan_context.h"
@@ -49,6 +50,14 @@ int run_render(const RenderArgs& a) {
   if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
   std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
+
+  // Check where the images go before spending time on the render.
+  for (const std::string& path : {out, exr}) {
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) throw InputError(path + ": the output directory does not exist");
+    if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
+  }
 
   Scene scene = load_scene(a.scene);
   RenderOptions options;
@@ -136,9 +145,12 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --version and the like
+    std::fprintf(stderr, "wavepath: error: %s (see wavepath --help)\n", e.what());
+    return 2;
   }
   try {
     if (*render) return run_render(r);

@@ -12,7 +12,8 @@ namespace wp::test {
 namespace {
 
 // A synthetic render: each pixel's samples are drawn from an exponential
-// distribution (heavy-ish tail, like path tracing) around a smooth image.
+// distribution (heavy-ish tail, like path tracing) around a smooth image. As in
+// a path tracer, one draw sets all three channels, so they are correlated.
 ImageStats synthetic(int w, int h, int spp, uint32_t seed, double bias, int biasX0 = 0, int biasX1 = 1 << 30) {
   ImageStats img(w, h);
   std::mt19937 rng(seed);
@@ -23,8 +24,9 @@ ImageStats synthetic(int w, int h, int spp, uint32_t seed, double bias, int bias
       double b = (x >= biasX0 && x < biasX1 && y >= biasX0 && y < biasX1) ? bias : 1.0;
       std::exponential_distribution<double> dist(1.0 / (truth * b));
       for (int s = 0; s < spp; ++s) {
+        double draw = dist(rng);
         for (int c = 0; c < 3; ++c) {
-          double v = dist(rng) * (c == 0 ? 1.0 : 0.7);
+          double v = draw * (c == 0 ? 1.0 : 0.7 - 0.2 * c);
           img.sum[3 * p + size_t(c)] += v;
           img.sumSq[3 * p + size_t(c)] += v * v;
         }

@@ -2,6 +2,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <tbb/parallel_for.h>
+
 #include "bvh/bvh.h"
 #include "scene/obj_mesh.h"
 
@@ -56,7 +58,7 @@ std::vector<shader::ShadowRay> random_rays(const Scene& scene, int count, uint32
   return rays;
 }
 
-float brute_force_closest(const Scene& scene, const shader::ShadowRay& r) {
+static float brute_force_one(const Scene& scene, const shader::ShadowRay& r) {
   shader::ShaderMath m;
   shader::ShaderMath::RayShear sh = m.make_ray_shear(r.dir);
   float best = r.tmax;
@@ -78,6 +80,12 @@ float brute_force_closest(const Scene& scene, const shader::ShadowRay& r) {
     }
   }
   return hit ? best : WP_INF;
+}
+
+std::vector<float> brute_force_closest(const Scene& scene, const std::vector<shader::ShadowRay>& rays) {
+  std::vector<float> out(rays.size());
+  tbb::parallel_for(size_t(0), rays.size(), [&](size_t i) { out[i] = brute_force_one(scene, rays[i]); });
+  return out;
 }
 
 }  // namespace wp::test

@@ -161,8 +161,9 @@ Scene bunny_with_spheres(const AcceleratorSettings& accel);
 // directions uniform; a quarter aimed at surface points so many of them hit.
 std::vector<shader::ShadowRay> random_rays(const Scene& scene, int count, uint32_t seed);
 
-// Closest hit by testing every primitive: t, or WP_INF on a miss.
-float brute_force_closest(const Scene& scene, const shader::ShadowRay& ray);
+// Closest hit by testing every primitive: t, or WP_INF on a miss; one per ray,
+// computed on all cores.
+std::vector<float> brute_force_closest(const Scene& scene, const std::vector<shader::ShadowRay>& rays);
 
 }  // namespace wp::test
 
@@ -177,16 +178,16 @@ inline ImageStats render_reference(const std::string& scenePath, RenderOptions o
   return render_cpu(cs, 0, quiet);
 }
 
-// Mean over all pixels and channels, and its standard error.
+// Mean over all pixels and channels, and a bound on its standard error: the
+// channels of one sample are correlated, so their errors add (not in quadrature).
 inline std::pair<double, double> image_mean(const ImageStats& img) {
-  double sum = 0.0, var = 0.0;
+  glm::dvec3 sum(0.0), var(0.0);
   for (size_t p = 0; p < img.pixels(); ++p) {
-    glm::dvec3 m = img.mean(p), v = img.variance(p);
-    sum += m.x + m.y + m.z;
-    var += (v.x + v.y + v.z) / std::max(img.count[p], 1.0);
+    sum += img.mean(p);
+    var += img.variance(p) / std::max(img.count[p], 1.0);
   }
-  double n = 3.0 * double(img.pixels());
-  return {sum / n, std::sqrt(var) / n};
+  double n = double(img.pixels());
+  return {(sum.x + sum.y + sum.z) / (3.0 * n), (std::sqrt(var.x) + std::sqrt(var.y) + std::sqrt(var.z)) / (3.0 * n)};
 }
 
 // The image mean must be within 4 standard errors (and 1 %) of `expected`.

@@ -25,10 +25,14 @@ struct LightSample {
 };
 
 // Walks the BVH (ordered, stack-based). With anyHit it stops at the first hit
-// (shadow rays). Every loop iteration, node visits and primitive tests alike,
-// counts against scene.counts.z: lavapipe silently ends a shader invocation's
-// loops after 65,535 iterations in total, so the kernels stop themselves first
-// and report TRACE_TRUNCATED, which the host turns into an error.
+// (shadow rays).
+//
+// Loop budget: lavapipe silently ends all loops of a shader invocation after
+// 65,535 iterations in total, and counts the iterations of nested loops in ways
+// a counter cannot follow. So the walk is one flat loop in which every
+// iteration does exactly one thing, visit one node or test one primitive, and
+// counts itself against scene.counts.z (below the budget). A walk that reaches
+// the cap returns TRACE_TRUNCATED, which the host turns into an error.
 uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   hit.t = tmax;
   hit.prim = WP_INVALID;
@@ -39,6 +43,10 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   uint stack[BVH_MAX_DEPTH];
   uint sp = 0u;
   uint node = 0u;
+  bool haveNode = true;  // `node` is still to be visited
+  uint leafNext = 0u;    // primitives [leafNext, leafEnd) of the current leaf remain
+  uint leafEnd = 0u;
+  bool leafSpheres = false;
   uint steps = 0u;
   uint cap = scene.counts.z;
   BvhNode root = nodes[0];
@@ -46,40 +54,43 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   while (true) {
     steps += 1u;
     if (steps > cap) return TRACE_TRUNCATED;
-    BvhNode n = nodes[node];
-    if (n.count != 0u) {
-      uint first = n.leftFirst;
-      uint cnt = n.count & ~BVH_SPHERE_LEAF;
-      steps += cnt;
-      if ((n.count & BVH_SPHERE_LEAF) != 0u) {
-        for (uint i = 0u; i < cnt; ++i) {
-          Sphere s = spheres[first + i];
-          vec3 ol = xform_point(s.toObject0, s.toObject1, s.toObject2, o);
-          vec3 dl = xform_vector(s.toObject0, s.toObject1, s.toObject2, d);
-          float t;
-          if (intersect_unit_sphere(ol, dl, hit.t, t)) {
-            hit.t = t;
-            hit.prim = (first + i) | HIT_SPHERE_BIT;
-          }
+    if (leafNext < leafEnd) {
+      uint i = leafNext;
+      leafNext += 1u;
+      float t;
+      if (leafSpheres) {
+        Sphere s = spheres[i];
+        vec3 ol = xform_point(s.toObject0, s.toObject1, s.toObject2, o);
+        vec3 dl = xform_vector(s.toObject0, s.toObject1, s.toObject2, d);
+        if (intersect_unit_sphere(ol, dl, hit.t, t)) {
+          hit.t = t;
+          hit.prim = i | HIT_SPHERE_BIT;
         }
       } else {
-        for (uint i = 0u; i < cnt; ++i) {
-          Triangle tri = triangles[first + i];
-          float t;
-          float u;
-          float v;
-          if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v)) {
-            hit.t = t;
-            hit.prim = first + i;
-            hit.u = u;
-            hit.v = v;
-          }
+        Triangle tri = triangles[i];
+        float u;
+        float v;
+        if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v)) {
+          hit.t = t;
+          hit.prim = i;
+          hit.u = u;
+          hit.v = v;
         }
       }
       if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
+      continue;
+    }
+    if (!haveNode) {
       if (sp == 0u) break;
       sp -= 1u;
       node = stack[sp];
+    }
+    haveNode = false;
+    BvhNode n = nodes[node];
+    if (n.count != 0u) {
+      leafNext = n.leftFirst;
+      leafEnd = n.leftFirst + (n.count & ~BVH_SPHERE_LEAF);
+      leafSpheres = (n.count & BVH_SPHERE_LEAF) != 0u;
       continue;
     }
     uint c0 = n.leftFirst;
@@ -96,13 +107,9 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       c0 = c1;
       c1 = tc;
     }
-    if (d0 == WP_INF) {
-      if (sp == 0u) break;
-      sp -= 1u;
-      node = stack[sp];
-      continue;
-    }
+    if (d0 == WP_INF) continue;  // neither child: pop on the next iteration
     node = c0;
+    haveNode = true;
     if (d1 != WP_INF) {
       stack[sp] = c1;
       sp += 1u;

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The command line on bad input, as a user meets it: one line on stderr naming
+# the file and the problem, a non-zero exit, no crash, and no image left behind.
+# Usage: cli_bad_input.sh WAVEPATH TEST_DATA_DIR
+set -u
+wavepath=$1
+data=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+passed=0
+
+# expect_error NAME EXIT_CODE "TEXT1|TEXT2|..." -- COMMAND...
+expect_error() {
+  local name=$1 code=$2 texts=$3
+  shift 4
+  rm -f "$work"/out.* "$work"/*.tmp*
+  "$@" >"$work/stdout" 2>"$work/stderr"
+  local rc=$?
+  local problems=""
+  [ "$rc" -eq "$code" ] || problems+=" exit $rc (want $code);"
+  [ "$rc" -lt 128 ] || problems+=" crashed (signal $((rc - 128)));"
+  [ "$(wc -l <"$work/stderr")" -eq 1 ] || problems+=" stderr has $(wc -l <"$work/stderr") lines (want 1);"
+  grep -q '^wavepath: error: ' "$work/stderr" || problems+=" stderr does not start with 'wavepath: error:';"
+  local IFS='|'
+  for t in $texts; do grep -qF -- "$t" "$work/stderr" || problems+=" message lacks '$t';"; done
+  if ls "$work"/out.* "$work"/*.tmp* >/dev/null 2>&1; then problems+=" an output file was left behind;"; fi
+  if [ -n "$problems" ]; then
+    echo "FAIL $name:$problems"
+    sed 's/^/    stderr: /' "$work/stderr"
+    failures=$((failures + 1))
+  else
+    echo "ok   $name: $(cat "$work/stderr")"
+    passed=$((passed + 1))
+  fi
+}
+
+out="$work/out.png"
+expect_error "missing scene file" 2 "no-such.json|no such file" -- "$wavepath" render "$data/no-such.json" -o "$out" --spp 1
+expect_error "JSON syntax error" 2 "bad-syntax.json:4:24|JSON syntax error" -- "$wavepath" render "$data/bad-syntax.json" -o "$out" --spp 1
+expect_error "unknown key" 2 "bad-unknown-key.json|/camera/fov|unknown key \"fov\"" -- "$wavepath" render "$data/bad-unknown-key.json" -o "$out"
+expect_error "unknown material type" 2 "bad-material-type.json|/surfaces/0/material/type|velvet" -- "$wavepath" render "$data/bad-material-type.json" -o "$out"
+expect_error "negative radius" 2 "bad-radius.json|/surfaces/0/radius" -- "$wavepath" render "$data/bad-radius.json" -o "$out"
+expect_error "OBJ index out of range" 2 "bad-index.obj:4|vertex 99" -- "$wavepath" render "$data/mesh-bad-index.json" -o "$out"
+expect_error "OBJ negative index out of range" 2 "bad-negative.obj:4|vertex -7" -- "$wavepath" render "$data/mesh-bad-negative.json" -o "$out"
+expect_error "OBJ that does not parse" 2 "bad-token.obj:4|not a vertex index" -- "$wavepath" render "$data/mesh-bad-token.json" -o "$out"
+expect_error "missing OBJ" 2 "no-such-mesh.obj|no such file|mesh-missing.json" -- "$wavepath" render "$data/mesh-missing.json" -o "$out"
+expect_error "output is not a PNG" 2 "out.jpg|.png" -- "$wavepath" render "$data/furnace.json" -o "$work/out.jpg"
+expect_error "output directory missing" 2 "no-dir/out.png|does not exist" -- "$wavepath" render "$data/furnace.json" -o "$work/no-dir/out.png"
+expect_error "bad option value" 2 "spp" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 0
+expect_error "no Vulkan device" 3 "no Vulkan device" -- env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json "$wavepath" render "$data/furnace.json" -o "$out" --spp 1
+expect_error "no such device" 2 "--device nvidia" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 1 --device nvidia
+
+# And the good path writes both images, on the GPU and on the CPU.
+for mode in gpu cpu; do
+  rm -f "$work"/out.*
+  extra=()
+  [ "$mode" = cpu ] && extra=(--cpu)
+  if "$wavepath" render "$data/furnace.json" -o "$out" --spp 2 --quiet "${extra[@]}" && [ -s "$work/out.png" ] && [ -s "$work/out.exr" ]; then
+    echo "ok   render on the $mode writes out.png and out.exr"
+    passed=$((passed + 1))
+  else
+    echo "FAIL render on the $mode"
+    failures=$((failures + 1))
+  fi
+done
+if "$wavepath" devices | grep -q "type "; then
+  echo "ok   devices lists at least one device"
+  passed=$((passed + 1))
+else
+  echo "FAIL devices"
+  failures=$((failures + 1))
+fi
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]
