@@ -40,16 +40,18 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   hit.v = 0.0f;
   vec3 invDir = vec3(1.0f) / d;
   RayShear sh = make_ray_shear(d);
-  uint stack[BVH_MAX_DEPTH];
+  // Nodes are named by their (leftFirst, count) pair, read when their parent
+  // tested their boxes, so each node is fetched from memory once.
+  uvec2 stack[BVH_MAX_DEPTH];
   uint sp = 0u;
-  uint node = 0u;
+  BvhNode root = nodes[0];
+  uvec2 node = uvec2(root.leftFirst, root.count);
   bool haveNode = true;  // `node` is still to be visited
   uint leafNext = 0u;    // primitives [leafNext, leafEnd) of the current leaf remain
   uint leafEnd = 0u;
   bool leafSpheres = false;
   uint steps = 0u;
   uint cap = scene.counts.z;
-  BvhNode root = nodes[0];
   if (root.count == 0u && intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF) return TRACE_OK;
   while (true) {
     steps += 1u;
@@ -86,32 +88,31 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       node = stack[sp];
     }
     haveNode = false;
-    BvhNode n = nodes[node];
-    if (n.count != 0u) {
-      leafNext = n.leftFirst;
-      leafEnd = n.leftFirst + (n.count & ~BVH_SPHERE_LEAF);
-      leafSpheres = (n.count & BVH_SPHERE_LEAF) != 0u;
+    if (node.y != 0u) {
+      leafNext = node.x;
+      leafEnd = node.x + (node.y & ~BVH_SPHERE_LEAF);
+      leafSpheres = (node.y & BVH_SPHERE_LEAF) != 0u;
       continue;
     }
-    uint c0 = n.leftFirst;
-    uint c1 = c0 + 1u;
-    BvhNode n0 = nodes[c0];
-    BvhNode n1 = nodes[c1];
+    BvhNode n0 = nodes[node.x];
+    BvhNode n1 = nodes[node.x + 1u];
     float d0 = intersect_aabb(o, invDir, n0.bmin, n0.bmax, hit.t);
     float d1 = intersect_aabb(o, invDir, n1.bmin, n1.bmax, hit.t);
+    uvec2 near = uvec2(n0.leftFirst, n0.count);
+    uvec2 far = uvec2(n1.leftFirst, n1.count);
     if (d1 < d0) {
       float td = d0;
       d0 = d1;
       d1 = td;
-      uint tc = c0;
-      c0 = c1;
-      c1 = tc;
+      uvec2 tn = near;
+      near = far;
+      far = tn;
     }
     if (d0 == WP_INF) continue;  // neither child: pop on the next iteration
-    node = c0;
+    node = near;
     haveNode = true;
     if (d1 != WP_INF) {
-      stack[sp] = c1;
+      stack[sp] = far;
       sp += 1u;
     }
   }
