@@ -3,6 +3,7 @@
 //   wavepath render SCENE.json [-o out.png] [--spp N] [--max-bounces N] [--seed N]
 //                              [--device INDEX|NAME] [--cpu] [--threads N] [--exr PATH] [--quiet]
 //   wavepath devices
+//   wavepath info SCENE.json
 //
 // Exit status: 0 success, 2 bad input (scene, mesh, options), 3 rendering failed
 // (no Vulkan device, out of memory, validation messages, truncated traversal).
@@ -108,6 +109,29 @@ int run_render(const RenderArgs& a) {
   return 0;
 }
 
+// What the renderer would build for a scene: sizes, BVH quality and memory.
+int run_info(const std::string& scenePath, int maxLeafSize) {
+  auto t0 = std::chrono::steady_clock::now();
+  Scene scene = load_scene(scenePath);
+  double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (maxLeafSize > 0) scene.accelerator.maxLeafSize = maxLeafSize;
+  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  size_t gpuBytes = cs.nodes.size() * sizeof(shader::BvhNode) + cs.triangles.size() * sizeof(shader::Triangle) +
+                    cs.spheres.size() * sizeof(shader::Sphere) + cs.materials.size() * sizeof(shader::Material) +
+                    cs.emitters.size() * sizeof(shader::Emitter);
+  size_t prims = scene.triangles.size() + scene.spheres.size();
+  std::printf("scene        %s\n", scenePath.c_str());
+  std::printf("primitives   %zu triangles, %zu spheres, %zu materials, %u emitters\n", scene.triangles.size(),
+              scene.spheres.size(), scene.materials.size(), cs.params.counts.x);
+  std::printf("image        %dx%d, %d spp, %u max bounces\n", cs.width, cs.height, cs.spp, cs.params.image.z);
+  std::printf("load         %.3f s (parsing and OBJ)\n", loadSeconds);
+  std::printf("BVH          %zu nodes, depth %d, SAH cost %.2f, built in %.3f s (%.2f Mprims/s)\n", cs.nodes.size(),
+              cs.bvhDepth, cs.bvhSahCost, cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
+  std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
+              prims ? double(gpuBytes) / double(prims) : 0.0);
+  return 0;
+}
+
 int run_devices(bool validation) {
   auto devices = VulkanContext::list_devices(validation);
   if (devices.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers");
@@ -139,6 +163,11 @@ int main(int argc, char** argv) {
   render->add_option("--threads", r.threads, "CPU threads for --cpu (default: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r.quiet, "no progress line and no summary");
   render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
+  std::string infoScene;
+  int infoLeaf = 0;
+  CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
+  info->add_option("scene", infoScene, "scene file (darts JSON)")->required();
+  info->add_option("--max-leaf-size", infoLeaf, "override the scene's BVH leaf size")->check(CLI::Range(1, BVH_MAX_LEAF_SIZE));
   bool devValidation = false;
   CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices and the limits that matter to wavepath");
   devices->add_flag("--validation", devValidation, "enable Vulkan validation");
@@ -155,6 +184,7 @@ int main(int argc, char** argv) {
   try {
     if (*render) return run_render(r);
     if (*devices) return run_devices(devValidation);
+    if (*info) return run_info(infoScene, infoLeaf);
   } catch (const InputError& e) {
     std::fprintf(stderr, "wavepath: error: %s\n", e.what());
     return 2;

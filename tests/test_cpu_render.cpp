@@ -1,28 +1,31 @@
 // The CPU reference renderer on scenes whose answer is known exactly.
 #include "test_support.h"
 
+#include <gtest/gtest-spi.h>
+
 #include "util/error.h"
 
 namespace wp::test {
 namespace {
 
-// Inside a closed box whose walls have albedo 0.5 and emit 0.5, paths of at
-// most D bounces see exactly 1 - 0.5^(D+1), for every integrator.
 TEST(CpuReference, FurnaceBoxIsAnalyticForEveryIntegratorAndDepth) {
-  for (int bounces : {0, 2, 64}) {
-    for (IntegratorKind kind : {IntegratorKind::PathMis, IntegratorKind::PathNee, IntegratorKind::PathMats}) {
-      Scene scene = load_scene(source_path("tests/data/furnace.json"));
-      scene.integrator.kind = kind;
-      RenderOptions o;
-      o.maxBounces = bounces;
-      o.spp = 32;
-      CompiledScene cs = compile_scene(scene, o);
-      Progress quiet("", 0, false);
-      ImageStats img = render_cpu(cs, 0, quiet);
-      std::string what = "bounces " + std::to_string(bounces) + ", integrator " + std::to_string(int(kind));
-      expect_mean(img, 1.0 - std::pow(0.5, bounces + 1), what.c_str());
-    }
-  }
+  expect_furnace_is_analytic([](const CompiledScene& cs) {
+    Progress quiet("", 0, false);
+    return render_cpu(cs, 0, quiet);
+  });
+}
+
+// The analytic check itself must notice a 2 % error: plant one in the
+// integrator's radiance and expect the mean test to fail.
+TEST(CpuReference, FurnaceCheckCatchesAPlantedBiasOfTwoPercent) {
+  Scene scene = load_scene(source_path("tests/data/furnace.json"));
+  RenderOptions o;
+  o.maxBounces = 2;
+  o.spp = 32;
+  o.plantedBias = 1.02f;
+  Progress quiet("", 0, false);
+  ImageStats img = render_cpu(compile_scene(scene, o), 0, quiet);
+  EXPECT_NONFATAL_FAILURE(expect_mean(img, 0.875, "planted"), "planted");
 }
 
 // A convex diffuse sphere (albedo 0.5) under a white sky: every ray leaving it

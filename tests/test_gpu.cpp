@@ -166,18 +166,7 @@ TEST_F(Gpu, TraversalPastTheCapIsReportedNotSilent) {
 }
 
 TEST_F(Gpu, FurnaceBoxIsAnalytic) {
-  for (int bounces : {0, 2, 64}) {
-    for (IntegratorKind kind : {IntegratorKind::PathMis, IntegratorKind::PathNee, IntegratorKind::PathMats}) {
-      Scene scene = load_scene(source_path("tests/data/furnace.json"));
-      scene.integrator.kind = kind;
-      RenderOptions o;
-      o.maxBounces = bounces;
-      o.spp = 32;
-      ImageStats img = render(compile_scene(scene, o));
-      std::string what = "bounces " + std::to_string(bounces) + ", integrator " + std::to_string(int(kind));
-      expect_mean(img, 1.0 - std::pow(0.5, bounces + 1), what.c_str());
-    }
-  }
+  expect_furnace_is_analytic([](const CompiledScene& cs) { return render(cs); });
 }
 
 TEST_F(Gpu, SphereUnderWhiteSkyIsExactlyHalf) {

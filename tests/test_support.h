@@ -193,9 +193,32 @@ inline std::pair<double, double> image_mean(const ImageStats& img) {
 // The image mean must be within 4 standard errors (and 1 %) of `expected`.
 inline void expect_mean(const ImageStats& img, double expected, const char* what) {
   auto [mean, se] = image_mean(img);
-  EXPECT_LT(std::fabs(mean - expected), 4.0 * se + 1e-4) << what << ": mean " << mean << " +- " << se << ", expected " << expected;
-  EXPECT_LT(std::fabs(mean - expected), 0.01 * expected) << what;
+  double err = std::fabs(mean - expected);
+  EXPECT_TRUE(err < 4.0 * se + 1e-4 && err < 0.01 * expected)
+      << what << ": mean " << mean << " +- " << se << ", expected " << expected;
   EXPECT_EQ(img.nonFinite, 0u) << what;
+}
+
+}  // namespace wp::test
+
+namespace wp::test {
+
+// Inside a closed box whose walls have albedo 0.5 and emit 0.5, paths of at
+// most D bounces see exactly 1 - 0.5^(D+1), for every integrator. Runs that
+// check with `render` for several depths and each integrator.
+inline void expect_furnace_is_analytic(const std::function<ImageStats(const CompiledScene&)>& render) {
+  for (int bounces : {0, 2, 64}) {
+    for (IntegratorKind kind : {IntegratorKind::PathMis, IntegratorKind::PathNee, IntegratorKind::PathMats}) {
+      Scene scene = load_scene(source_path("tests/data/furnace.json"));
+      scene.integrator.kind = kind;
+      RenderOptions o;
+      o.maxBounces = bounces;
+      o.spp = 32;
+      ImageStats img = render(compile_scene(scene, o));
+      std::string what = "bounces " + std::to_string(bounces) + ", integrator " + std::to_string(int(kind));
+      expect_mean(img, 1.0 - std::pow(0.5, bounces + 1), what.c_str());
+    }
+  }
 }
 
 }  // namespace wp::test
