@@ -2,11 +2,14 @@
 //
 //   wavepath render SCENE.json [-o out.png] [--spp N] [--max-bounces N] [--seed N]
 //                              [--device INDEX|NAME] [--cpu] [--threads N] [--exr PATH] [--quiet]
+//   wavepath compare SCENE.json [--a gpu|cpu] [--b cpu|gpu] [--spp N] [--report DIR]
+//   wavepath compare --images A.exr B.exr [--report DIR]
 //   wavepath devices
 //   wavepath info SCENE.json
 //
-// Exit status: 0 success, 2 bad input (scene, mesh, options), 3 rendering failed
-// (no Vulkan device, out of memory, validation messages, truncated traversal).
+// Exit status: 0 success (compare: the images agree), 1 compare: they differ,
+// 2 bad input (scene, mesh, options), 3 rendering failed (no Vulkan device, out
+// of memory, validation messages, truncated traversal).
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -20,6 +23,8 @@
 #include "gpu/wavefront.h"
 #include "image/image.h"
 #include "render/compiled_scene.h"
+#include "report/html_report.h"
+#include "stats/compare.h"
 #include "scene/load_scene.h"
 #include "util/error.h"
 #include "util/progress.h"
@@ -40,10 +45,53 @@ struct RenderArgs {
   int threads = 0;
   bool quiet = false;
   bool validation = false;
+  std::vector<int> resolution;
 };
 
 std::string default_output(const std::string& scenePath) {
   return std::filesystem::path(scenePath).stem().string() + ".png";
+}
+
+// Renders on "gpu" (the chosen Vulkan device) or "cpu" (the reference).
+// Sets *where to a description of what rendered it.
+ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where) {
+  bool progressOn = !a.quiet && Progress::stderr_is_terminal();
+  uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
+  if (renderer == "cpu") {
+    Progress progress("cpu", total, progressOn);
+    *where = "the CPU reference";
+    return render_cpu(compiled, a.threads, progress);
+  }
+  bool validation = a.validation || VulkanContext::validation_requested_by_environment();
+  VulkanContext ctx(a.device, validation);
+  ImageStats image;
+  {
+    WavefrontRenderer renderer(ctx, compiled);
+    Progress progress(ctx.info().name, total, progressOn);
+    image = renderer.render(progress);
+  }
+  if (ctx.validation_messages() > 0) {
+    throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
+  }
+  *where = ctx.info().name;
+  return image;
+}
+
+RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
+  RenderOptions options;
+  options.spp = a.spp;
+  options.maxBounces = a.maxBounces;
+  options.seed = seed;
+  return options;
+}
+
+Scene load_scene_with_overrides(const RenderArgs& a) {
+  Scene scene = load_scene(a.scene);
+  if (!a.resolution.empty()) {
+    scene.camera.width = a.resolution[0];
+    scene.camera.height = a.resolution[1];
+  }
+  return scene;
 }
 
 int run_render(const RenderArgs& a) {
@@ -51,7 +99,6 @@ int run_render(const RenderArgs& a) {
   if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
   std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
-
   // Check where the images go before spending time on the render.
   for (const std::string& path : {out, exr}) {
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
@@ -60,35 +107,10 @@ int run_render(const RenderArgs& a) {
     if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
   }
 
-  Scene scene = load_scene(a.scene);
-  RenderOptions options;
-  options.spp = a.spp;
-  options.maxBounces = a.maxBounces;
-  options.seed = a.seed;
-  CompiledScene compiled = compile_scene(scene, options);
-  bool progressOn = !a.quiet && Progress::stderr_is_terminal();
-  uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
-
+  CompiledScene compiled = compile_scene(load_scene_with_overrides(a), options_from(a, a.seed));
   auto start = std::chrono::steady_clock::now();
-  ImageStats image;
   std::string where;
-  if (a.cpu) {
-    Progress progress("cpu", total, progressOn);
-    image = render_cpu(compiled, a.threads, progress);
-    where = "the CPU reference";
-  } else {
-    bool validation = a.validation || VulkanContext::validation_requested_by_environment();
-    VulkanContext ctx(a.device, validation);
-    {
-      WavefrontRenderer renderer(ctx, compiled);
-      Progress progress(ctx.info().name, total, progressOn);
-      image = renderer.render(progress);
-    }
-    if (ctx.validation_messages() > 0) {
-      throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
-    }
-    where = ctx.info().name;
-  }
+  ImageStats image = render_on(a.cpu ? "cpu" : "gpu", compiled, a, &where);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   write_exr(exr, image);
@@ -102,11 +124,62 @@ int run_render(const RenderArgs& a) {
     std::fprintf(stderr, "wavepath: warning: %llu non-finite samples were dropped\n", (unsigned long long)image.nonFinite);
   }
   if (!a.quiet) {
+    uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
     std::printf("wrote %s and %s: %dx%d, %d spp, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
                 compiled.width, compiled.height, compiled.spp, int(compiled.params.image.z), seconds, where.c_str(),
                 double(total) / seconds * 1e-6);
   }
   return 0;
+}
+
+struct CompareArgs {
+  RenderArgs render;  // scene, spp, bounces, seed, device, threads, quiet, validation
+  std::vector<std::string> images;
+  std::string a = "gpu";
+  std::string b = "cpu";
+  std::string report;
+  float plantBias = 1.0f;
+  std::vector<uint32_t> plantRegion;
+};
+
+// Renders the scene twice with independent seeds (or reads two EXR renders) and
+// decides whether both estimate the same image. Exit 0: agree, 1: differ.
+int run_compare(const CompareArgs& c) {
+  ImageStats a, b;
+  ReportLabels labels;
+  if (!c.images.empty()) {
+    a = read_exr(c.images[0]);
+    b = read_exr(c.images[1]);
+    labels = ReportLabels{c.images[0] + " vs " + c.images[1], c.images[0], c.images[1]};
+  } else {
+    for (const std::string& r : {c.a, c.b})
+      if (r != "gpu" && r != "cpu") throw InputError("--a/--b " + r + ": unknown renderer (expected gpu or cpu)");
+    Scene scene = load_scene_with_overrides(c.render);
+    RenderOptions oa = options_from(c.render, c.render.seed), ob = options_from(c.render, c.render.seed + 1);
+    oa.plantedBias = c.plantBias;
+    if (!c.plantRegion.empty()) oa.plantedRegion = glm::uvec4(c.plantRegion[0], c.plantRegion[1], c.plantRegion[2], c.plantRegion[3]);
+    std::string whereA, whereB;
+    a = render_on(c.a, compile_scene(scene, oa), c.render, &whereA);
+    b = render_on(c.b, compile_scene(scene, ob), c.render, &whereB);
+    auto label = [&](const std::string& r, const std::string& where, uint32_t seed, bool planted) {
+      std::string l = r + " (" + where + "), seed " + std::to_string(seed);
+      if (planted) {
+        char factor[32];
+        std::snprintf(factor, sizeof(factor), "%g", double(c.plantBias));
+        l += std::string(", planted bias x") + factor;
+      }
+      return l;
+    };
+    labels = ReportLabels{c.render.scene, label(c.a, whereA, c.render.seed, c.plantBias != 1.0f),
+                          label(c.b, whereB, c.render.seed + 1, false)};
+  }
+  CompareResult result = compare_images(a, b);
+  std::printf("%s\n", result.summary().c_str());
+  if (!c.report.empty()) {
+    write_html_report(c.report, a, b, result, labels);
+    std::printf("report: %s/index.html\n", c.report.c_str());
+  }
+  return result.passed() ? 0 : 1;
 }
 
 // What the renderer would build for a scene: sizes, BVH quality and memory.
@@ -163,6 +236,28 @@ int main(int argc, char** argv) {
   render->add_option("--threads", r.threads, "CPU threads for --cpu (default: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r.quiet, "no progress line and no summary");
   render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
+  render->add_option("--resolution", r.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
+
+  CompareArgs cmp;
+  CLI::App* compare = app.add_subcommand(
+      "compare", "render a scene twice with independent seeds (default: GPU against the CPU reference), or read two EXR "
+                 "renders, and decide statistically whether they estimate the same image. Exit 0: agree, 1: differ");
+  compare->add_option("scene", cmp.render.scene, "scene file (darts JSON)");
+  compare->add_option("--images", cmp.images, "compare two stored renders (EXR written by wavepath render) instead")->expected(2);
+  compare->add_option("--a", cmp.a, "renderer of image A: gpu or cpu (default gpu)");
+  compare->add_option("--b", cmp.b, "renderer of image B: gpu or cpu (default cpu)");
+  compare->add_option("--spp", cmp.render.spp, "samples per pixel of each render")->check(CLI::Range(1, 1 << 24));
+  compare->add_option("--max-bounces", cmp.render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
+  compare->add_option("--seed", cmp.render.seed, "seed of A; B uses seed + 1 (default 1)")->default_val(1);
+  compare->add_option("--resolution", cmp.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
+  compare->add_option("--report", cmp.report, "write an HTML report to this directory");
+  compare->add_option("--device", cmp.render.device, "Vulkan device: index or part of the name");
+  compare->add_option("--threads", cmp.render.threads, "CPU threads for the CPU reference")->check(CLI::Range(0, 1024));
+  compare->add_option("--plant-bias", cmp.plantBias, "debug: multiply A's radiance by this factor, to see what the test detects")
+      ->check(CLI::Range(0.0, 100.0));
+  compare->add_option("--plant-region", cmp.plantRegion, "debug: only inside pixels X0 Y0 X1 Y1 (exclusive ends)")->expected(4);
+  compare->add_flag("-q,--quiet", cmp.render.quiet, "no progress line");
+  compare->add_flag("--validation", cmp.render.validation, "enable Vulkan validation; any message is a failure");
   std::string infoScene;
   int infoLeaf = 0;
   CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
@@ -183,6 +278,11 @@ int main(int argc, char** argv) {
   }
   try {
     if (*render) return run_render(r);
+    if (*compare) {
+      if (cmp.images.empty() == cmp.render.scene.empty())
+        throw InputError("compare needs either a scene file or --images A.exr B.exr (not both)");
+      return run_compare(cmp);
+    }
     if (*devices) return run_devices(devValidation);
     if (*info) return run_info(infoScene, infoLeaf);
   } catch (const InputError& e) {

@@ -37,6 +37,15 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.bsdfPdf = 0.0f;
 }
 
+// 1, except where `wavepath compare --plant-bias` or a test plants a bias to
+// show that the statistical comparison detects it.
+float planted_bias(uint pixel) {
+  uint x = pixel % scene.image.x;
+  uint y = pixel / scene.image.x;
+  bool inside = x >= scene.debugRegion.x && x < scene.debugRegion.z && y >= scene.debugRegion.y && y < scene.debugRegion.w;
+  return inside ? scene.debug.x : 1.0f;
+}
+
 // Accounts for what the path's ray hit and prepares the next bounce. Writes a
 // shadow ray (tmax > 0) when next-event estimation found a candidate. Returns
 // true while the path continues.
@@ -47,7 +56,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
   sr.contribution = vec3(0.0f);
   sr.path = WP_INVALID;
   sr.pad = 0u;
-  float radianceScale = scene.debug.x;
+  float radianceScale = planted_bias(p.pixel);
   if (h.prim == WP_INVALID) {
     p.radiance += p.throughput * vec3(scene.background.x, scene.background.y, scene.background.z) * radianceScale;
     return false;

@@ -104,7 +104,8 @@ struct SceneParams {
   vec4 background;   // rgb radiance of escaped rays
   uvec4 image;       // x: width, y: height, z: max bounces, w: Russian roulette start depth
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
-  vec4 debug;        // x: radiance scale (1 unless a test plants a bias)
+  vec4 debug;        // x: radiance scale inside debugRegion (1 unless a bias is planted)
+  uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
 };
 
 // A path in flight. 64 bytes.

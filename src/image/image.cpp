@@ -64,7 +64,7 @@ void write_atomically(const std::string& path, const char* what, F write) {
 
 }  // namespace
 
-void write_png(const std::string& path, const ImageStats& image) {
+std::vector<uint8_t> to_srgb8(const ImageStats& image) {
   std::vector<uint8_t> rgb(image.pixels() * 3);
   for (size_t p = 0; p < image.pixels(); ++p) {
     glm::dvec3 m = image.mean(p);
@@ -72,8 +72,30 @@ void write_png(const std::string& path, const ImageStats& image) {
     rgb[3 * p + 1] = to_srgb8(m.y);
     rgb[3 * p + 2] = to_srgb8(m.z);
   }
-  write_atomically(path, "PNG", [&](const std::string& tmp, std::string&) {
-    return stbi_write_png(tmp.c_str(), image.width, image.height, 3, rgb.data(), image.width * 3) != 0;
+  return rgb;
+}
+
+std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t>& rgb) {
+  std::vector<uint8_t> out;
+  auto append = [](void* ctx, void* data, int size) {
+    auto* v = static_cast<std::vector<uint8_t>*>(ctx);
+    v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+  };
+  if (!stbi_write_png_to_func(append, &out, width, height, 3, rgb.data(), width * 3)) out.clear();
+  return out;
+}
+
+void write_png(const std::string& path, const ImageStats& image) {
+  std::vector<uint8_t> png = encode_png(image.width, image.height, to_srgb8(image));
+  write_atomically(path, "PNG", [&](const std::string& tmp, std::string& error) {
+    if (png.empty()) {
+      error = "PNG encoding failed";
+      return false;
+    }
+    FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) return false;
+    bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
+    return std::fclose(f) == 0 && ok;
   });
 }
 

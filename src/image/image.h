@@ -29,6 +29,11 @@ struct ImageStats {
   double mean_luminance() const;
 };
 
+// The mean as 8-bit sRGB, clamped: three bytes per pixel, row by row.
+std::vector<uint8_t> to_srgb8(const ImageStats& image);
+// PNG file contents for 8-bit RGB pixels.
+std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t>& rgb);
+
 // 8-bit sRGB PNG of the mean, clamped. Written to a temporary file and renamed,
 // so a failed or interrupted write never leaves a complete-looking image.
 void write_png(const std::string& path, const ImageStats& image);

@@ -186,6 +186,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (scene.integrator.kind == IntegratorKind::PathNee) flags |= SCENE_FLAG_NO_BSDF_MIS;
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
   p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
+  p.debugRegion = options.plantedRegion;
   return out;
 }
 

@@ -21,9 +21,11 @@ struct RenderOptions {
   // lavapipe ends all loops of an invocation silently after 65,535 iterations
   // in total; one traversal per invocation with this cap stays below that.
   uint32_t traversalStepCap = 60000;
-  // Multiplies every radiance contribution. 1 except in tests that plant a
-  // bias to show that the statistical comparison catches it.
+  // Multiplies every radiance contribution to the pixels of plantedRegion
+  // (x0, y0, x1, y1; all pixels by default). 1 except when a bias is planted
+  // to show that the statistical comparison catches it.
   float plantedBias = 1.0f;
+  glm::uvec4 plantedRegion{0u, 0u, ~0u, ~0u};
 };
 
 struct CompiledScene {

@@ -50,7 +50,7 @@ static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
 static_assert(sizeof(Material) == 48 && offsetof(Material, info) == 32);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 128 && offsetof(SceneParams, debug) == 112);
+static_assert(sizeof(SceneParams) == 144 && offsetof(SceneParams, debugRegion) == 128);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, contribution) == 32);

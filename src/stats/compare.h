@@ -2,12 +2,15 @@
 // Welch z-test with a variance floor, Sidak-corrected over all pixel-channels,
 // passing when at least 99.75 % of them pass (Mitsuba's rule); plus a test of
 // the whole-image mean of each channel (Sidak over the three), which has far
-// more power against a small global bias. The channels are tested apart
+// more power against a small global bias; plus mean tests per tile (16x16 by
+// default, Sidak over tiles and channels), which have the power against a
+// bias confined to a region. The channels are tested apart
 // because one path sample carries all three: they are correlated, and adding
 // their variances as if independent understates the error by up to sqrt(3).
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 
@@ -17,6 +20,15 @@ struct CompareSettings {
   double alpha = 0.01;                // family-wise significance of each test
   double minPixelPassFraction = 0.9975;
   double relativeFloor = 1e-4;        // differences below this fraction of the mean are never significant
+  int tileSize = 16;
+};
+
+struct TileResult {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixel bounds [x0, x1) x [y0, y1)
+  double z = 0.0;                      // of the channel with the largest |z|
+  double p = 1.0;
+  double relativeBias = 0.0;           // tile mean of A / tile mean of B - 1, over channels
+  bool failed = false;
 };
 
 struct CompareResult {
@@ -31,7 +43,13 @@ struct CompareResult {
   bool meanTestPassed = false;
   double relativeBias = 0.0;      // meanA / meanB - 1
   double relativeBiasCi95 = 0.0;  // half-width of its 95 % interval
-  bool passed() const { return pixelTestPassed && meanTestPassed; }
+  std::vector<TileResult> tiles;  // row by row
+  size_t failingTiles = 0;
+  bool tileTestPassed = false;
+  std::vector<float> zMap;        // per pixel: z of the channel with the largest |z|
+  bool passed() const { return pixelTestPassed && meanTestPassed && tileTestPassed; }
+  // The tiles with the largest |z|, most significant first.
+  std::vector<TileResult> worst_tiles(size_t count) const;
   std::string summary() const;
 };
 
