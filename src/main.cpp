@@ -46,6 +46,7 @@ struct RenderArgs {
   bool quiet = false;
   bool validation = false;
   std::vector<int> resolution;
+  bool stageTimes = false;
 };
 
 std::string default_output(const std::string& scenePath) {
@@ -54,7 +55,8 @@ std::string default_output(const std::string& scenePath) {
 
 // Renders on "gpu" (the chosen Vulkan device) or "cpu" (the reference).
 // Sets *where to a description of what rendered it.
-ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where) {
+ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
+                     StageTimes* times = nullptr) {
   bool progressOn = !a.quiet && Progress::stderr_is_terminal();
   uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
   if (renderer == "cpu") {
@@ -69,6 +71,7 @@ ImageStats render_on(const std::string& renderer, const CompiledScene& compiled,
     WavefrontRenderer renderer(ctx, compiled);
     Progress progress(ctx.info().name, total, progressOn);
     image = renderer.render(progress);
+    if (times) *times = renderer.stage_times();
   }
   if (ctx.validation_messages() > 0) {
     throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
@@ -110,7 +113,8 @@ int run_render(const RenderArgs& a) {
   CompiledScene compiled = compile_scene(load_scene_with_overrides(a), options_from(a, a.seed));
   auto start = std::chrono::steady_clock::now();
   std::string where;
-  ImageStats image = render_on(a.cpu ? "cpu" : "gpu", compiled, a, &where);
+  StageTimes times;
+  ImageStats image = render_on(a.cpu ? "cpu" : "gpu", compiled, a, &where, &times);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   write_exr(exr, image);
@@ -128,6 +132,15 @@ int run_render(const RenderArgs& a) {
     std::printf("wrote %s and %s: %dx%d, %d spp, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
                 compiled.width, compiled.height, compiled.spp, int(compiled.params.image.z), seconds, where.c_str(),
                 double(total) / seconds * 1e-6);
+  }
+  if (a.stageTimes && !a.cpu) {
+    double gpu = times.total();
+    std::printf("%-11s %10s %7s %11s\n", "stage", "GPU s", "share", "dispatches");
+    for (int s = 0; s < StageTimes::kStages; ++s) {
+      std::printf("%-11s %10.3f %6.1f%% %11llu\n", StageTimes::kNames[s], times.seconds[s], gpu > 0 ? 100.0 * times.seconds[s] / gpu : 0.0,
+                  (unsigned long long)times.dispatches[s]);
+    }
+    std::printf("%-11s %10.3f\n", "total", gpu);
   }
   return 0;
 }
@@ -236,6 +249,7 @@ int main(int argc, char** argv) {
   render->add_option("--threads", r.threads, "CPU threads for --cpu (default: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r.quiet, "no progress line and no summary");
   render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
+  render->add_flag("--stage-times", r.stageTimes, "print the GPU time of each kernel stage (Vulkan timestamps)");
   render->add_option("--resolution", r.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
 
   CompareArgs cmp;

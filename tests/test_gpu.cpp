@@ -250,6 +250,26 @@ TEST_F(Gpu, CompareAgreesWithoutBiasAtLeast19TimesIn20) {
   EXPECT_GE(agree, 19);
 }
 
+// One wave per sample: generate and accumulate once, and per bounce pass one
+// prepare-extend-shade-prepare-connect sequence, each timed by timestamps.
+TEST_F(Gpu, StageTimesCoverEveryDispatch) {
+  RenderOptions o;
+  o.spp = 3;
+  o.maxBounces = 2;
+  CompiledScene cs = compile_scene(load_scene(source_path("tests/data/furnace.json")), o);
+  WavefrontRenderer r(*ctx_, cs);
+  Progress quiet("", 0, false);
+  r.render(quiet);
+  const StageTimes& t = r.stage_times();
+  const uint64_t expected[StageTimes::kStages] = {3, 3 * 3 * 2, 3 * 3, 3 * 3, 3 * 3, 3};
+  for (int s = 0; s < StageTimes::kStages; ++s) {
+    EXPECT_EQ(t.dispatches[s], expected[s]) << StageTimes::kNames[s];
+    EXPECT_GE(t.seconds[s], 0.0) << StageTimes::kNames[s];
+  }
+  EXPECT_GT(t.seconds[2], 0.0) << "extend took no time";
+  EXPECT_LT(t.total(), 60.0);
+}
+
 // No races: each pixel's samples depend only on (pixel, sample, seed).
 TEST_F(Gpu, SameSeedSameImageOtherSeedOtherImage) {
   Scene scene = load_scene(source_path("scenes/cornell-box.json"));

@@ -64,6 +64,16 @@ struct WavefrontRenderer::Impl {
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, raycast{nullptr};
   vk::raii::CommandPool commandPool{nullptr};
+  // Timestamps: one after every dispatch of a submission; stageOf[i] names the
+  // stage whose dispatch ended at timestamp i + 1.
+  vk::raii::QueryPool queries{nullptr};
+  uint32_t queryCapacity = 0;
+  std::vector<int> stageOf;
+  bool timestamps = false;
+  double timestampPeriodNs = 1.0;
+  StageTimes times;
+
+  enum Stage { kGenerate, kPrepare, kExtend, kShade, kConnect, kAccumulate };
 
   Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
     const uint64_t maxRange = ctx.info().maxStorageBufferRange;
@@ -74,6 +84,37 @@ struct WavefrontRenderer::Impl {
     create_pipelines();
     commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
                                                           vk::CommandPoolCreateFlagBits::eResetCommandBuffer, ctx.queue_family()));
+    auto props = ctx.physical().getProperties();
+    auto families = ctx.physical().getQueueFamilyProperties();
+    timestamps = props.limits.timestampComputeAndGraphics && families[ctx.queue_family()].timestampValidBits > 0;
+    timestampPeriodNs = props.limits.timestampPeriod;
+  }
+
+  // Makes room for `count` timestamps in the query pool.
+  void reserve_queries(uint32_t count) {
+    if (!timestamps || count <= queryCapacity) return;
+    queryCapacity = std::max(count, queryCapacity * 2);
+    queries = vk::raii::QueryPool(ctx.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, queryCapacity));
+  }
+
+  void stamp(vk::CommandBuffer cb, Stage stage) {
+    if (!timestamps) return;
+    stageOf.push_back(stage);
+    cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, uint32_t(stageOf.size()));
+  }
+
+  // Attributes the intervals between a submission's timestamps to stages.
+  void collect_times() {
+    if (!timestamps || stageOf.empty()) return;
+    std::vector<uint64_t> ticks(stageOf.size() + 1);
+    auto result = ctx.device().getDispatcher()->vkGetQueryPoolResults(
+        *ctx.device(), *queries, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
+        VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+    if (result != VK_SUCCESS) return;
+    for (size_t i = 0; i < stageOf.size(); ++i) {
+      times.seconds[stageOf[i]] += double(ticks[i + 1] - ticks[i]) * timestampPeriodNs * 1e-9;
+      times.dispatches[stageOf[i]] += 1;
+    }
   }
 
   template <typename T>
@@ -155,18 +196,20 @@ struct WavefrontRenderer::Impl {
     raycast = make_pipeline(kernel(raycast_spv));
   }
 
-  void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups) {
+  void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups, Stage stage) {
     cb.bindPipeline(vk::PipelineBindPoint::eCompute, *p);
     cb.pushConstants<KernelPush>(*pipelineLayout, vk::ShaderStageFlagBits::eCompute, 0, push);
     cb.dispatch(groups, 1, 1);
     stage_barrier(cb);
+    stamp(cb, stage);
   }
 
-  void dispatch_indirect(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t slot) {
+  void dispatch_indirect(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t slot, Stage stage) {
     cb.bindPipeline(vk::PipelineBindPoint::eCompute, *p);
     cb.pushConstants<KernelPush>(*pipelineLayout, vk::ShaderStageFlagBits::eCompute, 0, push);
     cb.dispatchIndirect(buffers[BINDING_INDIRECT]->handle(), slot * 3 * sizeof(uint32_t));
     stage_barrier(cb);
+    stamp(cb, stage);
   }
 
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
@@ -176,21 +219,21 @@ struct WavefrontRenderer::Impl {
     push.pathCount = pathCount;
     push.sampleIndex = sampleIndex;
     push.capacity = capacity;
-    dispatch(cb, generate, push, groups_for(pathCount));
+    dispatch(cb, generate, push, groups_for(pathCount), kGenerate);
     // Bounce b extends the rays of paths with b scattering events behind them;
     // path_shade ends every path at max bounces, so there are max + 1 passes.
     const uint32_t passes = scene.params.image.z + 1;
     for (uint32_t bounce = 0; bounce < passes; ++bounce) {
       push.queueIn = bounce & 1u;
       push.phase = PREPARE_EXTEND;
-      dispatch(cb, prepare, push, 1);
-      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND);
-      dispatch_indirect(cb, shade, push, INDIRECT_EXTEND);
+      dispatch(cb, prepare, push, 1, kPrepare);
+      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND, kExtend);
+      dispatch_indirect(cb, shade, push, INDIRECT_EXTEND, kShade);
       push.phase = PREPARE_CONNECT;
-      dispatch(cb, prepare, push, 1);
-      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT);
+      dispatch(cb, prepare, push, 1, kPrepare);
+      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, kConnect);
     }
-    dispatch(cb, accumulate, push, groups_for(pathCount));
+    dispatch(cb, accumulate, push, groups_for(pathCount), kAccumulate);
   }
 
   ImageStats render(Progress& progress) {
@@ -202,14 +245,21 @@ struct WavefrontRenderer::Impl {
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
     uint64_t truncated = 0;
     uint32_t perSubmit = 1;
+    times = StageTimes{};
+    const uint32_t wavesPerSample = (pixels + capacity - 1) / capacity;
+    const uint32_t dispatchesPerWave = 2 + 5 * (scene.params.image.z + 1);
     for (uint32_t sample = 0; sample < spp;) {
       uint32_t count = std::min(perSubmit, spp - sample);
       cb.reset();
       cb.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+      reserve_queries(count * wavesPerSample * dispatchesPerWave + 1);
+      stageOf.clear();
+      if (timestamps) cb.resetQueryPool(*queries, 0, queryCapacity);
       cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
       cb.fillBuffer(buffers[BINDING_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
       cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
       stage_barrier(cb);
+      if (timestamps) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
       for (uint32_t s = sample; s < sample + count; ++s)
         for (uint32_t start = 0; start < pixels; start += capacity) record_wave(cb, start, std::min(capacity, pixels - start), s);
       cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, readAccum->size()));
@@ -224,6 +274,7 @@ struct WavefrontRenderer::Impl {
       }
       double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fold(image, truncated);
+      collect_times();
       sample += count;
       progress.add(uint64_t(count) * pixels);
       // Aim for submissions of about targetSubmitSeconds: long enough to keep
@@ -241,6 +292,8 @@ struct WavefrontRenderer::Impl {
 
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated) {
     std::vector<shader::Hit> hits(rays.size());
+    bool hadTimestamps = timestamps;
+    timestamps = false;  // ray casting is timed by its caller
     Buffer readHits(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
     uint64_t lost = 0;
     for (size_t start = 0; start < rays.size(); start += capacity) {
@@ -253,7 +306,7 @@ struct WavefrontRenderer::Impl {
         KernelPush push{};
         push.pathCount = n;
         push.capacity = capacity;
-        dispatch(cb, raycast, push, groups_for(n));
+        dispatch(cb, raycast, push, groups_for(n), kExtend);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
         vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
@@ -263,6 +316,7 @@ struct WavefrontRenderer::Impl {
       lost += static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
     }
     if (truncated) *truncated = lost;
+    timestamps = hadTimestamps;
     return hits;
   }
 
@@ -289,6 +343,10 @@ WavefrontRenderer::~WavefrontRenderer() = default;
 
 ImageStats WavefrontRenderer::render(Progress& progress) {
   return impl_->render(progress);
+}
+
+const StageTimes& WavefrontRenderer::stage_times() const {
+  return impl_->times;
 }
 
 std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated) {

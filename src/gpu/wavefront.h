@@ -10,6 +10,20 @@
 
 namespace wp {
 
+// GPU time per pipeline stage, from Vulkan timestamp queries written after
+// every dispatch of a render.
+struct StageTimes {
+  static constexpr int kStages = 6;
+  static constexpr const char* kNames[kStages] = {"generate", "prepare", "extend", "shade", "connect", "accumulate"};
+  double seconds[kStages] = {};
+  uint64_t dispatches[kStages] = {};
+  double total() const {
+    double t = 0.0;
+    for (double s : seconds) t += s;
+    return t;
+  }
+};
+
 struct WavefrontSettings {
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
@@ -21,6 +35,8 @@ class WavefrontRenderer {
   ~WavefrontRenderer();
   // Throws RenderError if a traversal was truncated (the image would be wrong).
   ImageStats render(Progress& progress);
+  // Per-stage GPU time of the last render (zero where the device has no timestamps).
+  const StageTimes& stage_times() const;
   // Closest hits of arbitrary rays, no shading (BVH tests, traversal benchmarks).
   // Each ray is origin, dir and tmax of a ShadowRay. Truncated traversals are
   // counted in *truncated (if given) and reported as misses.
