@@ -5,10 +5,7 @@
 set -u
 wavepath=$1
 data=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-passed=0
+source "$(dirname "$0")/testlib.sh"
 
 # expect_error NAME EXIT_CODE "TEXT1|TEXT2|..." -- COMMAND...
 expect_error() {
@@ -26,12 +23,10 @@ expect_error() {
   for t in $texts; do grep -qF -- "$t" "$work/stderr" || problems+=" message lacks '$t';"; done
   if ls "$work"/out.* "$work"/*.tmp* >/dev/null 2>&1; then problems+=" an output file was left behind;"; fi
   if [ -n "$problems" ]; then
-    echo "FAIL $name:$problems"
+    fail "$name:$problems"
     sed 's/^/    stderr: /' "$work/stderr"
-    failures=$((failures + 1))
   else
-    echo "ok   $name: $(cat "$work/stderr")"
-    passed=$((passed + 1))
+    pass "$name: $(cat "$work/stderr")"
   fi
 }
 
@@ -56,21 +51,10 @@ for mode in gpu cpu; do
   rm -f "$work"/out.*
   extra=()
   [ "$mode" = cpu ] && extra=(--cpu)
-  if "$wavepath" render "$data/furnace.json" -o "$out" --spp 2 --quiet "${extra[@]}" && [ -s "$work/out.png" ] && [ -s "$work/out.exr" ]; then
-    echo "ok   render on the $mode writes out.png and out.exr"
-    passed=$((passed + 1))
-  else
-    echo "FAIL render on the $mode"
-    failures=$((failures + 1))
-  fi
+  "$wavepath" render "$data/furnace.json" -o "$out" --spp 2 --quiet "${extra[@]}" && [ -s "$work/out.png" ] && [ -s "$work/out.exr" ]
+  check "render on the $mode writes out.png and out.exr" $?
 done
-if "$wavepath" devices | grep -q "type "; then
-  echo "ok   devices lists at least one device"
-  passed=$((passed + 1))
-else
-  echo "FAIL devices"
-  failures=$((failures + 1))
-fi
+"$wavepath" devices | grep -q "type "
+check "devices lists at least one device" $?
 
-echo "$passed passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish

@@ -6,13 +6,7 @@
 set -u
 wavepath=$1
 data=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-passed=0
-failures=0
-check() {  # check NAME CONDITION-STATUS
-  if [ "$2" -eq 0 ]; then echo "ok   $1"; passed=$((passed + 1)); else echo "FAIL $1"; failures=$((failures + 1)); fi
-}
+source "$(dirname "$0")/testlib.sh"
 
 # Two independent CPU renders of one scene, and one of another size.
 "$wavepath" render "$data/quad-light.json" --cpu --spp 64 --seed 1 -q -o "$work/a.png"
@@ -60,9 +54,7 @@ if command -v chromium >/dev/null; then
   check "screenshot is 1280x900 (got $size)" $([ "$size" = "1280x900" ]; echo $?)
   check "screenshot is not blank" $([ "$(stat -c %s "$work/shot.png" 2>/dev/null || echo 0)" -gt 20000 ]; echo $?)
 else
-  echo "FAIL chromium is not installed (scripts/install-deps.sh installs it)"
-  failures=$((failures + 1))
+  fail "chromium is not installed (scripts/install-deps.sh installs it)"
 fi
 
-echo "$passed passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish
