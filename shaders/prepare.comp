@@ -5,7 +5,8 @@
 #include "shared/kernel.glsl"
 
 uint groups_for(uint n) {
-  return (n + uint(WORKGROUP_SIZE) - 1u) / uint(WORKGROUP_SIZE);
+  // Every kernel of a renderer shares the specialized workgroup size.
+  return (n + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
 }
 
 void main() {

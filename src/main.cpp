@@ -47,6 +47,7 @@ struct RenderArgs {
   bool validation = false;
   std::vector<int> resolution;
   bool stageTimes = false;
+  std::string variant = "gpu";
 };
 
 std::string default_output(const std::string& scenePath) {
@@ -57,6 +58,7 @@ std::string default_output(const std::string& scenePath) {
 // Sets *where to a description of what rendered it.
 ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
                      StageTimes* times = nullptr) {
+  // "cpu" or a kernel variant ("gpu", "gpu-wg128", ...).
   bool progressOn = !a.quiet && Progress::stderr_is_terminal();
   uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
   if (renderer == "cpu") {
@@ -64,11 +66,12 @@ ImageStats render_on(const std::string& renderer, const CompiledScene& compiled,
     *where = "the CPU reference";
     return render_cpu(compiled, a.threads, progress);
   }
+  const KernelVariant& variant = kernel_variant(renderer);  // checked before any Vulkan work
   bool validation = a.validation || VulkanContext::validation_requested_by_environment();
   VulkanContext ctx(a.device, validation);
   ImageStats image;
   {
-    WavefrontRenderer renderer(ctx, compiled);
+    WavefrontRenderer renderer(ctx, compiled, variant.settings);
     Progress progress(ctx.info().name, total, progressOn);
     image = renderer.render(progress);
     if (times) *times = renderer.stage_times();
@@ -76,7 +79,7 @@ ImageStats render_on(const std::string& renderer, const CompiledScene& compiled,
   if (ctx.validation_messages() > 0) {
     throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
   }
-  *where = ctx.info().name;
+  *where = ctx.info().name + (variant.name == "gpu" ? "" : ", " + variant.name);
   return image;
 }
 
@@ -114,7 +117,7 @@ int run_render(const RenderArgs& a) {
   auto start = std::chrono::steady_clock::now();
   std::string where;
   StageTimes times;
-  ImageStats image = render_on(a.cpu ? "cpu" : "gpu", compiled, a, &where, &times);
+  ImageStats image = render_on(a.cpu ? "cpu" : a.variant, compiled, a, &where, &times);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   write_exr(exr, image);
@@ -166,7 +169,7 @@ int run_compare(const CompareArgs& c) {
     labels = ReportLabels{c.images[0] + " vs " + c.images[1], c.images[0], c.images[1]};
   } else {
     for (const std::string& r : {c.a, c.b})
-      if (r != "gpu" && r != "cpu") throw InputError("--a/--b " + r + ": unknown renderer (expected gpu or cpu)");
+      if (r != "cpu") kernel_variant(r);  // fails early, naming the known variants
     Scene scene = load_scene_with_overrides(c.render);
     RenderOptions oa = options_from(c.render, c.render.seed), ob = options_from(c.render, c.render.seed + 1);
     oa.plantedBias = c.plantBias;
@@ -219,6 +222,9 @@ int run_info(const std::string& scenePath, int maxLeafSize) {
 }
 
 int run_devices(bool validation) {
+  std::printf("kernel variants:");
+  for (const KernelVariant& v : kernel_variants()) std::printf(" %s", v.name.c_str());
+  std::printf("\n");
   auto devices = VulkanContext::list_devices(validation);
   if (devices.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers");
   for (const GpuDeviceInfo& d : devices) {
@@ -249,6 +255,7 @@ int main(int argc, char** argv) {
   render->add_option("--threads", r.threads, "CPU threads for --cpu (default: all cores)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r.quiet, "no progress line and no summary");
   render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
+  render->add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default gpu");
   render->add_flag("--stage-times", r.stageTimes, "print the GPU time of each kernel stage (Vulkan timestamps)");
   render->add_option("--resolution", r.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
 
@@ -258,8 +265,8 @@ int main(int argc, char** argv) {
                  "renders, and decide statistically whether they estimate the same image. Exit 0: agree, 1: differ");
   compare->add_option("scene", cmp.render.scene, "scene file (darts JSON)");
   compare->add_option("--images", cmp.images, "compare two stored renders (EXR written by wavepath render) instead")->expected(2);
-  compare->add_option("--a", cmp.a, "renderer of image A: gpu or cpu (default gpu)");
-  compare->add_option("--b", cmp.b, "renderer of image B: gpu or cpu (default cpu)");
+  compare->add_option("--a", cmp.a, "renderer of image A: cpu or a kernel variant such as gpu, gpu-wg128 (default gpu)");
+  compare->add_option("--b", cmp.b, "renderer of image B: cpu or a kernel variant (default cpu)");
   compare->add_option("--spp", cmp.render.spp, "samples per pixel of each render")->check(CLI::Range(1, 1 << 24));
   compare->add_option("--max-bounces", cmp.render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
   compare->add_option("--seed", cmp.render.seed, "seed of A; B uses seed + 1 (default 1)")->default_val(1);

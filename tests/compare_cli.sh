@@ -38,7 +38,9 @@ bad "missing EXR" "missing.exr" -- "$wavepath" compare --images "$work/missing.e
 bad "images of different sizes" "differ in size" -- "$wavepath" compare --images "$work/a.exr" "$work/small.exr"
 bad "not an EXR" "not an OpenEXR file" -- "$wavepath" compare --images "$work/a.png" "$work/b.exr"
 bad "scene and images together" "not both" -- "$wavepath" compare "$data/furnace.json" --images "$work/a.exr" "$work/b.exr"
-bad "unknown renderer" "unknown renderer" -- "$wavepath" compare "$data/furnace.json" --a tpu
+bad "unknown kernel variant" "unknown kernel variant \"tpu\"" -- "$wavepath" compare "$data/furnace.json" --a tpu
+"$wavepath" compare "$data/furnace.json" --a gpu-wg128 --b gpu --spp 16 -q >"$work/out" 2>&1
+check "one kernel variant against another: exit 0" $?
 
 # The report in a real browser: every embedded image decodes, and it renders.
 if command -v chromium >/dev/null; then

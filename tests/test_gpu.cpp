@@ -250,6 +250,26 @@ TEST_F(Gpu, CompareAgreesWithoutBiasAtLeast19TimesIn20) {
   EXPECT_GE(agree, 19);
 }
 
+// Every kernel variant must agree with the CPU reference before it is trusted
+// (and before the benchmark may time it).
+TEST_F(Gpu, EveryKernelVariantAgreesWithTheCpuReference) {
+  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
+  scene.camera.width = scene.camera.height = 48;
+  RenderOptions o;
+  o.spp = 128;
+  o.seed = 5;
+  Progress quiet("", 0, false);
+  ImageStats cpu = render_cpu(compile_scene(scene, o), 0, quiet);
+  o.seed = 6;
+  CompiledScene cs = compile_scene(scene, o);
+  for (const KernelVariant& v : kernel_variants()) {
+    WavefrontRenderer r(*ctx_, cs, v.settings);
+    CompareResult result = compare_images(r.render(quiet), cpu);
+    EXPECT_TRUE(result.passed()) << v.name << ": " << result.summary();
+  }
+  EXPECT_THROW(kernel_variant("gpu-wg7"), InputError);
+}
+
 // One wave per sample: generate and accumulate once, and per bounce pass one
 // prepare-extend-shade-prepare-connect sequence, each timed by timestamps.
 TEST_F(Gpu, StageTimesCoverEveryDispatch) {

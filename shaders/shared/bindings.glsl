@@ -19,6 +19,8 @@
 #define BINDING_ACCUM 12
 #define BINDING_COUNT 13
 
+// Default workgroup size. Kernel variants set another through specialization
+// constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
 #define WORKGROUP_SIZE 64
 
 // Push constants of every kernel. Queues live in one buffer: queue q occupies

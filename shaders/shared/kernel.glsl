@@ -9,4 +9,7 @@
 #include "scene.glsl"
 #include "integrator.glsl"
 
-layout(local_size_x = WORKGROUP_SIZE) in;
+// The workgroup size is specialization constant 0 (WORKGROUP_SIZE unless a
+// kernel variant sets it), so one SPIR-V module serves every size.
+layout(local_size_x_id = 0) in;
+layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;

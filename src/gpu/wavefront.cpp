@@ -31,9 +31,6 @@ Kernel kernel(const uint32_t (&code)[N]) {
   return Kernel{code, N * sizeof(uint32_t)};
 }
 
-uint32_t groups_for(uint32_t n) {
-  return (n + WORKGROUP_SIZE - 1) / WORKGROUP_SIZE;
-}
 
 // Every stage reads what the previous one wrote, indirect arguments included.
 void stage_barrier(vk::CommandBuffer cb) {
@@ -48,6 +45,28 @@ void stage_barrier(vk::CommandBuffer cb) {
 }
 
 }  // namespace
+
+const std::vector<KernelVariant>& kernel_variants() {
+  static const std::vector<KernelVariant> variants = [] {
+    std::vector<KernelVariant> v{{"gpu", "wavefront kernels, workgroups of 64", WavefrontSettings{}}};
+    for (uint32_t size : {32u, 128u, 256u}) {
+      WavefrontSettings s;
+      s.workgroupSize = size;
+      v.push_back({"gpu-wg" + std::to_string(size), "wavefront kernels, workgroups of " + std::to_string(size), s});
+    }
+    return v;
+  }();
+  return variants;
+}
+
+const KernelVariant& kernel_variant(const std::string& name) {
+  std::string known;
+  for (const KernelVariant& v : kernel_variants()) {
+    if (name == v.name) return v;
+    known += std::string(known.empty() ? "" : ", ") + v.name;
+  }
+  throw InputError("unknown kernel variant \"" + name + "\" (known: " + known + ")");
+}
 
 struct WavefrontRenderer::Impl {
   const VulkanContext& ctx;
@@ -78,8 +97,11 @@ struct WavefrontRenderer::Impl {
   Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
     const uint64_t maxRange = ctx.info().maxStorageBufferRange;
     const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+    if (settings.workgroupSize == 0 || settings.workgroupSize > ctx.info().maxComputeWorkGroupInvocations) {
+      throw RenderError("workgroup size " + std::to_string(settings.workgroupSize) + " is not supported by " + ctx.info().name);
+    }
     capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, maxRange / sizeof(shader::PathState),
-                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * WORKGROUP_SIZE});
+                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize});
     create_buffers(pixels, maxRange);
     create_pipelines();
     commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
@@ -161,9 +183,15 @@ struct WavefrontRenderer::Impl {
     readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
   }
 
+  uint32_t groups_for(uint32_t n) const {
+    return (n + settings.workgroupSize - 1) / settings.workgroupSize;
+  }
+
   vk::raii::Pipeline make_pipeline(Kernel k) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
-    vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main");
+    vk::SpecializationMapEntry entry(0, 0, sizeof(uint32_t));  // constant 0: the workgroup size
+    vk::SpecializationInfo spec(1, &entry, sizeof(uint32_t), &settings.workgroupSize);
+    vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
   }
 

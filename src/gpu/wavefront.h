@@ -3,6 +3,9 @@
 // storage buffers. See docs/architecture.md for the stage-by-stage picture.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "gpu/vulkan_context.h"
 #include "image/image.h"
 #include "render/compiled_scene.h"
@@ -25,9 +28,20 @@ struct StageTimes {
 };
 
 struct WavefrontSettings {
+  uint32_t workgroupSize = WORKGROUP_SIZE;  // invocations per workgroup of every kernel
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
 };
+
+// Named kernel variants, selectable on the command line ("gpu" is the default).
+struct KernelVariant {
+  std::string name;
+  std::string description;
+  WavefrontSettings settings;
+};
+const std::vector<KernelVariant>& kernel_variants();
+// Throws InputError naming the known variants if `name` is not one of them.
+const KernelVariant& kernel_variant(const std::string& name);
 
 class WavefrontRenderer {
  public:
