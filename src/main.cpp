@@ -4,10 +4,12 @@
 //                              [--device INDEX|NAME] [--cpu] [--threads N] [--exr PATH] [--quiet]
 //   wavepath compare SCENE.json [--a gpu|cpu] [--b cpu|gpu] [--spp N] [--report DIR]
 //   wavepath compare --images A.exr B.exr [--report DIR]
+//   wavepath bench [--scenes LIST] [--variants LIST] [--spp N] [--repeats N] [--out results.json] [--csv results.csv]
 //   wavepath devices
 //   wavepath info SCENE.json
 //
-// Exit status: 0 success (compare: the images agree), 1 compare: they differ,
+// Exit status: 0 success (compare: the images agree), 1 compare: they differ
+// (bench: a variant disagreed with the CPU reference and was not timed),
 // 2 bad input (scene, mesh, options), 3 rendering failed (no Vulkan device, out
 // of memory, validation messages, truncated traversal).
 #include <CLI/CLI.hpp>
@@ -18,6 +20,7 @@
 #include <iostream>
 #include <unistd.h>
 
+#include "bench/bench.h"
 #include "cpu/reference.h"
 #include "gpu/vulkan_context.h"
 #include "gpu/wavefront.h"
@@ -279,6 +282,21 @@ int main(int argc, char** argv) {
   compare->add_option("--plant-region", cmp.plantRegion, "debug: only inside pixels X0 Y0 X1 Y1 (exclusive ends)")->expected(4);
   compare->add_flag("-q,--quiet", cmp.render.quiet, "no progress line");
   compare->add_flag("--validation", cmp.render.validation, "enable Vulkan validation; any message is a failure");
+  BenchOptions bench;
+  CLI::App* benchCmd = app.add_subcommand(
+      "bench", "time kernel variants side by side on scenes; a variant is timed only after it agrees with the CPU reference");
+  benchCmd->add_option("--scenes", bench.scenes, "scene files (default scenes/cornell-box.json)")->delimiter(',');
+  benchCmd->add_option("--variants", bench.variants, "kernel variants (default: all; wavepath devices lists them)")->delimiter(',');
+  benchCmd->add_option("--spp", bench.spp, "samples per pixel of each timed render (default 4)")->check(CLI::Range(1, 1 << 20));
+  benchCmd->add_option("--repeats", bench.repeats, "timed renders per variant, after one warm-up (default 3)")->check(CLI::Range(1, 1000));
+  benchCmd->add_option("--resolution", bench.resolution, "image size W H, overriding the scenes'")->expected(2)->check(CLI::Range(1, 16384));
+  benchCmd->add_option("--check-spp", bench.checkSpp, "samples per pixel of the correctness check (default 64)")->check(CLI::Range(1, 1 << 20));
+  benchCmd->add_option("--plant-bias", bench.plantedBias, "debug: plant this bias in the variants' check renders")->check(CLI::Range(0.0, 100.0));
+  benchCmd->add_option("--device", bench.device, "Vulkan device: index or part of the name");
+  benchCmd->add_option("--out", bench.jsonPath, "write the results as JSON");
+  benchCmd->add_option("--csv", bench.csvPath, "write the results as CSV");
+  benchCmd->add_flag("--validation", bench.validation, "enable Vulkan validation; any message is a failure");
+
   std::string infoScene;
   int infoLeaf = 0;
   CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
@@ -305,6 +323,12 @@ int main(int argc, char** argv) {
       return run_compare(cmp);
     }
     if (*devices) return run_devices(devValidation);
+    if (*benchCmd) {
+      if (bench.scenes.empty()) bench.scenes.push_back("scenes/cornell-box.json");
+      if (bench.variants.empty())
+        for (const KernelVariant& v : kernel_variants()) bench.variants.push_back(v.name);
+      return run_bench(bench);
+    }
     if (*info) return run_info(infoScene, infoLeaf);
   } catch (const InputError& e) {
     std::fprintf(stderr, "wavepath: error: %s\n", e.what());

@@ -1,0 +1,30 @@
+// bench.h — `wavepath bench`: kernel variants timed side by side on a set of
+// scenes. A variant's timings only count after `wavepath compare`'s test has
+// found it agrees with the CPU reference on that scene.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace wp {
+
+struct BenchOptions {
+  std::vector<std::string> scenes;
+  std::vector<std::string> variants;  // kernel variant names
+  int spp = 4;                        // samples per timed render
+  int repeats = 3;                    // timed renders per variant (after one warm-up)
+  std::vector<int> resolution;        // W H override, or empty
+  int checkSize = 64;                 // the correctness check renders checkSize^2 pixels...
+  int checkSpp = 64;                  // ...at this many samples, against the CPU reference
+  float plantedBias = 1.0f;           // debug: planted in the GPU side of the check
+  std::string device;
+  bool validation = false;
+  std::string jsonPath;
+  std::string csvPath;
+};
+
+// Prints the results table; writes JSON / CSV when asked. Returns 0 when every
+// variant passed its check, 1 otherwise (those were not timed).
+int run_bench(const BenchOptions& options);
+
+}  // namespace wp

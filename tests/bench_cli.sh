@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# `wavepath bench`: variants are timed only after they agree with the CPU
+# reference; results come out as a table, JSON and CSV.
+# Usage: bench_cli.sh WAVEPATH TEST_DATA_DIR
+set -u
+wavepath=$1
+data=$2
+source "$(dirname "$0")/testlib.sh"
+common=(--scenes "$data/furnace.json" --variants gpu,gpu-wg32 --spp 1 --repeats 2 --check-spp 16)
+
+"$wavepath" bench "${common[@]}" --out "$work/r.json" --csv "$work/r.csv" >"$work/out" 2>&1
+check "bench exits 0 when every variant passes its check" $?
+check "the table shows both variants timed" $(grep -cE '^  gpu(-wg32)? +pass' "$work/out" | grep -qx 2; echo $?)
+check "JSON has both variants with timings" $([ "$(grep -c '"check_passed": true' "$work/r.json")" -eq 2 ] &&
+  grep -q '"samples_per_second"' "$work/r.json" && grep -q '"extend"' "$work/r.json"; echo $?)
+check "CSV has a header and a row per variant" $([ "$(wc -l <"$work/r.csv")" -eq 3 ]; echo $?)
+
+# A planted bias makes every variant disagree: none may be timed.
+"$wavepath" bench "${common[@]}" --plant-bias 1.1 --out "$work/p.json" >"$work/out" 2>"$work/err"
+rc=$?
+check "a variant that disagrees is not timed: exit 1" $([ $rc -eq 1 ]; echo $?)
+check "it says so" $(grep -q "not timed" "$work/err"; echo $?)
+check "JSON records the failed checks and no timings" $([ "$(grep -c '"check_passed": false' "$work/p.json")" -eq 2 ] &&
+  ! grep -q '"samples_per_second"' "$work/p.json"; echo $?)
+
+"$wavepath" bench --variants gpu-wg7 >"$work/out" 2>"$work/err"
+check "unknown variant: exit 2, one line" $([ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "gpu-wg7" "$work/err"; echo $?)
+"$wavepath" bench --scenes "$data/bad-unknown-key.json" >"$work/out" 2>"$work/err"
+check "bad scene: exit 2 before any work" $([ $? -eq 2 ] && grep -q "/camera/fov" "$work/err"; echo $?)
+
+finish
