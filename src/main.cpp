@@ -208,9 +208,7 @@ int run_info(const std::string& scenePath, int maxLeafSize) {
   double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (maxLeafSize > 0) scene.accelerator.maxLeafSize = maxLeafSize;
   CompiledScene cs = compile_scene(scene, RenderOptions{});
-  size_t gpuBytes = cs.nodes.size() * sizeof(shader::BvhNode) + cs.triangles.size() * sizeof(shader::Triangle) +
-                    cs.spheres.size() * sizeof(shader::Sphere) + cs.materials.size() * sizeof(shader::Material) +
-                    cs.emitters.size() * sizeof(shader::Emitter);
+  size_t gpuBytes = cs.gpu_bytes();
   size_t prims = scene.triangles.size() + scene.spheres.size();
   std::printf("scene        %s\n", scenePath.c_str());
   std::printf("primitives   %zu triangles, %zu spheres, %zu materials, %u emitters\n", scene.triangles.size(),

@@ -54,12 +54,6 @@ struct SceneResult {
   std::vector<VariantResult> variants;
 };
 
-size_t gpu_bytes(const CompiledScene& cs) {
-  return cs.nodes.size() * sizeof(shader::BvhNode) + cs.triangles.size() * sizeof(shader::Triangle) +
-         cs.spheres.size() * sizeof(shader::Sphere) + cs.materials.size() * sizeof(shader::Material) +
-         cs.emitters.size() * sizeof(shader::Emitter);
-}
-
 }  // namespace
 
 int run_bench(const BenchOptions& o) {
@@ -90,7 +84,7 @@ int run_bench(const BenchOptions& o) {
     sr.maxBounces = int(cs.params.image.z);
     sr.bvhBuildSeconds = cs.bvhBuildSeconds;
     sr.sahCost = cs.bvhSahCost;
-    sr.bytesPerPrimitive = sr.primitives ? double(gpu_bytes(cs)) / double(sr.primitives) : 0.0;
+    sr.bytesPerPrimitive = sr.primitives ? double(cs.gpu_bytes()) / double(sr.primitives) : 0.0;
 
     // The reference image for the correctness checks: small, many samples.
     Scene small = scene;

@@ -53,6 +53,12 @@ shader::SceneView CompiledScene::view() const {
   return v;
 }
 
+size_t CompiledScene::gpu_bytes() const {
+  return nodes.size() * sizeof(shader::BvhNode) + triangles.size() * sizeof(shader::Triangle) +
+         spheres.size() * sizeof(shader::Sphere) + materials.size() * sizeof(shader::Material) +
+         emitters.size() * sizeof(shader::Emitter);
+}
+
 std::vector<shader::Emitter> build_alias_table(const std::vector<double>& weights) {
   size_t n = weights.size();
   std::vector<shader::Emitter> table(n);

@@ -43,6 +43,8 @@ struct CompiledScene {
   double bvhBuildSeconds = 0.0;
 
   shader::SceneView view() const;
+  // Bytes the scene occupies on the GPU: BVH, primitives, materials, emitters.
+  size_t gpu_bytes() const;
 };
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
