@@ -1,8 +1,8 @@
 // wavepath — a wavefront path tracer on Vulkan compute, with a CPU reference.
 //
-//   wavepath render SCENE.json [-o out.png] [--spp N] [--max-bounces N] [--seed N]
-//                              [--device INDEX|NAME] [--cpu] [--threads N] [--exr PATH] [--quiet]
-//   wavepath compare SCENE.json [--a gpu|cpu] [--b cpu|gpu] [--spp N] [--report DIR]
+//   wavepath render SCENE.json [-o out.png] [--exr PATH] [--spp N] [--max-bounces N] [--seed N] [--resolution W H]
+//                              [--device INDEX|NAME] [--variant NAME] [--cpu] [--threads N] [--quiet] [--stage-times]
+//   wavepath compare SCENE.json [--a VARIANT|cpu] [--b cpu|VARIANT] [--spp N] [--report DIR]
 //   wavepath compare --images A.exr B.exr [--report DIR]
 //   wavepath bench [--scenes LIST] [--variants LIST] [--spp N] [--repeats N] [--out results.json] [--csv results.csv]
 //   wavepath devices
@@ -57,11 +57,11 @@ std::string default_output(const std::string& scenePath) {
   return std::filesystem::path(scenePath).stem().string() + ".png";
 }
 
-// Renders on "gpu" (the chosen Vulkan device) or "cpu" (the reference).
-// Sets *where to a description of what rendered it.
+// Renders with `renderer`: "cpu" (the reference) or a kernel variant ("gpu",
+// "gpu-wg128", ...) on the chosen Vulkan device. Sets *where to a description
+// of what rendered it, and *times (if given) to the GPU's per-stage times.
 ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
                      StageTimes* times = nullptr) {
-  // "cpu" or a kernel variant ("gpu", "gpu-wg128", ...).
   bool progressOn = !a.quiet && Progress::stderr_is_terminal();
   uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
   if (renderer == "cpu") {
@@ -74,10 +74,10 @@ ImageStats render_on(const std::string& renderer, const CompiledScene& compiled,
   VulkanContext ctx(a.device, validation);
   ImageStats image;
   {
-    WavefrontRenderer renderer(ctx, compiled, variant.settings);
+    WavefrontRenderer gpu(ctx, compiled, variant.settings);
     Progress progress(ctx.info().name, total, progressOn);
-    image = renderer.render(progress);
-    if (times) *times = renderer.stage_times();
+    image = gpu.render(progress);
+    if (times) *times = gpu.stage_times();
   }
   if (ctx.validation_messages() > 0) {
     throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
@@ -108,6 +108,7 @@ int run_render(const RenderArgs& a) {
   if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
   std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
+  if (!a.cpu) kernel_variant(a.variant);  // an unknown variant fails before any work
   // Check where the images go before spending time on the render.
   for (const std::string& path : {out, exr}) {
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
