@@ -295,6 +295,9 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--out", bench.jsonPath, "write the results as JSON");
   benchCmd->add_option("--csv", bench.csvPath, "write the results as CSV");
   benchCmd->add_flag("--validation", bench.validation, "enable Vulkan validation; any message is a failure");
+  benchCmd->add_flag("--raycast", bench.raycast,
+                     "trace fixed ray sets (camera rays, then one bounce from each hit) instead of rendering; "
+                     "compared with Embree when built in");
 
   std::string infoScene;
   int infoLeaf = 0;
@@ -326,7 +329,7 @@ int main(int argc, char** argv) {
       if (bench.scenes.empty()) bench.scenes.push_back("scenes/cornell-box.json");
       if (bench.variants.empty())
         for (const KernelVariant& v : kernel_variants()) bench.variants.push_back(v.name);
-      return run_bench(bench);
+      return bench.raycast ? run_raycast_bench(bench) : run_bench(bench);
     }
     if (*info) return run_info(infoScene, infoLeaf);
   } catch (const InputError& e) {

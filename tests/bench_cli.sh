@@ -23,6 +23,17 @@ check "it says so" $(grep -q "not timed" "$work/err"; echo $?)
 check "JSON records the failed checks and no timings" $([ "$(grep -c '"check_passed": false' "$work/p.json")" -eq 2 ] &&
   ! grep -q '"samples_per_second"' "$work/p.json"; echo $?)
 
+# Ray casting: the GPU's hits are checked against the CPU traversal, then timed;
+# Embree (installed by scripts/install-deps.sh) traces the same rays.
+"$wavepath" bench --raycast --scenes "$data/furnace.json" --variants gpu --resolution 32 32 --repeats 1 \
+  --out "$work/rc.json" >"$work/out" 2>&1
+check "ray casting bench exits 0" $?
+check "ray casting checks and times both ray sets" $([ "$(grep -c '"check_passed": true' "$work/rc.json")" -eq 2 ] &&
+  grep -q '"mrays_per_second"' "$work/rc.json"; echo $?)
+check "ray casting reports the ratio to Embree" $(grep -q '"ratio_to_embree"' "$work/rc.json"; echo $?)
+"$wavepath" bench --raycast --scenes "$data/quad-light.json" --variants gpu --resolution 16 16 --repeats 1 >"$work/out" 2>&1
+check "a scene with spheres is timed without the Embree baseline" $([ $? -eq 0 ] && grep -q "triangle scenes only" "$work/out"; echo $?)
+
 "$wavepath" bench --variants gpu-wg7 >"$work/out" 2>"$work/err"
 check "unknown variant: exit 2, one line" $([ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "gpu-wg7" "$work/err"; echo $?)
 "$wavepath" bench --scenes "$data/bad-unknown-key.json" >"$work/out" 2>"$work/err"

@@ -7,6 +7,10 @@
 #include <cstdio>
 #include <fstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "bench/embree_baseline.h"
 #include "cpu/reference.h"
 #include "gpu/wavefront.h"
 #include "render/compiled_scene.h"
@@ -191,6 +195,165 @@ int run_bench(const BenchOptions& o) {
       }
     }
     if (!out) throw InputError(o.csvPath + ": cannot write the results");
+  }
+  return allChecked ? 0 : 1;
+}
+
+namespace {
+
+// Closest-hit distances by the CPU traversal (proven equal to brute force by
+// the BVH tests): the reference the GPU's hits are checked against.
+std::vector<float> cpu_hits(shader::SceneView& view, const std::vector<shader::ShadowRay>& rays) {
+  std::vector<float> t(rays.size(), WP_INF);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      shader::Hit h;
+      view.trace_ray(rays[i].origin, rays[i].dir, rays[i].tmax, false, h);
+      if (h.prim != WP_INVALID) t[i] = h.t;
+    }
+  });
+  return t;
+}
+
+// Rays whose hit (or miss) differs from the reference by more than rounding.
+size_t mismatches(const std::vector<float>& a, const std::vector<float>& b) {
+  size_t n = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    bool hitA = a[i] != WP_INF, hitB = b[i] != WP_INF;
+    if (hitA != hitB || (hitA && std::fabs(a[i] - b[i]) > 1e-4f * b[i] + 1e-6f)) ++n;
+  }
+  return n;
+}
+
+struct RaySets {
+  std::vector<shader::ShadowRay> primary, bounce;
+};
+
+// Camera rays through every pixel, then one cosine-distributed bounce from
+// every hit, leaving the surface as the path tracer would.
+RaySets make_rays(shader::SceneView& view, const CompiledScene& cs) {
+  RaySets sets;
+  size_t pixels = size_t(cs.width) * size_t(cs.height);
+  sets.primary.resize(pixels);
+  for (size_t p = 0; p < pixels; ++p) {
+    shader::PathState ps;
+    view.path_begin(ps, uint32_t(p), 0);
+    sets.primary[p] = shader::ShadowRay{ps.origin, WP_INF, ps.dir, uint32_t(p), glm::vec3(0.0f), 0u};
+  }
+  std::vector<float> hits = cpu_hits(view, sets.primary);
+  for (size_t p = 0; p < pixels; ++p) {
+    if (hits[p] == WP_INF) continue;
+    const shader::ShadowRay& r = sets.primary[p];
+    shader::Hit h;
+    view.trace_ray(r.origin, r.dir, r.tmax, false, h);
+    shader::SceneView::SurfaceHit s = view.surface_at(r.origin, r.dir, h);
+    glm::vec3 n = glm::dot(s.ng, r.dir) < 0.0f ? s.ng : -s.ng;
+    uint32_t rng = view.rng_seed(uint32_t(p), 1u, 7u);
+    glm::vec3 t, b;
+    view.make_frame(n, t, b);
+    glm::vec3 d = view.frame_to_world(view.square_to_cosine_hemisphere(glm::vec2(view.rng_next(rng), view.rng_next(rng))), t, b, n);
+    sets.bounce.push_back(shader::ShadowRay{view.offset_ray(s.p, n), WP_INF, d, uint32_t(p), glm::vec3(0.0f), 0u});
+  }
+  return sets;
+}
+
+}  // namespace
+
+int run_raycast_bench(const BenchOptions& o) {
+  std::vector<const KernelVariant*> variants;
+  for (const std::string& name : o.variants) variants.push_back(&kernel_variant(name));
+  std::vector<Scene> scenes;
+  for (const std::string& path : o.scenes) scenes.push_back(load_scene(path));
+
+  VulkanContext ctx(o.device, o.validation || VulkanContext::validation_requested_by_environment());
+  nlohmann::json results = nlohmann::json::array();
+  bool allChecked = true;
+  std::printf("device: %s (%s); Embree baseline: %s\n", ctx.info().name.c_str(), ctx.info().driver.c_str(),
+              embree_available() ? "yes, all cores" : "not built in");
+  for (size_t si = 0; si < scenes.size(); ++si) {
+    Scene scene = scenes[si];
+    if (!o.resolution.empty()) {
+      scene.camera.width = o.resolution[0];
+      scene.camera.height = o.resolution[1];
+    }
+    CompiledScene cs = compile_scene(scene, RenderOptions{});
+    shader::SceneView view = cs.view();
+    RaySets sets = make_rays(view, cs);
+    std::unique_ptr<EmbreeScene> embree;
+    std::string embreeNote;
+    if (embree_available()) {
+      try {
+        embree = std::make_unique<EmbreeScene>(scene);
+      } catch (const RenderError& e) {
+        embreeNote = e.what();
+      }
+    }
+    std::printf("\n%s: %zu primitives, %zu primary and %zu bounce rays; BVH %.3f s%s\n", o.scenes[si].c_str(),
+                scene.triangles.size() + scene.spheres.size(), sets.primary.size(), sets.bounce.size(), cs.bvhBuildSeconds,
+                embree ? (", Embree build " + std::to_string(embree->build_seconds()) + " s").c_str() : "");
+    if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
+    std::printf("  %-8s %-10s %12s %14s %8s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio");
+    for (const auto& [setName, rays] : {std::pair<const char*, const std::vector<shader::ShadowRay>*>{"primary", &sets.primary},
+                                        {"bounce", &sets.bounce}}) {
+      if (rays->empty()) continue;
+      std::vector<float> reference = cpu_hits(view, *rays);
+      double embreeRate = 0.0;
+      size_t embreeMismatch = 0;
+      if (embree) {
+        std::vector<float> et;
+        embree->trace(*rays, &et);  // warm-up
+        std::vector<double> secs;
+        for (int r = 0; r < o.repeats; ++r) secs.push_back(embree->trace(*rays, &et));
+        embreeRate = double(rays->size()) / spread(secs).median;
+        embreeMismatch = mismatches(et, reference);
+      }
+      for (const KernelVariant* v : variants) {
+        WavefrontRenderer renderer(ctx, cs, v->settings);
+        uint64_t truncated = 0;
+        double kernel = 0.0;
+        std::vector<shader::Hit> hits = renderer.cast_rays(*rays, &truncated, &kernel);  // also the warm-up
+        std::vector<float> t(hits.size(), WP_INF);
+        for (size_t i = 0; i < hits.size(); ++i)
+          if (hits[i].prim != WP_INVALID) t[i] = hits[i].t;
+        size_t bad = mismatches(t, reference);
+        nlohmann::json row = {{"scene", o.scenes[si]}, {"rays", setName}, {"count", rays->size()}, {"variant", v->name},
+                              {"mismatches", bad}, {"truncated", truncated}};
+        // Rounding may flip a hit on an edge now and then; more is a bug.
+        if (truncated > 0 || double(bad) > 1e-4 * double(rays->size())) {
+          allChecked = false;
+          row["check_passed"] = false;
+          std::printf("  %-8s %-10s disagrees with the CPU traversal on %zu rays: not timed\n", setName, v->name.c_str(), bad);
+          results.push_back(row);
+          continue;
+        }
+        std::vector<double> secs;
+        for (int r = 0; r < o.repeats; ++r) {
+          renderer.cast_rays(*rays, nullptr, &kernel);
+          secs.push_back(kernel);
+        }
+        double rate = double(rays->size()) / std::max(spread(secs).median, 1e-12);
+        row["check_passed"] = true;
+        row["kernel_seconds"] = to_json(spread(secs));
+        row["mrays_per_second"] = rate * 1e-6;
+        if (embree) {
+          row["embree_mrays_per_second"] = embreeRate * 1e-6;
+          row["ratio_to_embree"] = rate / embreeRate;
+          row["embree_mismatches"] = embreeMismatch;
+          std::printf("  %-8s %-10s %12.2f %14.2f %8.3f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6, rate / embreeRate);
+        } else {
+          std::printf("  %-8s %-10s %12.2f %14s %8s\n", setName, v->name.c_str(), rate * 1e-6, "-", "-");
+        }
+        results.push_back(row);
+      }
+    }
+  }
+  if (ctx.validation_messages() > 0) throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s)");
+  if (!o.jsonPath.empty()) {
+    nlohmann::json j = {{"device", {{"name", ctx.info().name}, {"driver", ctx.info().driver}}},
+                        {"embree", embree_available()}, {"repeats", o.repeats}, {"raycast", results}};
+    std::ofstream out(o.jsonPath);
+    out << j.dump(2) << "\n";
+    if (!out) throw InputError(o.jsonPath + ": cannot write the results");
   }
   return allChecked ? 0 : 1;
 }

@@ -21,10 +21,15 @@ struct BenchOptions {
   bool validation = false;
   std::string jsonPath;
   std::string csvPath;
+  // Ray casting instead of rendering: primary rays from the scene's camera and
+  // one cosine-distributed bounce from each hit, traced by each variant (after
+  // its hits are checked against the CPU traversal) and by Embree if built in.
+  bool raycast = false;
 };
 
 // Prints the results table; writes JSON / CSV when asked. Returns 0 when every
 // variant passed its check, 1 otherwise (those were not timed).
 int run_bench(const BenchOptions& options);
+int run_raycast_bench(const BenchOptions& options);
 
 }  // namespace wp

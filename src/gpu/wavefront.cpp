@@ -318,10 +318,12 @@ struct WavefrontRenderer::Impl {
     return image;
   }
 
-  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated) {
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds) {
     std::vector<shader::Hit> hits(rays.size());
-    bool hadTimestamps = timestamps;
-    timestamps = false;  // ray casting is timed by its caller
+    const bool timed = timestamps;
+    reserve_queries(2);
+    timestamps = false;  // no per-stage bookkeeping: only the raycast dispatch is timed
+    double kernel = 0.0;
     Buffer readHits(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
     uint64_t lost = 0;
     for (size_t start = 0; start < rays.size(); start += capacity) {
@@ -334,17 +336,29 @@ struct WavefrontRenderer::Impl {
         KernelPush push{};
         push.pathCount = n;
         push.capacity = capacity;
+        if (timed) {
+          cb.resetQueryPool(*queries, 0, 2);
+          cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
+        }
         dispatch(cb, raycast, push, groups_for(n), kExtend);
+        if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
         vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
         cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
       });
       std::memcpy(hits.data() + start, readHits.mapped(), n * sizeof(shader::Hit));
+      if (timed) {
+        uint64_t ticks[2] = {0, 0};
+        if (ctx.device().getDispatcher()->vkGetQueryPoolResults(*ctx.device(), *queries, 0, 2, sizeof(ticks), ticks, sizeof(uint64_t),
+                                                                VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
+          kernel += double(ticks[1] - ticks[0]) * timestampPeriodNs * 1e-9;
+      }
       lost += static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
     }
     if (truncated) *truncated = lost;
-    timestamps = hadTimestamps;
+    if (kernelSeconds) *kernelSeconds = kernel;
+    timestamps = timed;
     return hits;
   }
 
@@ -377,8 +391,9 @@ const StageTimes& WavefrontRenderer::stage_times() const {
   return impl_->times;
 }
 
-std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated) {
-  return impl_->cast_rays(rays, truncated);
+std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
+                                                      double* kernelSeconds) {
+  return impl_->cast_rays(rays, truncated, kernelSeconds);
 }
 
 }  // namespace wp

@@ -53,8 +53,11 @@ class WavefrontRenderer {
   const StageTimes& stage_times() const;
   // Closest hits of arbitrary rays, no shading (BVH tests, traversal benchmarks).
   // Each ray is origin, dir and tmax of a ShadowRay. Truncated traversals are
-  // counted in *truncated (if given) and reported as misses.
-  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr);
+  // counted in *truncated (if given) and reported as misses. *kernelSeconds
+  // (if given) receives the GPU time of the raycast dispatches alone, from
+  // timestamps (0 where the device has none).
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr,
+                                     double* kernelSeconds = nullptr);
 
  private:
   struct Impl;

@@ -1,0 +1,100 @@
+#include "bench/embree_baseline.h"
+
+#include <chrono>
+
+#include "util/error.h"
+
+#ifdef WAVEPATH_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#endif
+
+namespace wp {
+
+#ifdef WAVEPATH_HAVE_EMBREE
+
+bool embree_available() {
+  return true;
+}
+
+EmbreeScene::EmbreeScene(const Scene& s) {
+  if (!s.spheres.empty()) throw RenderError("the Embree baseline takes triangle scenes only");
+  RTCDevice device = rtcNewDevice(nullptr);
+  if (!device) throw RenderError("Embree: cannot create a device");
+  device_ = device;
+  auto t0 = std::chrono::steady_clock::now();
+  RTCScene scene = rtcNewScene(device);
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                        s.triangles.size() * 3));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                             s.triangles.size()));
+  for (size_t i = 0; i < s.triangles.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      v[9 * i + 3 * size_t(c)] = s.triangles[i].v[c].x;
+      v[9 * i + 3 * size_t(c) + 1] = s.triangles[i].v[c].y;
+      v[9 * i + 3 * size_t(c) + 2] = s.triangles[i].v[c].z;
+      idx[3 * i + size_t(c)] = unsigned(3 * i + size_t(c));
+    }
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scene);
+  buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  scene_ = scene;
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(static_cast<RTCScene>(scene_));
+  if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
+}
+
+double EmbreeScene::trace(const std::vector<shader::ShadowRay>& rays, std::vector<float>* t) const {
+  t->assign(rays.size(), WP_INF);
+  RTCScene scene = static_cast<RTCScene>(scene_);
+  auto t0 = std::chrono::steady_clock::now();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const shader::ShadowRay& ray = rays[i];
+      RTCRayHit rh;
+      rh.ray.org_x = ray.origin.x;
+      rh.ray.org_y = ray.origin.y;
+      rh.ray.org_z = ray.origin.z;
+      rh.ray.dir_x = ray.dir.x;
+      rh.ray.dir_y = ray.dir.y;
+      rh.ray.dir_z = ray.dir.z;
+      rh.ray.tnear = 0.0f;
+      rh.ray.tfar = ray.tmax;
+      rh.ray.time = 0.0f;
+      rh.ray.mask = ~0u;
+      rh.ray.id = 0;
+      rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &context, &rh);
+      if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) (*t)[i] = rh.ray.tfar;
+    }
+  });
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+#else
+
+bool embree_available() {
+  return false;
+}
+EmbreeScene::EmbreeScene(const Scene&) {
+  throw RenderError("wavepath was built without Embree (install libembree-dev and rebuild)");
+}
+EmbreeScene::~EmbreeScene() = default;
+double EmbreeScene::trace(const std::vector<shader::ShadowRay>&, std::vector<float>*) const {
+  return 0.0;
+}
+
+#endif
+
+}  // namespace wp
