@@ -6,7 +6,7 @@ packages=(
   cmake g++ make pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
   libglm-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libstb-dev libtinyexr-dev libtbb-dev
-  libembree-dev
+  libembree-dev python3-numpy python3-matplotlib
   libgtest-dev chromium
 )
 sudo=""

@@ -34,6 +34,14 @@ check "ray casting reports the ratio to Embree" $(grep -q '"ratio_to_embree"' "$
 "$wavepath" bench --raycast --scenes "$data/quad-light.json" --variants gpu --resolution 16 16 --repeats 1 >"$work/out" 2>&1
 check "a scene with spheres is timed without the Embree baseline" $([ $? -eq 0 ] && grep -q "triangle scenes only" "$work/out"; echo $?)
 
+# The charts of scripts/plot_bench.py, from both kinds of results.
+plot="$(dirname "$0")/../scripts/plot_bench.py"
+"$plot" "$work/r.json" --out "$work/plots" >/dev/null && "$plot" "$work/rc.json" --out "$work/plots" >/dev/null
+check "plot_bench.py draws the render and ray-casting charts" $([ -s "$work/plots/bench_samples_per_second.png" ] &&
+  [ -s "$work/plots/bench_stage_times.png" ] && [ -s "$work/plots/bench_raycast.png" ]; echo $?)
+"$plot" "$work/out" >/dev/null 2>"$work/err"
+check "plot_bench.py on a file that is not JSON: exit 2" $([ $? -eq 2 ] && grep -q "plot_bench: error" "$work/err"; echo $?)
+
 "$wavepath" bench --variants gpu-wg7 >"$work/out" 2>"$work/err"
 check "unknown variant: exit 2, one line" $([ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "gpu-wg7" "$work/err"; echo $?)
 "$wavepath" bench --scenes "$data/bad-unknown-key.json" >"$work/out" 2>"$work/err"

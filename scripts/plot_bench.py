@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+"""Charts of `wavepath bench` results (JSON written with --out).
+
+Usage: scripts/plot_bench.py RESULTS.json [--out DIR]
+
+Render benchmarks give two charts: samples per second per variant and scene
+(median, with the min-max range as error bars), and the per-stage GPU time of
+each variant. Ray-casting benchmarks give Mrays/s of wavepath and Embree side
+by side for the primary and bounce rays of each scene. Uses Debian's
+python3-numpy and python3-matplotlib (hence /usr/bin/python3).
+"""
+import argparse
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only, no display
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def short(path):
+    return os.path.splitext(os.path.basename(path))[0]
+
+
+def plot_render(results, out_dir):
+    scenes = results["scenes"]
+    variants = sorted({v["variant"] for s in scenes for v in s["variants"]})
+    width = 0.8 / max(len(variants), 1)
+    x = np.arange(len(scenes))
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for i, name in enumerate(variants):
+        med, lo, hi = [], [], []
+        for s in scenes:
+            v = next((v for v in s["variants"] if v["variant"] == name and v["check_passed"]), None)
+            r = v["samples_per_second"] if v else {"median": 0, "min": 0, "max": 0}
+            med.append(r["median"] / 1e6)
+            lo.append((r["median"] - r["min"]) / 1e6)
+            hi.append((r["max"] - r["median"]) / 1e6)
+        ax.bar(x + (i - (len(variants) - 1) / 2) * width, med, width, yerr=[lo, hi], capsize=3, label=name)
+    ax.set_xticks(x, [short(s["scene"]) for s in scenes])
+    ax.set_ylabel("Msamples/s (median, min-max)")
+    ax.set_title("wavepath bench on " + results["device"]["name"])
+    ax.legend()
+    fig.tight_layout()
+    paths = [os.path.join(out_dir, "bench_samples_per_second.png")]
+    fig.savefig(paths[0], dpi=120)
+    plt.close(fig)
+
+    # Per-stage time of each (scene, variant), stacked.
+    stages = ["generate", "prepare", "extend", "shade", "connect", "accumulate"]
+    labels, data = [], []
+    for s in scenes:
+        for v in s["variants"]:
+            if v["check_passed"]:
+                labels.append(short(s["scene"]) + "\n" + v["variant"])
+                data.append([v["stage_seconds"][st]["median"] for st in stages])
+    if data:
+        data = np.array(data)
+        fig, ax = plt.subplots(figsize=(max(6, 1.2 * len(labels)), 4.5))
+        bottom = np.zeros(len(labels))
+        for k, st in enumerate(stages):
+            ax.bar(labels, data[:, k], bottom=bottom, label=st)
+            bottom += data[:, k]
+        ax.set_ylabel("GPU seconds per render (median)")
+        ax.set_title("Time per kernel stage")
+        ax.legend()
+        fig.tight_layout()
+        paths.append(os.path.join(out_dir, "bench_stage_times.png"))
+        fig.savefig(paths[-1], dpi=120)
+        plt.close(fig)
+    return paths
+
+
+def plot_raycast(results, out_dir):
+    rows = [r for r in results["raycast"] if r.get("check_passed")]
+    keys = sorted({(r["scene"], r["rays"]) for r in rows}, key=lambda k: (k[0], k[1] != "primary"))
+    variants = sorted({r["variant"] for r in rows})
+    series = variants + (["Embree"] if any("embree_mrays_per_second" in r for r in rows) else [])
+    width = 0.8 / max(len(series), 1)
+    x = np.arange(len(keys))
+    fig, ax = plt.subplots(figsize=(max(7, 1.3 * len(keys)), 4.5))
+    for i, name in enumerate(series):
+        vals = []
+        for scene, rays in keys:
+            match = [r for r in rows if r["scene"] == scene and r["rays"] == rays]
+            if name == "Embree":
+                vals.append(match[0].get("embree_mrays_per_second", 0) if match else 0)
+            else:
+                vals.append(next((r["mrays_per_second"] for r in match if r["variant"] == name), 0))
+        ax.bar(x + (i - (len(series) - 1) / 2) * width, vals, width, label=name)
+    ax.set_xticks(x, [short(s) + "\n" + r for s, r in keys])
+    ax.set_ylabel("Mrays/s (closest hit, median)")
+    ax.set_title("Ray casting on " + results["device"]["name"])
+    ax.legend()
+    fig.tight_layout()
+    path = os.path.join(out_dir, "bench_raycast.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results", help="JSON written by wavepath bench --out")
+    parser.add_argument("--out", default=".", help="directory for the PNG charts (default: .)")
+    args = parser.parse_args()
+    try:
+        with open(args.results) as f:
+            results = json.load(f)
+    except (OSError, json.JSONDecodeError) as e:
+        print(f"plot_bench: error: {args.results}: {e}", file=sys.stderr)
+        return 2
+    os.makedirs(args.out, exist_ok=True)
+    if "raycast" in results:
+        paths = plot_raycast(results, args.out)
+    elif "scenes" in results:
+        paths = plot_render(results, args.out)
+    else:
+        print(f"plot_bench: error: {args.results}: not a wavepath bench result", file=sys.stderr)
+        return 2
+    for p in paths:
+        print(p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
