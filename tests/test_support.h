@@ -14,6 +14,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "cpu/reference.h"
 #include "render/compiled_scene.h"
 #include "render/shader_cpp.h"
 #include "scene/load_scene.h"
@@ -165,11 +166,7 @@ std::vector<shader::ShadowRay> random_rays(const Scene& scene, int count, uint32
 // computed on all cores.
 std::vector<float> brute_force_closest(const Scene& scene, const std::vector<shader::ShadowRay>& rays);
 
-}  // namespace wp::test
 
-#include "cpu/reference.h"
-
-namespace wp::test {
 
 inline ImageStats render_reference(const std::string& scenePath, RenderOptions options, int spp = -1) {
   options.spp = spp;
@@ -199,9 +196,6 @@ inline void expect_mean(const ImageStats& img, double expected, const char* what
   EXPECT_EQ(img.nonFinite, 0u) << what;
 }
 
-}  // namespace wp::test
-
-namespace wp::test {
 
 // Inside a closed box whose walls have albedo 0.5 and emit 0.5, paths of at
 // most D bounces see exactly 1 - 0.5^(D+1), for every integrator. Runs that
