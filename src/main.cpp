@@ -1,6 +1,7 @@
 // wavepath — a wavefront path tracer on Vulkan compute, with a CPU reference.
 //
 //   wavepath render SCENE.json [-o out.png] [--exr PATH] [--spp N] [--max-bounces N] [--seed N] [--resolution W H]
+//                   [--integrator NAME] [--sampler NAME] [--aperture R] [--focus-distance D]  (CS184: -f -s -m -r -t -b -d)
 //                              [--device INDEX|NAME] [--variant NAME] [--cpu] [--threads N] [--quiet] [--stage-times]
 //   wavepath compare SCENE.json [--a VARIANT|cpu] [--b cpu|VARIANT] [--spp N] [--report DIR]
 //   wavepath compare --images A.exr B.exr [--report DIR]
@@ -51,7 +52,24 @@ struct RenderArgs {
   std::vector<int> resolution;
   bool stageTimes = false;
   std::string variant = "gpu";
+  std::string integrator;  // darts integrator name, overriding the scene's
+  std::string sampler;     // independent or cmj
+  float aperture = -1.0f;  // lens radius, overriding the scene's (CS184 -b)
+  float focusDistance = -1.0f;  // (CS184 -d)
 };
+
+// darts integrator names, as the scene file and --integrator spell them.
+IntegratorKind integrator_named(const std::string& name) {
+  static const std::pair<const char*, IntegratorKind> kNames[] = {
+      {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
+      {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
+      {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion}};
+  for (const auto& [n, kind] : kNames) {
+    if (name == n) return kind;
+  }
+  throw InputError("--integrator: unknown integrator \"" + name +
+                   "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis or path tracer mixture)");
+}
 
 std::string default_output(const std::string& scenePath) {
   return std::filesystem::path(scenePath).stem().string() + ".png";
@@ -91,6 +109,10 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
   options.spp = a.spp;
   options.maxBounces = a.maxBounces;
   options.seed = seed;
+  if (!a.integrator.empty()) options.integrator = integrator_named(a.integrator);
+  if (a.sampler == "cmj") options.sampler = SamplerKind::Cmj;
+  else if (a.sampler == "independent") options.sampler = SamplerKind::Independent;
+  else if (!a.sampler.empty()) throw InputError("--sampler: unknown sampler \"" + a.sampler + "\" (expected independent or cmj)");
   return options;
 }
 
@@ -100,6 +122,8 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
     scene.camera.width = a.resolution[0];
     scene.camera.height = a.resolution[1];
   }
+  if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
+  if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
   return scene;
 }
 
@@ -247,19 +271,26 @@ int main(int argc, char** argv) {
   RenderArgs r;
   CLI::App* render = app.add_subcommand("render", "render a darts JSON scene to PNG (and a linear EXR with statistics)");
   render->add_option("scene", r.scene, "scene file (darts JSON)")->required();
-  render->add_option("-o,--output", r.output, "PNG to write (default: SCENE-NAME.png)");
+  // Short options in parentheses are the CS184 pathtracer's, for its students.
+  render->add_option("-o,-f,--output", r.output, "PNG to write (default: SCENE-NAME.png) (CS184: -f)");
   render->add_option("--exr", r.exr, "linear EXR with mean, variance and sample count (default: next to the PNG)");
-  render->add_option("--spp", r.spp, "samples per pixel (default: the scene's sampler)")->check(CLI::Range(1, 1 << 24));
-  render->add_option("--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's)")->check(CLI::Range(0, 1024));
+  render->add_option("-s,--spp", r.spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")->check(CLI::Range(1, 1 << 24));
+  render->add_option("-m,--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")
+      ->check(CLI::Range(0, 1024));
+  render->add_option("--integrator", r.integrator, "integrator, overriding the scene's: normals, ao, \"path tracer mats|nee|mis|mixture\"");
+  render->add_option("--sampler", r.sampler, "sampler, overriding the scene's: independent or cmj");
+  render->add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
+  render->add_option("-d,--focus-distance", r.focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
+      ->check(CLI::PositiveNumber);
   render->add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
   render->add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   render->add_flag("--cpu", r.cpu, "render with the CPU reference renderer instead of Vulkan");
-  render->add_option("--threads", r.threads, "CPU threads for --cpu (default: all cores)")->check(CLI::Range(0, 1024));
+  render->add_option("-t,--threads", r.threads, "CPU threads for --cpu (default: all cores) (CS184: -t)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r.quiet, "no progress line and no summary");
   render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
   render->add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default gpu");
   render->add_flag("--stage-times", r.stageTimes, "print the GPU time of each kernel stage (Vulkan timestamps)");
-  render->add_option("--resolution", r.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
+  render->add_option("-r,--resolution", r.resolution, "image size W H, overriding the scene's (CS184: -r)")->expected(2)->check(CLI::Range(1, 16384));
 
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
@@ -271,6 +302,7 @@ int main(int argc, char** argv) {
   compare->add_option("--b", cmp.b, "renderer of image B: cpu or a kernel variant (default cpu)");
   compare->add_option("--spp", cmp.render.spp, "samples per pixel of each render")->check(CLI::Range(1, 1 << 24));
   compare->add_option("--max-bounces", cmp.render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
+  compare->add_option("--integrator", cmp.render.integrator, "integrator, overriding the scene's (darts name)");
   compare->add_option("--seed", cmp.render.seed, "seed of A; B uses seed + 1 (default 1)")->default_val(1);
   compare->add_option("--resolution", cmp.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
   compare->add_option("--report", cmp.report, "write an HTML report to this directory");

@@ -96,7 +96,7 @@ TEST(Bvh, SahBeatsMidpointSplitsOnCost) {
 TEST(Bvh, DegenerateInputsBuild) {
   // Many identical triangles (all centroids equal) and an empty scene.
   Scene scene;
-  scene.materials.push_back(Material{});
+  add_lambertian(scene, glm::vec3(0.5f));
   for (int i = 0; i < 1000; ++i) scene.triangles.push_back(SceneTriangle{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 0});
   CompiledScene cs = compile_scene(scene, RenderOptions{});
   SceneView view = cs.view();

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest-spi.h>
 
+#include "stats/compare.h"
 #include "util/error.h"
 
 namespace wp::test {
@@ -50,6 +51,35 @@ TEST(CpuReference, TruncatedTraversalIsAnErrorNotAnImage) {
   RenderOptions o;
   o.traversalStepCap = 2;
   EXPECT_THROW(render_reference(source_path("scenes/cornell-box.json"), o, 1), RenderError);
+}
+
+// MIS, NEE alone, BSDF sampling alone and the one-sample mixture estimate the
+// same image (the scene has no point lights, which only NEE can reach, and
+// lights large enough for BSDF sampling alone to find them at 256 spp).
+TEST(CpuRender, AllPathTracersAgreeOnOneScene) {
+  Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
+  auto render = [&](IntegratorKind kind, uint32_t seed) {
+    RenderOptions o;
+    o.integrator = kind;
+    o.spp = 256;
+    o.seed = seed;
+    Progress quiet("", 0, false);
+    return render_cpu(compile_scene(scene, o), 0, quiet);
+  };
+  ImageStats mis = render(IntegratorKind::PathMis, 1);
+  for (auto [kind, name] : {std::pair{IntegratorKind::PathNee, "nee"}, std::pair{IntegratorKind::PathMats, "mats"},
+                            std::pair{IntegratorKind::PathMixture, "mixture"}}) {
+    CompareResult r = compare_images(render(kind, 2), mis);
+    EXPECT_TRUE(r.passed()) << name << " vs mis: " << r.summary();
+  }
+  // A planted 4% bias in one of them is seen.
+  RenderOptions o;
+  o.integrator = IntegratorKind::PathNee;
+  o.spp = 256;
+  o.seed = 3;
+  o.plantedBias = 1.04f;
+  Progress quiet("", 0, false);
+  EXPECT_FALSE(compare_images(render_cpu(compile_scene(scene, o), 0, quiet), mis).passed());
 }
 
 }  // namespace

@@ -158,8 +158,7 @@ TEST(Sphere, GrazingRaysHitNearTheSilhouetteOnly) {
 // outwards never hit it again, and rays entering from inside hit the far side.
 TEST(Sphere, TransformedSphereLeavesWithoutSelfHits) {
   Scene scene;
-  shader::Material mat{};
-  scene.materials.push_back(mat);
+  add_lambertian(scene, glm::vec3(0.5f));
   glm::mat4 xf = glm::translate(glm::mat4(1.0f), glm::vec3(300.0f, -20.0f, 7.0f)) *
                  glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(1, 2, 3))) *
                  glm::scale(glm::mat4(1.0f), glm::vec3(2.0f, 0.5f, 1.0f));

@@ -44,7 +44,7 @@ TEST(Scene, CornellBoxLoads) {
   glm::vec3 forward = glm::vec3(s.camera.toWorld * glm::vec4(0, 0, -1, 0));
   EXPECT_NEAR(forward.z, 1.0f, 1e-6f);  // looks down -Z in camera space, +Z in the world
   int lights = 0;
-  for (const auto& m : s.materials) lights += m.emission.x > 0.0f;
+  for (const auto& m : s.materials) lights += m.info.z != WP_INVALID;
   EXPECT_EQ(lights, 1);
 }
 
@@ -97,8 +97,47 @@ TEST(SceneErrors, UnknownKeysAndTypesAreNamed) {
                {"/surfaces/0/colour", "unknown key"});
   expect_error(R"({"integrator": {"type": "bidirectional"}})", {"/integrator/type", "unknown integrator type"});
   expect_error(R"({"sampler": {"type": "sobol"}})", {"/sampler/type", "sobol"});
-  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "checker"}}]})",
-               {"/materials/0/albedo/type", "not supported yet"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "wood"}}]})",
+               {"/materials/0/albedo/type", "unknown texture type \"wood\""});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "checker", "even": {"type": "plaid"}}}]})",
+               {"/materials/0/albedo/even/type", "plaid"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "fresnel", "ior": 1.5}}]})",
+               {"/materials/0/albedo/type", "only meaningful as a blend"});
+  expect_error(R"({"materials": [{"type": "metal", "name": "a", "roughness": 0.1, "shininess": 3}]})",
+               {"/materials/0/shininess", "unknown key"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "marble", "mapping": {"type": "cube"}}}]})",
+               {"/materials/0/albedo/mapping/type", "unknown texture mapping"});
+}
+
+TEST(SceneErrors, BadMaterialsAndTexturesAreNamed) {
+  expect_error(R"({"materials": [{"type": "dielectric", "name": "g", "ior": -1.5}]})", {"/materials/0/ior", "positive"});
+  expect_error(R"({"materials": [{"type": "dielectric", "name": "g", "ior": 0}]})", {"/materials/0/ior", "positive"});
+  expect_error(R"({"materials": [{"type": "metal", "name": "m", "roughness": -0.1}]})", {"/materials/0/roughness", "negative"});
+  expect_error(R"({"materials": [{"type": "phong", "name": "p", "exponent": -2}]})", {"/materials/0/exponent"});
+  expect_error(R"({"materials": [{"type": "metal", "name": "m", "albedo": [0.5, 0.5]}]})", {"/materials/0/albedo", "array of 2"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "checker", "scale": 0}}]})",
+               {"/materials/0/albedo/scale", "positive"});
+  expect_error(R"({"materials": [{"type": "lambertian", "name": "a", "albedo": {"type": "image", "filename": "no-such.png"}}]})",
+               {"no-such.png", "no such file", "/materials/0/albedo"});
+  expect_error(R"({"materials": [{"type": "blend", "name": "b", "a": "x", "b": {"type": "lambertian"}}]})",
+               {"/materials/0/a", "no material named \"x\""});
+  expect_error(R"({"materials": [{"type": "blend", "name": "b", "amount": 2, "a": {"type": "lambertian"}, "b": {"type": "metal"}}]})",
+               {"/materials/0/amount", "[0, 1]"});
+  expect_error(R"({"materials": [{"type": "blend", "name": "b", "a": {"type": "diffuse_light", "emit": 1}, "b": {"type": "metal"}}]})",
+               {"/materials/0/a", "cannot contain a diffuse_light"});
+  // Five materials in one blend tree exceed the lobes a BSDF holds.
+  expect_error(R"({"materials": [
+      {"type": "blend", "name": "ab", "a": {"type": "lambertian"}, "b": {"type": "metal"}},
+      {"type": "blend", "name": "cd", "a": {"type": "phong"}, "b": {"type": "metal"}},
+      {"type": "blend", "name": "abcd", "a": "ab", "b": "cd"},
+      {"type": "blend", "name": "all", "a": "abcd", "b": {"type": "lambertian"}}]})",
+               {"/materials/3", "at most 4 materials"});
+  expect_error(R"({"surfaces": [{"type": "triangle", "positions": [[0,0,0],[1,0,0],[0,1,0]], "normals": [[0,0,1],[0,0,1]], "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/normals", "expected 3 vertex normals"});
+  expect_error(R"({"surfaces": [{"type": "triangle", "positions": [[0,0,0],[1,0,0],[0,1,0]], "normals": [[0,0,1],[0,0,1],[0,0,0]], "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/normals/2", "must not be zero"});
+  expect_error(R"({"surfaces": [{"type": "point_light", "position": [0, 1, 0]}]})", {"/surfaces/0", "intensity"});
+  expect_error(R"({"surfaces": [{"type": "point_light", "position": [0, 1], "intensity": 1}]})", {"/surfaces/0/position"});
 }
 
 TEST(SceneErrors, BadValuesAreNamed) {

@@ -12,8 +12,7 @@ namespace wp::test {
 Scene bunny_with_spheres(const AcceleratorSettings& accel) {
   Scene scene;
   scene.accelerator = accel;
-  shader::Material mat{};
-  scene.materials.push_back(mat);
+  add_lambertian(scene, glm::vec3(0.5f));
   ObjMesh mesh = load_obj(source_path("scenes/assets/bunny.obj"));
   Aabb box;
   for (glm::vec3 p : mesh.positions) box.grow(p);

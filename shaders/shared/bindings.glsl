@@ -17,7 +17,11 @@
 #define BINDING_COUNTERS 10
 #define BINDING_INDIRECT 11
 #define BINDING_ACCUM 12
-#define BINDING_COUNT 13
+#define BINDING_TEXTURES 13
+#define BINDING_TEXELS 14
+#define BINDING_TRIANGLE_SHADING 15
+#define BINDING_POINT_LIGHTS 16
+#define BINDING_COUNT 17
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -53,6 +57,12 @@ layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { Sha
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };
+layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer TextureBuffer { Texture textures[]; };
+// Image texels as RGBA half floats (linear), all images back to back: lavapipe
+// has no descriptor indexing, so one buffer holds every image.
+layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uvec2 texels[]; };
+layout(std430, set = 0, binding = BINDING_TRIANGLE_SHADING) readonly buffer ShadingBuffer { TriangleShading triangleShading[]; };
+layout(std430, set = 0, binding = BINDING_POINT_LIGHTS) readonly buffer PointLightBuffer { PointLight pointLights[]; };
 layout(push_constant) uniform PushBlock { KernelPush pc; };
 #endif
 

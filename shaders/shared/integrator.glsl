@@ -3,7 +3,8 @@
 // accumulate); the CPU reference calls the same functions in a loop per sample.
 // Unidirectional path tracing with next-event estimation and multiple importance
 // sampling (power heuristic) between BSDF and emitter sampling, and Russian
-// roulette. "max bounces" counts scattering events (pbrt's maxdepth): 0 shows
+// roulette; the darts variants without MIS (mats, nee), the one-sample
+// mixture, and the normals / ambient-occlusion previews. "max bounces" counts scattering events (pbrt's maxdepth): 0 shows
 // emitters only, 1 adds direct lighting.
 #ifndef WP_INTEGRATOR_GLSL
 #define WP_INTEGRATOR_GLSL
@@ -17,9 +18,17 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   uint width = scene.image.x;
   uint height = scene.image.y;
   p.rng = rng_seed(pixel, sampleIndex, scene.counts.y);
-  float fx = (float(pixel % width) + rng_next(p.rng)) / float(width);
-  float fy = (float(pixel / width) + rng_next(p.rng)) / float(height);
+  vec2 jitter = vec2(rng_next(p.rng), rng_next(p.rng));
   vec2 lensU = vec2(rng_next(p.rng), rng_next(p.rng));
+  if (scene.mode.y == SAMPLER_CMJ && sampleIndex < scene.mode.z) {
+    // The camera's dimensions (pixel area, lens) from per-pixel CMJ patterns;
+    // later bounces stay independent.
+    uint pattern = pcg_hash(pixel ^ pcg_hash(scene.counts.y));
+    jitter = cmj_sample(sampleIndex, scene.mode.z, pattern);
+    lensU = cmj_sample(sampleIndex, scene.mode.z, pcg_hash(pattern));
+  }
+  float fx = (float(pixel % width) + jitter.x) / float(width);
+  float fy = (float(pixel / width) + jitter.y) / float(height);
   float tanHalf = scene.camLens.x;
   vec3 dirCam = vec3((2.0f * fx - 1.0f) * tanHalf * scene.camLens.y, (1.0f - 2.0f * fy) * tanHalf, -1.0f);
   vec3 originCam = vec3(0.0f);
@@ -46,73 +55,116 @@ float planted_bias(uint pixel) {
   return inside ? scene.debug.x : 1.0f;
 }
 
-// Accounts for what the path's ray hit and prepares the next bounce. Writes a
-// shadow ray (tmax > 0) when next-event estimation found a candidate. Returns
-// true while the path continues.
-bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
+// A shadow ray that adds `contribution` to the path's pixel when the segment
+// from origin to origin + tmax * dir is unoccluded.
+void shadow_ray_none(OUT(ShadowRay) sr) {
   sr.tmax = -1.0f;
   sr.origin = vec3(0.0f);
   sr.dir = vec3(0.0f);
   sr.contribution = vec3(0.0f);
   sr.path = WP_INVALID;
   sr.pad = 0u;
+}
+
+// The normals and ambient-occlusion integrators: one hit, no paths.
+void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, float radianceScale) {
+  if (scene.mode.x == INTEGRATOR_NORMALS) {
+    p.radiance += (s.ns + vec3(1.0f)) * (0.5f * radianceScale);
+    return;
+  }
+  // Ambient occlusion: the cosine-weighted fraction of the hemisphere that is
+  // unoccluded, estimated with one visibility ray of unbounded length.
+  vec3 t;
+  vec3 bt;
+  make_frame(b.ns, t, bt);
+  vec2 u = vec2(rng_next(p.rng), rng_next(p.rng));
+  vec3 wi = frame_to_world(square_to_cosine_hemisphere(u), t, bt, b.ns);
+  if (dot(wi, b.ng) <= 0.0f) return;
+  sr.origin = offset_ray(s.p, b.ng);
+  sr.dir = wi;
+  sr.tmax = WP_INF;
+  sr.contribution = vec3(radianceScale);
+}
+
+// Accounts for what the path's ray hit and prepares the next bounce. Writes a
+// shadow ray (tmax > 0) when next-event estimation found a candidate. Returns
+// true while the path continues.
+bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
+  shadow_ray_none(sr);
   float radianceScale = planted_bias(p.pixel);
+  uint mode = scene.mode.x;
+  bool preview = mode == INTEGRATOR_NORMALS || mode == INTEGRATOR_AO;
   if (h.prim == WP_INVALID) {
-    p.radiance += p.throughput * vec3(scene.background.x, scene.background.y, scene.background.z) * radianceScale;
+    if (!preview) p.radiance += p.throughput * vec3(scene.background.x, scene.background.y, scene.background.z) * radianceScale;
+    return false;
+  }
+  SurfaceHit s = surface_at(p.origin, p.dir, h);
+  vec3 wo = -p.dir;
+  Bsdf b = bsdf_at(s, wo);
+  if (preview) {
+    shade_preview(p, s, b, sr, radianceScale);
     return false;
   }
   uint depth = path_depth(p);
-  bool useNee = (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
+  bool mixture = mode == INTEGRATOR_MIXTURE;
+  bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
   bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
-  SurfaceHit s = surface_at(p.origin, p.dir, h);
-  Material m = materials[s.material];
-  vec3 wo = -p.dir;
-  float cosO = dot(s.ng, wo);
 
   // Emission, seen from the front side only.
-  if (material_emits(m) && cosO > 0.0f) {
+  vec3 le = emitted_radiance(s, wo);
+  if (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f) {
     float w = 1.0f;
     if ((p.flags & PATH_SPECULAR) == 0u && useNee) {
-      // This emitter could also have been reached by NEE from the previous vertex.
-      float lightPdf = emitter_pdf_area(s.emitter) * h.t * h.t / cosO;
-      w = useMis ? power_heuristic(p.bsdfPdf, lightPdf) : 0.0f;
+      // NEE at the previous vertex could have picked this point too.
+      w = useMis ? power_heuristic(p.bsdfPdf, emitter_pdf(s.emitter, p.origin, s, p.dir, h.t)) : 0.0f;
     }
-    p.radiance += p.throughput * vec3(m.emission.x, m.emission.y, m.emission.z) * (w * radianceScale);
+    p.radiance += p.throughput * le * (w * radianceScale);
   }
-  if (depth >= scene.image.z || !material_scatters(m)) return false;
-
-  vec3 n = cosO >= 0.0f ? s.ng : -s.ng;  // BSDFs are two-sided: face the viewer
+  if (depth >= scene.image.z || b.lobeCount == 0u) return false;
+  bool hasSmooth = bsdf_has_smooth_lobe(b);
 
   // Next-event estimation: one point on one emitter, checked later by a shadow ray.
   vec3 uLight = vec3(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
   LightSample ls;
-  if (useNee && sample_emitter(uLight, ls)) {
-    vec3 toLight = ls.p - s.p;
-    float dist2 = dot(toLight, toLight);
-    vec3 wi = toLight * inversesqrt(dist2);
-    float cosL = -dot(ls.n, wi);
-    vec3 f = bsdf_eval(m, n, wo, wi);
-    if (cosL > 0.0f && dist2 > 0.0f && (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) {
-      float lightPdf = ls.pdfArea * dist2 / cosL;
-      float w = useMis ? power_heuristic(lightPdf, bsdf_pdf(m, n, wo, wi)) : 1.0f;
-      sr.contribution = p.throughput * f * ls.emission * (w * radianceScale / lightPdf);
-      sr.origin = offset_ray(s.p, n);
-      sr.dir = offset_ray(ls.p, ls.n) - sr.origin;
+  if (useNee && hasSmooth && sample_emitter(s.p, uLight, ls)) {
+    vec3 f = bsdf_eval(b, wo, ls.wi);
+    if (ls.pdf > 0.0f && (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) {
+      float w = useMis && ls.isDelta == 0u ? power_heuristic(ls.pdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
+      sr.contribution = p.throughput * f * ls.radiance * (w * radianceScale / ls.pdf);
+      sr.origin = offset_ray(s.p, b.ng);
+      vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
+      sr.dir = target - sr.origin;
       sr.tmax = 1.0f;
     }
   }
 
-  // BSDF sampling for the next bounce.
-  vec2 uBsdf = vec2(rng_next(p.rng), rng_next(p.rng));
+  // The next direction: from the BSDF, or (mixture) from the one-sample
+  // mixture of BSDF and emitter sampling with its exact combined density.
+  vec4 uBsdf = vec4(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+  float uStrategy = rng_next(p.rng);
   vec3 wi;
   float pdf;
-  vec3 weight = bsdf_sample(m, n, wo, uBsdf, wi, pdf);
-  if (pdf <= 0.0f || (weight.x <= 0.0f && weight.y <= 0.0f && weight.z <= 0.0f)) return false;
+  bool isDelta;
+  vec3 weight;
+  float lightProb = mixture && hasSmooth && scene.counts.x > 0u ? 0.5f : 0.0f;
+  if (uStrategy < lightProb) {
+    if (!sample_emitter(s.p, vec3(uBsdf.x, uBsdf.y, uBsdf.z), ls) || ls.isDelta != 0u) return false;
+    wi = ls.wi;
+    isDelta = false;
+  } else {
+    weight = bsdf_sample(b, wo, uBsdf, wi, pdf, isDelta);
+    if (isDelta) weight /= 1.0f - lightProb;
+  }
+  if (mixture && !isDelta) {
+    pdf = mixture_pdf(emitters_pdf_direction(s.p, wi), bsdf_pdf(b, wo, wi), lightProb);
+    weight = pdf > 0.0f ? bsdf_eval(b, wo, wi) / pdf : vec3(0.0f);
+  }
+  if ((!isDelta && pdf <= 0.0f) || (weight.x <= 0.0f && weight.y <= 0.0f && weight.z <= 0.0f)) return false;
   p.throughput *= weight;
   p.bsdfPdf = pdf;
   p.origin = offset_ray(s.p, dot(wi, s.ng) >= 0.0f ? s.ng : -s.ng);
   p.dir = wi;
-  p.flags = depth + 1u;  // Lambertian has no delta lobe: clears PATH_SPECULAR
+  p.flags = (depth + 1u) | (isDelta ? PATH_SPECULAR : 0u);
 
   // Russian roulette once the path is long enough; unbiased by reweighting.
   if (depth + 1u >= scene.image.w) {

@@ -4,6 +4,7 @@
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"
+#include "noise.glsl"
 #include "intersect.glsl"
 #include "bsdf.glsl"
 #include "scene.glsl"

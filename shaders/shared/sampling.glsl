@@ -54,6 +54,64 @@ vec2 square_to_triangle_barycentric(vec2 u) {
   return vec2(1.0f - su, u.y * su);
 }
 
+// Uniform in the unit ball: radius by the cube root of u.x, direction from (u.y, u.z).
+vec3 square_to_uniform_ball(vec3 u) {
+  float r = pow(u.x, 1.0f / 3.0f);
+  return square_to_uniform_sphere(vec2(u.y, u.z)) * r;
+}
+
+float square_to_uniform_ball_pdf(vec3 v) {
+  return dot(v, v) <= 1.0f ? 3.0f / (4.0f * WP_PI) : 0.0f;
+}
+
+// Directions of normalize(c + radius * ball) for a unit vector c and a uniform
+// point of the unit ball (darts' rough metal): the density, per unit solid
+// angle, of direction d. Points t * d inside the ball fill t in [t0, t1]; the
+// density is the integral of t^2 dt over that segment divided by the ball's volume.
+float fuzzed_direction_pdf(vec3 d, vec3 c, float radius) {
+  float cosA = dot(d, c);
+  float h2 = cosA * cosA - 1.0f + radius * radius;
+  if (h2 <= 0.0f) return 0.0f;
+  float h = sqrt(h2);
+  float t1 = cosA + h;
+  if (t1 <= 0.0f) return 0.0f;
+  float t0 = max(cosA - h, 0.0f);
+  // t1^3 - t0^3 in factored form: no cancellation for small radii.
+  float cubes = (t1 - t0) * (t1 * t1 + t1 * t0 + t0 * t0);
+  return cubes / (4.0f * WP_PI * radius * radius * radius);
+}
+
+// cos^n lobe around +Z: pdf (n + 1) / (2 pi) cos^n theta over the hemisphere.
+vec3 square_to_cosine_power(vec2 u, float exponent) {
+  float cosTheta = pow(max(1.0f - u.x, 0.0f), 1.0f / (exponent + 1.0f));
+  float sinTheta = sqrt(max(0.0f, 1.0f - cosTheta * cosTheta));
+  float phi = 2.0f * WP_PI * u.y;
+  return vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta);
+}
+
+float cosine_power_pdf(float cosTheta, float exponent) {
+  return cosTheta > 0.0f ? (exponent + 1.0f) * (0.5f * WP_INV_PI) * pow(cosTheta, exponent) : 0.0f;
+}
+
+// Uniform in the cone of directions within theta_max of +Z, given 1 - cos(theta_max)
+// (passed as such so tiny cones keep their precision).
+vec3 square_to_uniform_cone(vec2 u, float oneMinusCosMax) {
+  float oneMinusCos = u.x * oneMinusCosMax;
+  float cosTheta = 1.0f - oneMinusCos;
+  float sinTheta = sqrt(max(0.0f, oneMinusCos * (2.0f - oneMinusCos)));
+  float phi = 2.0f * WP_PI * u.y;
+  return vec3(sinTheta * cos(phi), sinTheta * sin(phi), cosTheta);
+}
+
+float uniform_cone_pdf(float oneMinusCosMax) {
+  return 1.0f / (2.0f * WP_PI * oneMinusCosMax);
+}
+
+// Balance heuristic, for the one-sample mixture of BSDF and emitter sampling.
+float mixture_pdf(float pdfA, float pdfB, float probA) {
+  return probA * pdfA + (1.0f - probA) * pdfB;
+}
+
 // Power heuristic with beta = 2 (Veach).
 float power_heuristic(float pdfA, float pdfB) {
   float a = pdfA * pdfA;

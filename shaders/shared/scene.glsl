@@ -14,14 +14,20 @@ struct SurfaceHit {
   uint material;
   vec3 ng;  // unit geometric normal; its side is the emitting (front) side
   uint emitter;
+  vec3 ns;  // unit shading normal (interpolated vertex normals), on ng's side
+  float pad;
+  vec2 uv;  // texture coordinates
 };
 
+// A point chosen on an emitter by next-event estimation, seen from a shading point.
 struct LightSample {
-  vec3 p;
-  float pdfArea;  // pick probability / area: density per unit area
-  vec3 n;
-  float pad;
-  vec3 emission;
+  vec3 wi;     // unit direction from the shading point towards the light
+  float dist;  // distance to the light point (the shadow ray stops short of it)
+  vec3 radiance;  // emitted radiance towards the shading point (point lights: I / d^2)
+  float pdf;      // solid-angle density of wi, pick probability included (point lights: the pick probability)
+  vec3 p;         // the light point
+  uint isDelta;   // 1 for point lights: no BSDF sample can hit them, so no MIS
+  vec3 n;         // surface normal at p (zero for point lights)
 };
 
 // Walks the BVH (ordered, stack-based). With anyHit it stops at the first hit
@@ -119,37 +125,196 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   return TRACE_OK;
 }
 
-// Position and normals at a hit of the ray (o, d).
-SurfaceHit surface_at(vec3 o, vec3 d, Hit h) {
+// ---- surfaces ----------------------------------------------------------------
+
+// darts / Ray Tracing in One Weekend sphere coordinates on the unit sphere
+// (y up): u around the y axis, v from the south pole (0) to the north pole (1).
+vec2 sphere_uv(vec3 pl) {
+  float theta = acos(clamp(-pl.y, -1.0f, 1.0f));
+  float phi = atan(-pl.z, pl.x) + WP_PI;
+  return vec2(phi * (0.5f * WP_INV_PI), theta * WP_INV_PI);
+}
+
+// The surface of sphere i nearest to world point pw (reprojected onto it).
+SurfaceHit sphere_surface(uint i, vec3 pw) {
+  Sphere sp = spheres[i];
+  vec3 pl = normalize(xform_point(sp.toObject0, sp.toObject1, sp.toObject2, pw));
   SurfaceHit s;
-  if ((h.prim & HIT_SPHERE_BIT) != 0u) {
-    Sphere sp = spheres[h.prim & ~HIT_SPHERE_BIT];
-    // Reproject onto the unit sphere in object space: removes the error of o + t d.
-    vec3 pl = normalize(xform_point(sp.toObject0, sp.toObject1, sp.toObject2, o + d * h.t));
-    s.p = xform_point(sp.toWorld0, sp.toWorld1, sp.toWorld2, pl);
-    s.ng = normalize(xform_normal_by_inverse(sp.toObject0, sp.toObject1, sp.toObject2, pl));
-    s.material = sp.material;
-    s.emitter = sp.emitter;
-  } else {
-    Triangle tri = triangles[h.prim];
-    s.p = tri.v0 * (1.0f - h.u - h.v) + tri.v1 * h.u + tri.v2 * h.v;
-    s.ng = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
-    s.material = tri.material;
-    s.emitter = tri.emitter;
-  }
+  s.p = xform_point(sp.toWorld0, sp.toWorld1, sp.toWorld2, pl);
+  s.ng = normalize(xform_normal_by_inverse(sp.toObject0, sp.toObject1, sp.toObject2, pl));
+  s.ns = s.ng;
+  s.uv = sphere_uv(pl);
+  s.material = sp.material;
+  s.emitter = sp.emitter;
+  s.pad = 0.0f;
   return s;
+}
+
+// The surface of triangle i at barycentrics (b1, b2).
+SurfaceHit triangle_surface(uint i, float b1, float b2) {
+  Triangle tri = triangles[i];
+  float b0 = 1.0f - b1 - b2;
+  SurfaceHit s;
+  s.p = tri.v0 * b0 + tri.v1 * b1 + tri.v2 * b2;
+  s.ng = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+  s.ns = s.ng;
+  s.uv = vec2(b1, b2);
+  if (tri.shading != WP_INVALID) {
+    TriangleShading sh = triangleShading[tri.shading];
+    s.uv = vec2(sh.u0, sh.v0) * b0 + vec2(sh.uv12.x, sh.uv12.y) * b1 + vec2(sh.uv12.z, sh.uv12.w) * b2;
+    if (sh.hasNormals != 0u) {
+      vec3 n = sh.n0 * b0 + sh.n1 * b1 + sh.n2 * b2;
+      float len = length(n);
+      if (len > 0.0f) s.ns = dot(n, s.ng) >= 0.0f ? n / len : -n / len;
+    }
+  }
+  s.material = tri.material;
+  s.emitter = tri.emitter;
+  s.pad = 0.0f;
+  return s;
+}
+
+// The surface at a hit of the ray (o, d).
+SurfaceHit surface_at(vec3 o, vec3 d, Hit h) {
+  if ((h.prim & HIT_SPHERE_BIT) != 0u) return sphere_surface(h.prim & ~HIT_SPHERE_BIT, o + d * h.t);
+  return triangle_surface(h.prim, h.u, h.v);
 }
 
 float triangle_area(Triangle tri) {
   return 0.5f * length(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
 }
 
-// Density per unit area with which sample_emitter picks points on `emitter`.
-float emitter_pdf_area(uint emitter) {
-  Emitter e = emitters[emitter];
-  if ((e.prim & HIT_SPHERE_BIT) != 0u) return e.pmf / spheres[e.prim & ~HIT_SPHERE_BIT].area;
-  return e.pmf / triangle_area(triangles[e.prim]);
+// ---- textures ----------------------------------------------------------------
+
+#define TEXTURE_MAX_NESTING 8
+
+// Where texture t is looked up: its mapping applied to the hit point (solid
+// textures) or to (u, v, 0).
+vec3 texture_point(Texture t, vec2 uv, vec3 p) {
+  vec3 q = (t.info.x & TEX_SOLID) != 0u ? p : vec3(uv.x, uv.y, 0.0f);
+  return xform_point(t.map0, t.map1, t.map2, q);
 }
+
+vec3 texel_at(Texture t, uint x, uint y) {
+  uvec2 packed = texels[t.info.y + y * t.info.z + x];
+  vec2 rg = unpackHalf2x16(packed.x);
+  vec2 b = unpackHalf2x16(packed.y);
+  return vec3(rg.x, rg.y, b.x);
+}
+
+// Bilinear lookup, repeating; v = 0 is the bottom row of the image.
+vec3 image_lookup(Texture t, vec3 q) {
+  uint w = t.info.z;
+  uint h = t.info.w;
+  float x = (q.x - floor(q.x)) * float(w) - 0.5f;
+  float y = (1.0f - (q.y - floor(q.y))) * float(h) - 0.5f;
+  float x0f = floor(x);
+  float y0f = floor(y);
+  float fx = x - x0f;
+  float fy = y - y0f;
+  // x0f lies in [-1, w - 1]: wrap without a (GLSL-undefined) negative modulo.
+  uint x0 = x0f < 0.0f ? w - 1u : min(uint(x0f), w - 1u);
+  uint y0 = y0f < 0.0f ? h - 1u : min(uint(y0f), h - 1u);
+  uint x1 = x0 + 1u >= w ? 0u : x0 + 1u;
+  uint y1 = y0 + 1u >= h ? 0u : y0 + 1u;
+  vec3 top = mix(texel_at(t, x0, y0), texel_at(t, x1, y0), fx);
+  vec3 bottom = mix(texel_at(t, x0, y1), texel_at(t, x1, y1), fx);
+  return mix(top, bottom, fy);
+}
+
+// Colour of texture `index` at a surface point.
+vec3 texture_eval(uint index, vec2 uv, vec3 p) {
+  Texture t = textures[index];
+  // A checker picks one of two textures; follow the picks (the loader bounds the nesting).
+  for (uint depth = 0u; depth < TEXTURE_MAX_NESTING && (t.info.x & TEX_TYPE_MASK) == TEX_CHECKER; ++depth) {
+    vec3 c = floor(texture_point(t, uv, p) * t.color0.w);
+    int parity = (int(c.x) + int(c.y) + int(c.z)) & 1;
+    t = textures[parity == 0 ? t.info.y : t.info.z];
+  }
+  uint type = t.info.x & TEX_TYPE_MASK;
+  if (type == TEX_MARBLE) {
+    float m = marble_pattern(texture_point(t, uv, p) * t.color0.w);
+    return mix(vec3(t.color0.x, t.color0.y, t.color0.z), vec3(t.color1.x, t.color1.y, t.color1.z), m);
+  }
+  if (type == TEX_IMAGE) return image_lookup(t, texture_point(t, uv, p));
+  return vec3(t.color0.x, t.color0.y, t.color0.z);
+}
+
+// ---- materials ---------------------------------------------------------------
+
+// Radiance the surface emits towards wo (front side only).
+vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
+  uint tex = materials[s.material].info.z;
+  if (tex == WP_INVALID || dot(s.ng, wo) <= 0.0f) return vec3(0.0f);
+  return texture_eval(tex, s.uv, s.p);
+}
+
+// A blend's amount: a texture's mean, or the Fresnel reflectance at the hit.
+float blend_amount(uint tex, SurfaceHit s, vec3 wo, bool front) {
+  Texture t = textures[tex];
+  if ((t.info.x & TEX_TYPE_MASK) == TEX_FRESNEL) {
+    float cosI = abs(dot(wo, s.ns));
+    return fresnel_dielectric(cosI, front ? t.color0.x : 1.0f / t.color0.x);
+  }
+  vec3 c = texture_eval(tex, s.uv, s.p);
+  return clamp((c.x + c.y + c.z) * (1.0f / 3.0f), 0.0f, 1.0f);
+}
+
+// The BSDF at s seen from wo: blends flattened into weighted lobes (depth-first,
+// bounded: the loader allows at most BSDF_MAX_LOBES leaves per material),
+// textures looked up.
+Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
+  Bsdf b;
+  b.front = dot(s.ng, wo) >= 0.0f;
+  b.ng = b.front ? s.ng : -s.ng;
+  b.ns = b.front ? s.ns : -s.ns;
+  b.lobeCount = 0u;
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    b.lobeType[i] = MAT_LAMBERTIAN;
+    b.lobeColor[i] = vec3(0.0f);
+    b.lobeParam[i] = 0.0f;
+    b.lobeWeight[i] = 0.0f;
+  }
+  uint stackMaterial[BSDF_MAX_LOBES];
+  float stackWeight[BSDF_MAX_LOBES];
+  stackMaterial[0] = s.material;
+  stackWeight[0] = 1.0f;
+  uint sp = 1u;
+  float total = 0.0f;
+  for (uint iter = 0u; iter < 2u * BSDF_MAX_LOBES && sp > 0u; ++iter) {
+    sp -= 1u;
+    Material m = materials[stackMaterial[sp]];
+    float w = stackWeight[sp];
+    if (m.info.x == MAT_BLEND) {
+      float amount = blend_amount(m.info.w, s, wo, b.front);
+      if (sp + 2u <= BSDF_MAX_LOBES) {
+        stackMaterial[sp] = m.children.y;
+        stackWeight[sp] = w * amount;
+        stackMaterial[sp + 1u] = m.children.x;
+        stackWeight[sp + 1u] = w * (1.0f - amount);
+        sp += 2u;
+      }
+      continue;
+    }
+    if (m.info.x == MAT_LIGHT || w <= 0.0f || b.lobeCount >= BSDF_MAX_LOBES) continue;
+    uint k = b.lobeCount;
+    b.lobeType[k] = m.info.x;
+    b.lobeColor[k] = m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+    b.lobeParam[k] = m.params.x;
+    b.lobeWeight[k] = w;
+    b.lobeCount = k + 1u;
+    total += w;
+  }
+  // Weights are sampling probabilities: normalise them and move their sum into
+  // the colours, so f is unchanged.
+  for (uint i = 0u; i < b.lobeCount; ++i) {
+    b.lobeWeight[i] /= total;
+    b.lobeColor[i] *= total;
+  }
+  return b;
+}
+
+// ---- emitters ----------------------------------------------------------------
 
 // Picks an emitter index with the alias table (in proportion to power) and
 // returns the probability of that pick.
@@ -163,33 +328,127 @@ uint pick_emitter(float u, OUT(float) pmf) {
   return chosen;
 }
 
-// Picks an emitter, then a uniform point on it.
-bool sample_emitter(vec3 u, OUT(LightSample) ls) {
+// 1 - cos of the half-angle of the cone that sphere sp subtends from ref, or 0
+// when ref is inside the sphere (then it sees only the sphere's unlit back).
+float sphere_cone(Sphere sp, vec3 ref, OUT(vec3) center, OUT(float) radius) {
+  center = vec3(sp.toWorld0.w, sp.toWorld1.w, sp.toWorld2.w);
+  radius = sqrt(sp.area * (0.25f * WP_INV_PI));
+  vec3 d = center - ref;
+  float dc2 = dot(d, d);
+  float r2 = radius * radius;
+  if (dc2 <= r2) return 0.0f;
+  float sin2 = r2 / dc2;
+  // Series for small cones, where 1 - sqrt(1 - x) cancels.
+  return sin2 < 1e-3f ? sin2 * (0.5f + 0.125f * sin2) : 1.0f - sqrt(1.0f - sin2);
+}
+
+// Solid-angle density with which sample_emitter, called at ref, reaches the
+// emitter surface point s at distance dist along unit direction wi.
+float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
+  Emitter e = emitters[emitter];
+  if ((e.prim & HIT_SPHERE_BIT) != 0u) {
+    vec3 c;
+    float r;
+    float cone = sphere_cone(spheres[e.prim & ~HIT_SPHERE_BIT], ref, c, r);
+    return cone > 0.0f ? e.pmf * uniform_cone_pdf(cone) : 0.0f;
+  }
+  float cosL = -dot(s.ng, wi);
+  if (cosL <= 0.0f) return 0.0f;
+  return e.pmf / triangle_area(triangles[e.prim]) * dist * dist / cosL;
+}
+
+// Next-event estimation: picks an emitter, then a point on it as seen from ref:
+// uniform in the subtended cone for spheres, uniform by area for triangles.
+bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
+  ls.wi = vec3(0.0f);
+  ls.dist = 0.0f;
+  ls.radiance = vec3(0.0f);
+  ls.pdf = 0.0f;
+  ls.p = vec3(0.0f);
+  ls.isDelta = 0u;
+  ls.n = vec3(0.0f);
   if (scene.counts.x == 0u) return false;
   float pmf;
-  Emitter ec = emitters[pick_emitter(u.x, pmf)];
+  Emitter e = emitters[pick_emitter(u.x, pmf)];
   vec2 uv = vec2(u.y, u.z);
-  if ((ec.prim & HIT_SPHERE_BIT) != 0u) {
-    Sphere sp = spheres[ec.prim & ~HIT_SPHERE_BIT];
-    vec3 pl = square_to_uniform_sphere(uv);
-    ls.p = xform_point(sp.toWorld0, sp.toWorld1, sp.toWorld2, pl);
-    ls.n = normalize(xform_normal_by_inverse(sp.toObject0, sp.toObject1, sp.toObject2, pl));
-    ls.pdfArea = ec.pmf / sp.area;
-    Material m = materials[sp.material];
-    ls.emission = vec3(m.emission.x, m.emission.y, m.emission.z);
-  } else {
-    Triangle tri = triangles[ec.prim];
-    vec2 b = square_to_triangle_barycentric(uv);
-    ls.p = tri.v0 * (1.0f - b.x - b.y) + tri.v1 * b.x + tri.v2 * b.y;
-    vec3 c = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
-    float len = length(c);
-    ls.n = c / len;
-    ls.pdfArea = ec.pmf / (0.5f * len);
-    Material m = materials[tri.material];
-    ls.emission = vec3(m.emission.x, m.emission.y, m.emission.z);
+  if ((e.prim & EMITTER_POINT_BIT) != 0u) {
+    PointLight l = pointLights[e.prim & ~EMITTER_POINT_BIT];
+    vec3 d = vec3(l.position.x, l.position.y, l.position.z) - ref;
+    float dist2 = dot(d, d);
+    if (dist2 <= 0.0f) return false;
+    ls.dist = sqrt(dist2);
+    ls.wi = d / ls.dist;
+    ls.p = vec3(l.position.x, l.position.y, l.position.z);
+    ls.radiance = vec3(l.intensity.x, l.intensity.y, l.intensity.z) / dist2;
+    ls.pdf = pmf;
+    ls.isDelta = 1u;
+    return true;
   }
-  ls.pad = 0.0f;
+  SurfaceHit s;
+  if ((e.prim & HIT_SPHERE_BIT) != 0u) {
+    uint i = e.prim & ~HIT_SPHERE_BIT;
+    vec3 c;
+    float r;
+    float cone = sphere_cone(spheres[i], ref, c, r);
+    if (cone <= 0.0f) return false;
+    vec3 axis = normalize(c - ref);
+    vec3 t;
+    vec3 b;
+    make_frame(axis, t, b);
+    vec3 local = square_to_uniform_cone(uv, cone);
+    vec3 w = frame_to_world(local, t, b, axis);
+    // The nearer intersection of the ray (ref, w) with the sphere.
+    float dc = length(c - ref);
+    float sin2 = max(0.0f, 1.0f - local.z * local.z);
+    float ds = dc * local.z - sqrt(max(0.0f, r * r - dc * dc * sin2));
+    s = sphere_surface(i, ref + w * ds);
+    ls.pdf = pmf * uniform_cone_pdf(cone);
+  } else {
+    vec2 bary = square_to_triangle_barycentric(uv);
+    s = triangle_surface(e.prim, bary.x, bary.y);
+    ls.pdf = 0.0f;  // needs the distance: below
+  }
+  vec3 d = s.p - ref;
+  float dist2 = dot(d, d);
+  if (dist2 <= 0.0f) return false;
+  ls.dist = sqrt(dist2);
+  ls.wi = d / ls.dist;
+  float cosL = -dot(s.ng, ls.wi);
+  if (cosL <= 0.0f) return false;  // back side: emits nothing
+  if ((e.prim & HIT_SPHERE_BIT) == 0u) ls.pdf = pmf / triangle_area(triangles[e.prim]) * dist2 / cosL;
+  ls.p = s.p;
+  ls.n = s.ng;
+  ls.radiance = emitted_radiance(s, -ls.wi);
   return true;
+}
+
+// Solid-angle density with which sample_emitter at ref produces direction wi:
+// the sum over every emitter the line crosses from the front, occluded or not
+// (the mixture integrator needs the exact density). Loops over all emitters.
+float emitters_pdf_direction(vec3 ref, vec3 wi) {
+  float pdf = 0.0f;
+  RayShear sh = make_ray_shear(wi);
+  for (uint i = 0u; i < scene.counts.x; ++i) {
+    Emitter e = emitters[i];
+    if ((e.prim & EMITTER_POINT_BIT) != 0u) continue;
+    float t;
+    SurfaceHit s;
+    if ((e.prim & HIT_SPHERE_BIT) != 0u) {
+      Sphere sp = spheres[e.prim & ~HIT_SPHERE_BIT];
+      vec3 ol = xform_point(sp.toObject0, sp.toObject1, sp.toObject2, ref);
+      vec3 dl = xform_vector(sp.toObject0, sp.toObject1, sp.toObject2, wi);
+      if (!intersect_unit_sphere(ol, dl, WP_INF, t)) continue;
+      s = sphere_surface(e.prim & ~HIT_SPHERE_BIT, ref + wi * t);
+    } else {
+      Triangle tri = triangles[e.prim];
+      float b1;
+      float b2;
+      if (!intersect_triangle(ref, sh, tri.v0, tri.v1, tri.v2, WP_INF, t, b1, b2)) continue;
+      s = triangle_surface(e.prim, b1, b2);
+    }
+    if (dot(s.ng, wi) < 0.0f) pdf += emitter_pdf(i, ref, s, wi, t);
+  }
+  return pdf;
 }
 
 #endif  // WP_SCENE_GLSL

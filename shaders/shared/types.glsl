@@ -18,9 +18,32 @@
 // Hit.prim: bit 31 marks a sphere; WP_INVALID marks a miss.
 #define HIT_SPHERE_BIT 0x80000000u
 
-// Material types.
+// Material types (Material.info.x).
 #define MAT_LAMBERTIAN 0u
-#define MAT_LIGHT 1u  // darts diffuse_light: emits, does not scatter
+#define MAT_LIGHT 1u        // darts diffuse_light: emits, does not scatter
+#define MAT_METAL 2u        // mirror direction perturbed by a ball of radius `roughness`
+#define MAT_DIELECTRIC 3u   // smooth glass: Fresnel reflection and refraction (delta)
+#define MAT_PHONG 4u        // cos^n lobe around the mirror direction
+#define MAT_BLINN_PHONG 5u  // cos^n lobe of the half vector around the normal
+#define MAT_BLEND 6u        // (1 - amount) * a + amount * b
+
+// Texture types (Texture.info.x), and the flag that selects solid mapping.
+#define TEX_CONSTANT 0u
+#define TEX_CHECKER 1u
+#define TEX_MARBLE 2u
+#define TEX_IMAGE 3u
+#define TEX_FRESNEL 4u        // blend amounts only: dielectric reflectance at the hit
+#define TEX_TYPE_MASK 0xffu
+#define TEX_SOLID 0x100u      // look up at the mapped hit point, not at (u, v, 0)
+
+// Emitter.prim: a point light (index into pointLights) rather than a surface.
+#define EMITTER_POINT_BIT 0x40000000u
+
+// SceneParams.mode.x: what the integrator computes (darts integrator names).
+#define INTEGRATOR_PATH 0u     // path tracer mis / nee / mats (see SCENE_FLAG_*)
+#define INTEGRATOR_NORMALS 1u  // shading normal mapped to colour, (n + 1) / 2
+#define INTEGRATOR_AO 2u       // ambient occlusion: one cosine-weighted visibility ray
+#define INTEGRATOR_MIXTURE 3u  // one direction from the mixture of BSDF and emitter sampling
 
 // PathState.flags bits (above the 16-bit bounce depth).
 #define PATH_DEPTH_MASK 0xffffu
@@ -60,7 +83,19 @@ struct Triangle {
   vec3 v1;
   uint emitter;  // index into the emitter table, or WP_INVALID
   vec3 v2;
-  uint sourceIndex;  // index of the triangle in scene order (for debugging / later UVs)
+  uint shading;  // index into triangleShading, or WP_INVALID: flat normal, barycentric UVs
+};
+
+// Per-vertex shading normals and UVs of a triangle that has them. 64 bytes;
+// only triangles with such data get one, so plain meshes pay nothing.
+struct TriangleShading {
+  vec3 n0;  // unit vertex normals in world space (when hasNormals != 0)
+  float u0;
+  vec3 n1;
+  float v0;
+  vec3 n2;
+  uint hasNormals;
+  vec4 uv12;  // (u1, v1, u2, v2)
 };
 
 // A sphere: the unit sphere placed by an affine transform (so it may be an
@@ -80,10 +115,28 @@ struct Sphere {
   uint sourceIndex;
 };
 
+// A material. Colours are textures (a constant colour is a constant texture),
+// so every colour parameter may vary over the surface.
 struct Material {
-  vec4 albedo;    // rgb reflectance, a unused
-  vec4 emission;  // rgb radiance emitted from the front side, a unused
-  uvec4 info;     // x: MAT_* type
+  uvec4 info;      // x: MAT_* type, y: albedo texture, z: emission texture (WP_INVALID: none), w: blend amount texture
+  uvec4 children;  // blend: x material a, y material b
+  vec4 params;     // x: Phong exponent / metal roughness / dielectric ior
+};
+
+// A texture; checker textures refer to two other textures. 96 bytes.
+struct Texture {
+  uvec4 info;   // x: TEX_* type | TEX_SOLID; checker: y even, z odd; image: y first texel, z width, w height
+  vec4 color0;  // constant colour; marble base; fresnel: x ior. w: scale (checker, marble)
+  vec4 color1;  // marble veins
+  vec4 map0;    // 3x4 mapping transform (rows), applied to the lookup point
+  vec4 map1;
+  vec4 map2;
+};
+
+// A CS184-style point light: radiant intensity in every direction. 32 bytes.
+struct PointLight {
+  vec4 position;
+  vec4 intensity;  // rgb W/sr
 };
 
 // One entry of the emitter alias table (Vose). Picking: i = floor(u * N);
@@ -104,9 +157,14 @@ struct SceneParams {
   vec4 background;   // rgb radiance of escaped rays
   uvec4 image;       // x: width, y: height, z: max bounces, w: Russian roulette start depth
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
-  vec4 debug;        // x: radiance scale inside debugRegion (1 unless a bias is planted)
+  vec4 debug;        // x: radiance scale inside debugRegion (1 unless a bias is planted); y: AO ray length
   uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
+  uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata)
 };
+
+// SceneParams.mode.y: how camera samples are placed.
+#define SAMPLER_INDEPENDENT 0u
+#define SAMPLER_CMJ 1u
 
 // A path in flight. 64 bytes.
 struct PathState {

@@ -166,6 +166,10 @@ struct WavefrontRenderer::Impl {
     add_storage(BINDING_SPHERES, scene.spheres, maxRange, "spheres");
     add_storage(BINDING_MATERIALS, scene.materials, maxRange, "materials");
     add_storage(BINDING_EMITTERS, scene.emitters, maxRange, "emitters");
+    add_storage(BINDING_TEXTURES, scene.textures, maxRange, "textures");
+    add_storage(BINDING_TEXELS, scene.texels, maxRange, "image texels");
+    add_storage(BINDING_TRIANGLE_SHADING, scene.triangleShading, maxRange, "vertex normals and UVs");
+    add_storage(BINDING_POINT_LIGHTS, scene.pointLights, maxRange, "point lights");
     add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
     add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
     add_work(BINDING_QUEUES, uint64_t(capacity) * 2 * sizeof(uint32_t));

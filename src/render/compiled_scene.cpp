@@ -1,6 +1,9 @@
 #include "render/compiled_scene.h"
 
 #include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/packing.hpp>
+
+#include <algorithm>
 
 #include <cmath>
 #include <numeric>
@@ -36,6 +39,8 @@ void rows_3x4(const glm::mat4& m, glm::vec4& r0, glm::vec4& r1, glm::vec4& r2) {
   r2 = t[2];
 }
 
+constexpr size_t kMaxMixtureEmitters = 16384;
+
 float luminance(glm::vec3 c) {
   return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
 }
@@ -50,13 +55,40 @@ shader::SceneView CompiledScene::view() const {
   v.spheres = spheres.data();
   v.materials = materials.data();
   v.emitters = emitters.data();
+  v.textures = textures.data();
+  v.texels = texels.data();
+  v.triangleShading = triangleShading.data();
+  v.pointLights = pointLights.data();
   return v;
 }
 
 size_t CompiledScene::gpu_bytes() const {
   return nodes.size() * sizeof(shader::BvhNode) + triangles.size() * sizeof(shader::Triangle) +
          spheres.size() * sizeof(shader::Sphere) + materials.size() * sizeof(shader::Material) +
-         emitters.size() * sizeof(shader::Emitter);
+         emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
+         texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
+         pointLights.size() * sizeof(shader::PointLight);
+}
+
+glm::vec3 texture_mean(const std::vector<shader::Texture>& textures, const std::vector<glm::uvec2>& texels, uint32_t index) {
+  const shader::Texture& t = textures.at(index);
+  switch (t.info.x & TEX_TYPE_MASK) {
+    case TEX_CHECKER:
+      return 0.5f * (texture_mean(textures, texels, t.info.y) + texture_mean(textures, texels, t.info.z));
+    case TEX_MARBLE:
+      return 0.5f * (glm::vec3(t.color0) + glm::vec3(t.color1));
+    case TEX_IMAGE: {
+      glm::dvec3 sum(0.0);
+      size_t n = size_t(t.info.z) * t.info.w;
+      for (size_t i = 0; i < n; ++i) {
+        glm::uvec2 packed = texels[t.info.y + i];
+        sum += glm::dvec3(glm::unpackHalf2x16(packed.x).x, glm::unpackHalf2x16(packed.x).y, glm::unpackHalf2x16(packed.y).x);
+      }
+      return glm::vec3(sum / double(std::max<size_t>(n, 1)));
+    }
+    default:
+      return glm::vec3(t.color0);
+  }
 }
 
 std::vector<shader::Emitter> build_alias_table(const std::vector<double>& weights) {
@@ -120,7 +152,24 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       g.v2 = t.v[2];
       g.material = t.material;
       g.emitter = WP_INVALID;
-      g.sourceIndex = id;
+      g.shading = WP_INVALID;
+      if (t.hasNormals || t.hasUvs) {
+        shader::TriangleShading sh{};
+        g.shading = uint32_t(out.triangleShading.size());
+        sh.hasNormals = t.hasNormals ? 1u : 0u;
+        if (t.hasNormals) {
+          sh.n0 = t.n[0];
+          sh.n1 = t.n[1];
+          sh.n2 = t.n[2];
+        }
+        // Without UVs the barycentrics serve, as for triangles without shading data.
+        glm::vec2 uv[3] = {{0, 0}, {1, 0}, {0, 1}};
+        if (t.hasUvs) std::copy(t.uv, t.uv + 3, uv);
+        sh.u0 = uv[0].x;
+        sh.v0 = uv[0].y;
+        sh.uv12 = glm::vec4(uv[1], uv[2]);
+        out.triangleShading.push_back(sh);
+      }
       out.triangles.push_back(g);
     } else {
       newIndex[pos] = uint32_t(out.spheres.size());
@@ -142,15 +191,22 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
 
   out.materials = scene.materials;
-  if (out.materials.empty()) out.materials.push_back(shader::Material{});  // buffers are never empty
+  out.textures = scene.textures;
+  out.texels = scene.texels;
+  out.pointLights = scene.pointLights;
 
-  // Emitters: every primitive whose material emits, picked in proportion to
-  // its power (luminance of the emitted radiance times area).
+  // Emitters: every primitive whose material emits, and every point light,
+  // picked in proportion to power (luminance of the mean emitted radiance
+  // times pi times area; of the intensity times 4 pi).
   std::vector<double> power;
   std::vector<uint32_t> prims;
+  std::vector<double> materialRadiance(out.materials.size(), 0.0);
+  for (size_t m = 0; m < out.materials.size(); ++m) {
+    uint32_t tex = out.materials[m].info.z;
+    if (tex != WP_INVALID) materialRadiance[m] = luminance(texture_mean(out.textures, out.texels, tex));
+  }
   auto emits = [&](uint32_t material, float area) {
-    glm::vec3 e(out.materials[material].emission);
-    double p = double(luminance(e)) * double(area);
+    double p = materialRadiance[material] * WP_PI * double(area);
     return p > 0.0 ? p : 0.0;
   };
   for (size_t i = 0; i < out.triangles.size(); ++i) {
@@ -169,11 +225,23 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     prims.push_back(uint32_t(i) | HIT_SPHERE_BIT);
     power.push_back(p);
   }
+  for (size_t i = 0; i < out.pointLights.size(); ++i) {
+    double p = luminance(glm::vec3(out.pointLights[i].intensity)) * 4.0 * WP_PI;
+    if (p <= 0.0) continue;
+    prims.push_back(uint32_t(i) | EMITTER_POINT_BIT);
+    power.push_back(p);
+  }
   out.emitters = build_alias_table(power);
   for (size_t i = 0; i < prims.size(); ++i) out.emitters[i].prim = prims[i];
   if (out.triangles.empty()) out.triangles.push_back(shader::Triangle{});
   if (out.spheres.empty()) out.spheres.push_back(shader::Sphere{});
+  // Buffers are never empty: bind a zero element where the scene has none.
   if (out.emitters.empty()) out.emitters.push_back(shader::Emitter{});
+  if (out.materials.empty()) out.materials.push_back(shader::Material{});
+  if (out.textures.empty()) out.textures.push_back(shader::Texture{});
+  if (out.texels.empty()) out.texels.push_back(glm::uvec2(0u));
+  if (out.triangleShading.empty()) out.triangleShading.push_back(shader::TriangleShading{});
+  if (out.pointLights.empty()) out.pointLights.push_back(shader::PointLight{});
 
   const Camera& cam = scene.camera;
   out.width = cam.width;
@@ -188,8 +256,22 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.image = glm::uvec4(uint32_t(cam.width), uint32_t(cam.height), uint32_t(maxBounces),
                        uint32_t(scene.integrator.russianRouletteDepth));
   uint32_t flags = 0;
-  if (scene.integrator.kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;
-  if (scene.integrator.kind == IntegratorKind::PathNee) flags |= SCENE_FLAG_NO_BSDF_MIS;
+  IntegratorKind kind = options.integrator ? *options.integrator : scene.integrator.kind;
+  if (kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;
+  if (kind == IntegratorKind::PathNee) flags |= SCENE_FLAG_NO_BSDF_MIS;
+  uint32_t mode = INTEGRATOR_PATH;
+  if (kind == IntegratorKind::Normals) mode = INTEGRATOR_NORMALS;
+  if (kind == IntegratorKind::AmbientOcclusion) mode = INTEGRATOR_AO;
+  if (kind == IntegratorKind::PathMixture) mode = INTEGRATOR_MIXTURE;
+  // The mixture's exact light density visits every emitter at every bounce;
+  // the shade kernel's loop budget (and patience) bound how many that may be.
+  if (mode == INTEGRATOR_MIXTURE && prims.size() > kMaxMixtureEmitters) {
+    throw InputError(scene.sourcePath + ": \"path tracer mixture\" evaluates every emitter at every bounce; this scene has " +
+                     std::to_string(prims.size()) + " emitters (at most " + std::to_string(kMaxMixtureEmitters) +
+                     "): use \"path tracer mis\"");
+  }
+  SamplerKind sampler = options.sampler ? *options.sampler : scene.sampler;
+  p.mode = glm::uvec4(mode, sampler == SamplerKind::Cmj ? SAMPLER_CMJ : SAMPLER_INDEPENDENT, uint32_t(out.spp), 0u);
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
   p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
   p.debugRegion = options.plantedRegion;

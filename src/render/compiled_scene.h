@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -26,6 +27,9 @@ struct RenderOptions {
   // to show that the statistical comparison catches it.
   float plantedBias = 1.0f;
   glm::uvec4 plantedRegion{0u, 0u, ~0u, ~0u};
+  // Overrides of the scene file's integrator and sampler (command line).
+  std::optional<IntegratorKind> integrator;
+  std::optional<SamplerKind> sampler;
 };
 
 struct CompiledScene {
@@ -35,6 +39,10 @@ struct CompiledScene {
   std::vector<shader::Sphere> spheres;
   std::vector<shader::Material> materials;
   std::vector<shader::Emitter> emitters;
+  std::vector<shader::Texture> textures;
+  std::vector<glm::uvec2> texels;
+  std::vector<shader::TriangleShading> triangleShading;
+  std::vector<shader::PointLight> pointLights;
   int width = 0;
   int height = 0;
   int spp = 0;
@@ -43,11 +51,17 @@ struct CompiledScene {
   double bvhBuildSeconds = 0.0;
 
   shader::SceneView view() const;
-  // Bytes the scene occupies on the GPU: BVH, primitives, materials, emitters.
+  // Bytes the scene occupies on the GPU: BVH, primitives, shading data,
+  // materials, textures, emitters.
   size_t gpu_bytes() const;
 };
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
+
+// Mean colour of a texture over its domain (exact for constants and images,
+// the average of the two colours for checkers and marble). Used to weigh
+// textured emitters; it only steers sampling, never the estimate.
+glm::vec3 texture_mean(const std::vector<shader::Texture>& textures, const std::vector<glm::uvec2>& texels, uint32_t index);
 
 // Vose's alias table for sampling index i with probability weights[i] / sum.
 // Exposed for the sampling tests.

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include <cmath>
 #include <cstddef>
@@ -27,6 +28,7 @@ inline bool isinf(float x) { return std::isinf(x); }
 struct ShaderMath {
 #include "../../shaders/shared/rng.glsl"
 #include "../../shaders/shared/sampling.glsl"
+#include "../../shaders/shared/noise.glsl"
 #include "../../shaders/shared/intersect.glsl"
 #include "../../shaders/shared/bsdf.glsl"
 };
@@ -39,6 +41,10 @@ struct SceneView : ShaderMath {
   const Sphere* spheres = nullptr;
   const Material* materials = nullptr;
   const Emitter* emitters = nullptr;
+  const Texture* textures = nullptr;
+  const uvec2* texels = nullptr;
+  const TriangleShading* triangleShading = nullptr;
+  const PointLight* pointLights = nullptr;
 
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
@@ -46,11 +52,14 @@ struct SceneView : ShaderMath {
 
 // Host-side layout checks; tests/test_layout.cpp checks the GLSL side.
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
-static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof(Triangle, sourceIndex) == 44);
+static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof(Triangle, shading) == 44);
+static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, hasNormals) == 44 && offsetof(TriangleShading, uv12) == 48);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
-static_assert(sizeof(Material) == 48 && offsetof(Material, info) == 32);
+static_assert(sizeof(Material) == 48 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32);
+static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
+static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 144 && offsetof(SceneParams, debugRegion) == 128);
+static_assert(sizeof(SceneParams) == 160 && offsetof(SceneParams, debugRegion) == 128 && offsetof(SceneParams, mode) == 144);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, contribution) == 32);

@@ -1,6 +1,7 @@
 #include "scene/load_scene.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "scene/json_cursor.h"
 #include "scene/obj_mesh.h"
+#include "scene/texture_image.h"
 #include "scene/transform.h"
 #include "util/error.h"
 
@@ -93,15 +95,96 @@ class SceneLoader {
     return c;
   }
 
-  // Colour parameters may later be textures; only constants for now.
-  glm::vec3 color_param(const JsonCursor& j) {
-    if (!j.is_object()) return non_negative(j);
-    j.allow_only({"type", "color"});
+  // ---- textures ------------------------------------------------------------
+
+  uint32_t add_texture(const shader::Texture& t) { return wp::add_texture(scene_, t); }
+
+  // `mapping`: {type: "uv"} (the default: lookups at (u, v, 0)) or
+  // {type: "transform", transform: ...} (lookups at the hit point), either
+  // with an optional transform applied to the lookup point.
+  void parse_mapping(const JsonCursor& j, shader::Texture& t) {
+    if (!j.has("mapping")) return;
+    JsonCursor m = j["mapping"].expect_object();
+    m.allow_only({"type", "transform"});
+    std::string type = m.has("type") ? m["type"].string() : "transform";
+    if (type == "transform") t.info.x |= TEX_SOLID;
+    else if (type != "uv") m["type"].fail("unknown texture mapping \"" + type + "\" (expected uv or transform)");
+    if (m.has("transform")) {
+      glm::mat4 x = parse_transform(m["transform"]);
+      rows_3x4(x, t.map0, t.map1, t.map2);
+    }
+  }
+
+  // A colour parameter: a number, [r, g, b] or a texture object. Returns the
+  // texture's index. `constant` receives the colour when it is one.
+  uint32_t texture_param(const JsonCursor& j, int depth = 0, glm::vec3* constant = nullptr) {
+    if (!j.is_object()) {
+      glm::vec3 c = non_negative(j);
+      if (constant) *constant = c;
+      return add_texture(constant_texture(c));
+    }
     std::string type = j["type"].string();
-    if (type == "constant") return non_negative(j["color"]);
-    if (type == "checker" || type == "marble" || type == "image" || type == "fresnel")
-      j["type"].fail("texture type \"" + type + "\" is not supported yet");
-    j["type"].fail("unknown texture type \"" + type + "\"");
+    shader::Texture t = constant_texture(glm::vec3(0.0f));
+    if (type == "constant") {
+      j.allow_only({"type", "color"});
+      return texture_param(j["color"], depth, constant);
+    }
+    if (type == "checker") {
+      j.allow_only({"type", "even", "odd", "scale", "mapping"});
+      if (depth >= TEXTURE_MAX_NESTING - 1) j.fail("checker textures nest more than " + std::to_string(TEXTURE_MAX_NESTING - 1) + " deep");
+      t.info.x = TEX_CHECKER;
+      parse_mapping(j, t);
+      t.color0.w = j.has("scale") ? j["scale"].positive_number() : 1.0f;
+      // Children first: their indices go into this texture.
+      uint32_t even = j.has("even") ? texture_param(j["even"], depth + 1) : add_texture(constant_texture(glm::vec3(1.0f)));
+      uint32_t odd = j.has("odd") ? texture_param(j["odd"], depth + 1) : add_texture(constant_texture(glm::vec3(0.0f)));
+      t.info.y = even;
+      t.info.z = odd;
+      return add_texture(t);
+    }
+    if (type == "marble") {
+      j.allow_only({"type", "base", "veins", "scale", "mapping"});
+      t.info.x = TEX_MARBLE;
+      parse_mapping(j, t);
+      t.color0 = glm::vec4(j.has("base") ? non_negative(j["base"]) : glm::vec3(0.8f), j.has("scale") ? j["scale"].positive_number() : 1.0f);
+      t.color1 = glm::vec4(j.has("veins") ? non_negative(j["veins"]) : glm::vec3(0.1f), 0.0f);
+      return add_texture(t);
+    }
+    if (type == "image") {
+      j.allow_only({"type", "filename", "mapping"});
+      t.info.x = TEX_IMAGE;
+      parse_mapping(j, t);
+      std::string rel = j["filename"].string();
+      fs::path path = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(file_).parent_path() / rel;
+      return add_texture(image_texture(t, path.lexically_normal().string(), j));
+    }
+    if (type == "fresnel") j["type"].fail("a \"fresnel\" texture is only meaningful as a blend's amount");
+    j["type"].fail("unknown texture type \"" + type + "\" (expected constant, checker, marble or image)");
+  }
+
+  // Appends the image's texels (as half floats) and points t at them.
+  shader::Texture image_texture(shader::Texture t, const std::string& path, const JsonCursor& where) {
+    LinearImage img;
+    try {
+      img = load_linear_image(path);
+    } catch (const InputError& e) {
+      throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + where.path() + ")");
+    }
+    t.info.y = uint32_t(scene_.texels.size());
+    t.info.z = uint32_t(img.width);
+    t.info.w = uint32_t(img.height);
+    scene_.texels.reserve(scene_.texels.size() + img.pixels.size());
+    for (const glm::vec3& c : img.pixels) {
+      scene_.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
+    }
+    return t;
+  }
+
+  static void rows_3x4(const glm::mat4& m, glm::vec4& r0, glm::vec4& r1, glm::vec4& r2) {
+    glm::mat4 t = glm::transpose(m);
+    r0 = t[0];
+    r1 = t[1];
+    r2 = t[2];
   }
 
   void parse_camera(const JsonCursor& j) {
@@ -129,8 +212,8 @@ class SceneLoader {
     j.allow_only({"type", "samples"});
     if (j.has("type")) {
       std::string type = j["type"].string();
-      if (type == "cmj") j["type"].fail("sampler \"cmj\" is not supported yet (use \"independent\")");
-      if (type != "independent") j["type"].fail("unknown sampler type \"" + type + "\"");
+      if (type == "cmj") scene_.sampler = SamplerKind::Cmj;
+      else if (type != "independent") j["type"].fail("unknown sampler type \"" + type + "\" (expected independent or cmj)");
     }
     if (j.has("samples")) scene_.samplesPerPixel = j["samples"].integer(1, 1 << 24);
   }
@@ -159,9 +242,11 @@ class SceneLoader {
       if (type == "path tracer mis") s.kind = IntegratorKind::PathMis;
       else if (type == "path tracer nee") s.kind = IntegratorKind::PathNee;
       else if (type == "path tracer mats") s.kind = IntegratorKind::PathMats;
-      else if (type == "normals" || type == "ao" || type == "path tracer mixture")
-        j["type"].fail("integrator \"" + type + "\" is not supported yet");
-      else j["type"].fail("unknown integrator type \"" + type + "\"");
+      else if (type == "path tracer mixture") s.kind = IntegratorKind::PathMixture;
+      else if (type == "normals") s.kind = IntegratorKind::Normals;
+      else if (type == "ao") s.kind = IntegratorKind::AmbientOcclusion;
+      else j["type"].fail("unknown integrator type \"" + type +
+                          "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis or path tracer mixture)");
     }
     s.maxBounces = j.integer_or("max bounces", s.maxBounces, 0, 1024);
     if (j.has("russian roulette")) {
@@ -174,27 +259,91 @@ class SceneLoader {
     if (j.has("recursive") && !j["recursive"].json().is_boolean()) j["recursive"].fail("expected true or false");
   }
 
+  // An albedo: a colour or texture whose constant values must not exceed 1.
+  uint32_t albedo_param(const JsonCursor& j, const char* key) {
+    if (!j.has(key)) return add_texture(constant_texture(glm::vec3(0.8f)));
+    glm::vec3 c(0.0f);
+    uint32_t tex = texture_param(j[key], 0, &c);
+    if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) j[key].fail("albedo above 1 would create energy");
+    return tex;
+  }
+
   uint32_t add_material(const JsonCursor& j, const std::string& name) {
     std::string type = j["type"].string();
     shader::Material m{};
+    m.info = glm::uvec4(MAT_LAMBERTIAN, WP_INVALID, WP_INVALID, WP_INVALID);
+    m.children = glm::uvec4(WP_INVALID);
     if (type == "lambertian") {
       j.allow_only({"type", "name", "albedo"});
-      glm::vec3 a = j.has("albedo") ? color_param(j["albedo"]) : glm::vec3(0.8f);
-      if (a.x > 1.0f || a.y > 1.0f || a.z > 1.0f) j["albedo"].fail("albedo above 1 would create energy");
-      m.albedo = glm::vec4(a, 0.0f);
-      m.info.x = MAT_LAMBERTIAN;
+      m.info.y = albedo_param(j, "albedo");
     } else if (type == "diffuse_light") {
       j.allow_only({"type", "name", "emit"});
-      m.emission = glm::vec4(color_param(j["emit"]), 0.0f);
       m.info.x = MAT_LIGHT;
-    } else if (type == "metal" || type == "dielectric" || type == "phong" || type == "blinn-phong" || type == "blend") {
-      j["type"].fail("material type \"" + type + "\" is not supported yet");
+      m.info.z = texture_param(j["emit"]);
+    } else if (type == "metal") {
+      j.allow_only({"type", "name", "albedo", "roughness"});
+      m.info.x = MAT_METAL;
+      m.info.y = albedo_param(j, "albedo");
+      m.params.x = j.number_or("roughness", 0.0f);
+      if (!(m.params.x >= 0.0f)) j["roughness"].fail("roughness must not be negative");
+    } else if (type == "dielectric") {
+      j.allow_only({"type", "name", "ior"});
+      m.info.x = MAT_DIELECTRIC;
+      m.params.x = j.has("ior") ? j["ior"].positive_number() : 1.5f;
+    } else if (type == "phong" || type == "blinn-phong") {
+      j.allow_only({"type", "name", "albedo", "exponent"});
+      m.info.x = type == "phong" ? MAT_PHONG : MAT_BLINN_PHONG;
+      m.info.y = albedo_param(j, "albedo");
+      m.params.x = j.number_or("exponent", 20.0f);
+      if (!(m.params.x >= 0.0f && m.params.x <= 1e6f)) j["exponent"].fail("exponent must lie in [0, 1e6]");
+    } else if (type == "blend") {
+      j.allow_only({"type", "name", "amount", "a", "b"});
+      m.info.x = MAT_BLEND;
+      m.info.w = blend_amount(j);
+      m.children.x = blend_child(j["a"], name + "/a");
+      m.children.y = blend_child(j["b"], name + "/b");
+      if (leaves_[m.children.x] + leaves_[m.children.y] > BSDF_MAX_LOBES) {
+        j.fail("a blend may combine at most " + std::to_string(BSDF_MAX_LOBES) + " materials in all");
+      }
     } else {
-      j["type"].fail("unknown material type \"" + type + "\"");
+      j["type"].fail("unknown material type \"" + type +
+                     "\" (expected lambertian, metal, dielectric, phong, blinn-phong, blend or diffuse_light)");
     }
     scene_.materials.push_back(m);
     scene_.materialNames.push_back(name);
+    leaves_.push_back(m.info.x == MAT_BLEND ? leaves_[m.children.x] + leaves_[m.children.y] : 1);
     return uint32_t(scene_.materials.size() - 1);
+  }
+
+  uint32_t blend_amount(const JsonCursor& j) {
+    if (!j.has("amount")) return add_texture(constant_texture(glm::vec3(0.5f)));
+    JsonCursor a = j["amount"];
+    if (a.is_object() && a.has("type") && a["type"].is_string() && a["type"].string() == "fresnel") {
+      a.allow_only({"type", "ior"});
+      shader::Texture t = constant_texture(glm::vec3(0.0f));
+      t.info.x = TEX_FRESNEL;
+      t.color0.x = a.has("ior") ? a["ior"].positive_number() : 1.5f;
+      return add_texture(t);
+    }
+    glm::vec3 c(0.0f);
+    uint32_t tex = texture_param(a, 0, &c);
+    if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) a.fail("blend amount must lie in [0, 1]");
+    return tex;
+  }
+
+  // A blend's a or b: a material name or an inline material; never a light
+  // (emission belongs to the surface's own material).
+  uint32_t blend_child(const JsonCursor& j, const std::string& name) {
+    uint32_t m;
+    if (j.is_string()) {
+      auto it = named_.find(j.string());
+      if (it == named_.end()) j.fail("no material named \"" + j.string() + "\" (materials must be defined before use)");
+      m = it->second;
+    } else {
+      m = add_material(j.expect_object(), name);
+    }
+    if (scene_.materials[m].info.x == MAT_LIGHT) j.fail("a blend cannot contain a diffuse_light");
+    return m;
   }
 
   uint32_t material_of(const JsonCursor& surface) {
@@ -218,7 +367,7 @@ class SceneLoader {
       SceneSphere s;
       s.toWorld = xform * glm::scale(glm::mat4(1.0f), glm::vec3(radius));
       s.material = material_of(j);
-      if (is_nonzero(glm::vec3(scene_.materials[s.material].emission)) && !is_similarity(glm::mat3(s.toWorld)))
+      if (scene_.materials[s.material].info.z != WP_INVALID && !is_similarity(glm::mat3(s.toWorld)))
         j.fail("emissive spheres must keep their shape (uniform scale): an emissive ellipsoid cannot be sampled yet");
       scene_.spheres.push_back(s);
     } else if (type == "quad") {
@@ -239,28 +388,46 @@ class SceneLoader {
       // transform reverses the winding, so restore it.
       bool mirrored = glm::determinant(glm::mat3(xform)) < 0.0f;
       static const int kWinding[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{0, 2, 1}, {0, 3, 2}}};
-      for (const auto& t : kWinding[mirrored ? 1 : 0]) add_triangle(j, c[t[0]], c[t[1]], c[t[2]], mat);
+      static const glm::vec2 kCornerUv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // planar UVs over the quad
+      for (const auto& t : kWinding[mirrored ? 1 : 0]) {
+        SceneTriangle& tri = add_triangle(j, c[t[0]], c[t[1]], c[t[2]], mat);
+        tri.hasUvs = true;
+        for (int k = 0; k < 3; ++k) tri.uv[k] = kCornerUv[t[k]];
+      }
     } else if (type == "triangle") {
       j.allow_only({"type", "positions", "normals", "transform", "material"});
       JsonCursor pos = j["positions"].expect_array();
       if (pos.size() != 3) pos.fail("expected 3 vertex positions, got " + std::to_string(pos.size()));
+      glm::vec3 v[3];
+      for (size_t i = 0; i < 3; ++i) v[i] = glm::vec3(xform * glm::vec4(pos[i].vec3(), 1.0f));
+      SceneTriangle& tri = add_triangle(pos, v[0], v[1], v[2], material_of(j));
       if (j.has("normals")) {
         JsonCursor nrm = j["normals"].expect_array();
         if (nrm.size() != 3) nrm.fail("expected 3 vertex normals, got " + std::to_string(nrm.size()));
-        for (size_t i = 0; i < 3; ++i) nrm[i].vec3();  // validated; shading normals arrive with smooth shading
+        glm::mat3 normalXform = glm::transpose(glm::inverse(glm::mat3(xform)));
+        for (size_t i = 0; i < 3; ++i) {
+          glm::vec3 n = normalXform * nrm[i].vec3();
+          if (!(glm::length(n) > 0.0f)) nrm[i].fail("a vertex normal must not be zero");
+          tri.n[i] = glm::normalize(n);
+        }
+        tri.hasNormals = true;
       }
-      glm::vec3 v[3];
-      for (size_t i = 0; i < 3; ++i) v[i] = glm::vec3(xform * glm::vec4(pos[i].vec3(), 1.0f));
-      add_triangle(pos, v[0], v[1], v[2], material_of(j));
     } else if (type == "mesh") {
       j.allow_only({"type", "filename", "transform", "material", "material prefix"});
       load_mesh(j, xform);
+    } else if (type == "point_light") {
+      // wavepath extension (CS184's point lights): radiant intensity in W/sr.
+      j.allow_only({"type", "position", "intensity", "transform"});
+      shader::PointLight l{};
+      l.position = xform * glm::vec4(j.vec3_or("position", glm::vec3(0.0f)), 1.0f);
+      l.intensity = glm::vec4(non_negative(j["intensity"]), 0.0f);
+      scene_.pointLights.push_back(l);
     } else if (type == "group") {
       j.allow_only({"type", "children", "transform"});
       JsonCursor children = j["children"].expect_array();
       for (size_t i = 0; i < children.size(); ++i) parse_surface(children[i], xform);
     } else {
-      j["type"].fail("unknown surface type \"" + type + "\" (expected sphere, quad, triangle, mesh or group)");
+      j["type"].fail("unknown surface type \"" + type + "\" (expected sphere, quad, triangle, mesh, group or point_light)");
     }
   }
 
@@ -271,9 +438,15 @@ class SceneLoader {
            std::fabs(glm::dot(m[1], m[2])) <= 1e-4f * b * c && std::fabs(glm::dot(m[0], m[2])) <= 1e-4f * a * c;
   }
 
-  void add_triangle(const JsonCursor& where, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material) {
+  SceneTriangle& add_triangle(const JsonCursor& where, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material) {
     if (glm::length(glm::cross(b - a, c - a)) == 0.0f) where.fail("triangle has zero area");
-    scene_.triangles.push_back(SceneTriangle{{a, b, c}, material});
+    SceneTriangle t;
+    t.v[0] = a;
+    t.v[1] = b;
+    t.v[2] = c;
+    t.material = material;
+    scene_.triangles.push_back(t);
+    return scene_.triangles.back();
   }
 
   void load_mesh(const JsonCursor& j, const glm::mat4& xform) {
@@ -297,14 +470,24 @@ class SceneLoader {
         continue;
       }
       shader::Material m{};
-      m.albedo = glm::vec4(glm::clamp(om.diffuse, 0.0f, 1.0f), 0.0f);
-      m.emission = glm::vec4(glm::max(om.emission, 0.0f), 0.0f);
-      m.info.x = is_nonzero(om.emission) && !is_nonzero(om.diffuse) ? MAT_LIGHT : MAT_LAMBERTIAN;
+      m.info = glm::uvec4(MAT_LAMBERTIAN, WP_INVALID, WP_INVALID, WP_INVALID);
+      m.children = glm::uvec4(WP_INVALID);
+      if (!om.diffuseMap.empty()) {
+        shader::Texture t = constant_texture(glm::vec3(0.0f));
+        t.info.x = TEX_IMAGE;
+        m.info.y = add_texture(image_texture(t, om.diffuseMap, j));
+      } else {
+        m.info.y = add_texture(constant_texture(glm::clamp(om.diffuse, 0.0f, 1.0f)));
+      }
+      if (is_nonzero(om.emission)) m.info.z = add_texture(constant_texture(glm::max(om.emission, 0.0f)));
+      if (is_nonzero(om.emission) && !is_nonzero(om.diffuse)) m.info.x = MAT_LIGHT;
       scene_.materials.push_back(m);
+      leaves_.push_back(1);
       scene_.materialNames.push_back(prefix + om.name);
       mtlToScene[i] = uint32_t(scene_.materials.size() - 1);
     }
     glm::mat4 x = xform;
+    glm::mat3 normalXform = glm::transpose(glm::inverse(glm::mat3(xform)));
     for (size_t t = 0; t < mesh.triangleMaterials.size(); ++t) {
       int mm = mesh.triangleMaterials[t];
       if (!override && mm < 0) {
@@ -315,7 +498,22 @@ class SceneLoader {
       // Degenerate triangles are common in scanned meshes; they can never be
       // hit, so they are dropped rather than rejected.
       if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) == 0.0f) continue;
-      scene_.triangles.push_back(SceneTriangle{{v[0], v[1], v[2]}, override ? fixed : mtlToScene[size_t(mm)]});
+      SceneTriangle tri;
+      for (int c = 0; c < 3; ++c) tri.v[c] = v[c];
+      tri.material = override ? fixed : mtlToScene[size_t(mm)];
+      // Smooth shading where every corner has a usable normal; UVs where every corner has one.
+      tri.hasNormals = true;
+      tri.hasUvs = true;
+      for (int c = 0; c < 3; ++c) {
+        int ni = mesh.normalIndices[3 * t + c];
+        int ti = mesh.texcoordIndices[3 * t + c];
+        glm::vec3 n = ni >= 0 ? normalXform * mesh.normals[size_t(ni)] : glm::vec3(0.0f);
+        if (glm::length(n) > 0.0f) tri.n[c] = glm::normalize(n);
+        else tri.hasNormals = false;
+        if (ti >= 0) tri.uv[c] = mesh.texcoords[size_t(ti)];
+        else tri.hasUvs = false;
+      }
+      scene_.triangles.push_back(tri);
     }
   }
 
@@ -323,6 +521,7 @@ class SceneLoader {
   nlohmann::json doc_;
   Scene scene_;
   std::map<std::string, uint32_t> named_;
+  std::vector<int> leaves_;  // per material: the lobes it flattens to (blends: the sum of their children's)
 };
 
 }  // namespace

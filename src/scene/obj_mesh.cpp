@@ -87,11 +87,24 @@ ObjMesh load_obj(const std::string& path) {
     }
     mesh.positions.push_back(p);
   }
+  for (size_t i = 0; i < attrib.normals.size() / 3; ++i) {
+    glm::vec3 n(attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]);
+    if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) {
+      throw InputError(path + ": normal " + std::to_string(i + 1) + " is not finite");
+    }
+    mesh.normals.push_back(n);
+  }
+  for (size_t i = 0; i < attrib.texcoords.size() / 2; ++i) {
+    glm::vec2 t(attrib.texcoords[2 * i], attrib.texcoords[2 * i + 1]);
+    if (!std::isfinite(t.x) || !std::isfinite(t.y)) throw InputError(path + ": texture coordinate " + std::to_string(i + 1) + " is not finite");
+    mesh.texcoords.push_back(t);
+  }
   for (const tinyobj::material_t& m : reader.GetMaterials()) {
     ObjMaterial om;
     om.name = m.name;
     om.diffuse = glm::vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
     om.emission = glm::vec3(m.emission[0], m.emission[1], m.emission[2]);
+    if (!m.diffuse_texname.empty()) om.diffuseMap = (std::filesystem::path(config.mtl_search_path) / m.diffuse_texname).string();
     mesh.materials.push_back(om);
   }
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
@@ -110,6 +123,15 @@ ObjMesh load_obj(const std::string& path) {
                            " refers to a vertex that does not exist");
         }
         mesh.indices.push_back(uint32_t(vi));
+        // Normal and UV indices are optional; one out of range is an error, not a crash.
+        int ni = m.indices[offset + c].normal_index;
+        int ti = m.indices[offset + c].texcoord_index;
+        if (ni >= int(mesh.normals.size()) || ti >= int(mesh.texcoords.size())) {
+          throw InputError(path + ": shape \"" + shape.name + "\": face " + std::to_string(f + 1) +
+                           " refers to a normal or texture coordinate that does not exist");
+        }
+        mesh.normalIndices.push_back(ni < 0 ? -1 : ni);
+        mesh.texcoordIndices.push_back(ti < 0 ? -1 : ti);
       }
       int mat = f < m.material_ids.size() ? m.material_ids[f] : -1;
       if (mat >= int(mesh.materials.size())) mat = -1;

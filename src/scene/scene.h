@@ -29,7 +29,9 @@ struct AcceleratorSettings {
   SplitMethod split = SplitMethod::Sah;
 };
 
-enum class IntegratorKind { PathMis, PathNee, PathMats };
+enum class IntegratorKind { PathMis, PathNee, PathMats, PathMixture, Normals, AmbientOcclusion };
+
+enum class SamplerKind { Independent, Cmj };
 
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::PathMis;
@@ -40,6 +42,12 @@ struct IntegratorSettings {
 struct SceneTriangle {
   glm::vec3 v[3];
   uint32_t material;
+  // Optional per-vertex data; without it the normal is flat and the UVs are
+  // the barycentrics.
+  bool hasNormals = false;
+  bool hasUvs = false;
+  glm::vec3 n[3]{};
+  glm::vec2 uv[3]{};
 };
 
 struct SceneSphere {
@@ -51,13 +59,24 @@ struct Scene {
   std::string sourcePath;
   Camera camera;
   int samplesPerPixel = 1;
+  SamplerKind sampler = SamplerKind::Independent;
   glm::vec3 background{0.0f};
   AcceleratorSettings accelerator;
   IntegratorSettings integrator;
   std::vector<shader::Material> materials;
   std::vector<std::string> materialNames;  // parallel to materials, for messages
+  std::vector<shader::Texture> textures;   // materials refer to these by index
+  std::vector<glm::uvec2> texels;          // every image, RGBA half floats, back to back
+  std::vector<shader::PointLight> pointLights;
   std::vector<SceneTriangle> triangles;
   std::vector<SceneSphere> spheres;
 };
+
+// A texture of one colour everywhere, with the identity mapping.
+shader::Texture constant_texture(glm::vec3 color);
+
+// Appends a texture / a Lambertian material of constant albedo; returns its index.
+uint32_t add_texture(Scene& scene, const shader::Texture& texture);
+uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name = "lambertian");
 
 }  // namespace wp

@@ -1,0 +1,29 @@
+#include "scene/scene.h"
+
+namespace wp {
+
+shader::Texture constant_texture(glm::vec3 color) {
+  shader::Texture t{};
+  t.info.x = TEX_CONSTANT;
+  t.color0 = glm::vec4(color, 0.0f);
+  t.map0 = glm::vec4(1, 0, 0, 0);
+  t.map1 = glm::vec4(0, 1, 0, 0);
+  t.map2 = glm::vec4(0, 0, 1, 0);
+  return t;
+}
+
+uint32_t add_texture(Scene& scene, const shader::Texture& texture) {
+  scene.textures.push_back(texture);
+  return uint32_t(scene.textures.size() - 1);
+}
+
+uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name) {
+  shader::Material m{};
+  m.info = glm::uvec4(MAT_LAMBERTIAN, add_texture(scene, constant_texture(albedo)), WP_INVALID, WP_INVALID);
+  m.children = glm::uvec4(WP_INVALID);
+  scene.materials.push_back(m);
+  scene.materialNames.push_back(name);
+  return uint32_t(scene.materials.size() - 1);
+}
+
+}  // namespace wp

@@ -1,0 +1,97 @@
+#include "scene/texture_image.h"
+
+#include <stb_image.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "util/error.h"
+
+namespace wp {
+
+float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+namespace {
+
+// Images larger than this are refused before decoding: a texture this size
+// would not fit the GPU's per-binding limit anyway.
+constexpr long long kMaxPixels = 1LL << 25;
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+LinearImage load_exr(const std::string& path) {
+  float* rgba = nullptr;
+  int w = 0;
+  int h = 0;
+  const char* err = nullptr;
+  if (LoadEXR(&rgba, &w, &h, path.c_str(), &err) != TINYEXR_SUCCESS) {
+    std::string reason = err ? err : "unknown error";
+    if (err) FreeEXRErrorMessage(err);
+    throw InputError(path + ": cannot read EXR image: " + reason);
+  }
+  LinearImage img;
+  img.width = w;
+  img.height = h;
+  img.pixels.resize(size_t(w) * size_t(h));
+  for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
+  free(rgba);
+  return img;
+}
+
+}  // namespace
+
+LinearImage load_linear_image(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": cannot open image (no such file)");
+  std::string ext = lower_extension(path);
+  LinearImage img;
+  if (ext == ".exr") {
+    img = load_exr(path);
+  } else {
+    int w = 0;
+    int h = 0;
+    int channels = 0;
+    if (!stbi_info(path.c_str(), &w, &h, &channels)) {
+      throw InputError(path + ": cannot read image: " + std::string(stbi_failure_reason()));
+    }
+    if (w <= 0 || h <= 0 || (long long)w * h > kMaxPixels) {
+      throw InputError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
+    }
+    bool hdr = stbi_is_hdr(path.c_str()) != 0;
+    img.width = w;
+    img.height = h;
+    img.pixels.resize(size_t(w) * size_t(h));
+    if (hdr) {
+      float* data = stbi_loadf(path.c_str(), &w, &h, &channels, 3);
+      if (!data) throw InputError(path + ": cannot decode image: " + std::string(stbi_failure_reason()));
+      for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
+      stbi_image_free(data);
+    } else {
+      unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+      if (!data) throw InputError(path + ": cannot decode image: " + std::string(stbi_failure_reason()));
+      float lut[256];
+      for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(float(i) / 255.0f);
+      for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(lut[data[3 * i]], lut[data[3 * i + 1]], lut[data[3 * i + 2]]);
+      stbi_image_free(data);
+    }
+  }
+  if (img.width <= 0 || img.height <= 0 || (long long)img.width * img.height > kMaxPixels) {
+    throw InputError(path + ": image size " + std::to_string(img.width) + "x" + std::to_string(img.height) + " is not supported");
+  }
+  for (const glm::vec3& p : img.pixels) {
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) || p.x < 0.0f || p.y < 0.0f || p.z < 0.0f) {
+      throw InputError(path + ": image has negative or non-finite pixels");
+    }
+  }
+  return img;
+}
+
+}  // namespace wp

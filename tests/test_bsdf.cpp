@@ -1,0 +1,341 @@
+// Every BSDF lobe (and a blend of lobes) against its pdf: chi-square over
+// several incident directions and normals, energy (mean f cos / pdf <= 1.01),
+// sample weight == eval / pdf, pdf normalisation where the lobe lies wholly
+// above the surface; the delta lobes (mirror, dielectric) by their discrete
+// probabilities and exact directions. One planted error shows the test can fail.
+#include "test_support.h"
+
+namespace wp::test {
+namespace {
+
+using namespace shader;
+
+struct Lobe {
+  uint32_t type;
+  glm::vec3 color;
+  float param;
+  float weight;
+};
+
+ShaderMath::Bsdf make_bsdf(glm::vec3 n, std::initializer_list<Lobe> lobes, bool front = true) {
+  ShaderMath::Bsdf b{};
+  b.ns = n;
+  b.ng = n;
+  b.front = front;
+  b.lobeCount = 0;
+  for (const Lobe& l : lobes) {
+    b.lobeType[b.lobeCount] = l.type;
+    b.lobeColor[b.lobeCount] = l.color;
+    b.lobeParam[b.lobeCount] = l.param;
+    b.lobeWeight[b.lobeCount] = l.weight;
+    ++b.lobeCount;
+  }
+  return b;
+}
+
+struct Config {
+  const char* name;
+  std::vector<Lobe> lobes;
+};
+
+// The smooth lobes, including both cases of the metal's fuzz ball (radius below
+// 1: the ball excludes the origin; above 1: it contains it) and a blend.
+const std::vector<Config>& smooth_configs() {
+  static const std::vector<Config> configs = {
+      {"lambertian", {{MAT_LAMBERTIAN, glm::vec3(1.0f), 0.0f, 1.0f}}},
+      {"metal roughness 0.3", {{MAT_METAL, glm::vec3(1.0f), 0.3f, 1.0f}}},
+      {"metal roughness 1.5", {{MAT_METAL, glm::vec3(1.0f), 1.5f, 1.0f}}},
+      {"phong 5", {{MAT_PHONG, glm::vec3(1.0f), 5.0f, 1.0f}}},
+      {"phong 60", {{MAT_PHONG, glm::vec3(1.0f), 60.0f, 1.0f}}},
+      {"blinn-phong 10", {{MAT_BLINN_PHONG, glm::vec3(1.0f), 10.0f, 1.0f}}},
+      {"blinn-phong 200", {{MAT_BLINN_PHONG, glm::vec3(1.0f), 200.0f, 1.0f}}},
+      {"blend lambertian 0.4 + phong 30 0.6",
+       {{MAT_LAMBERTIAN, glm::vec3(1.0f), 0.0f, 0.4f}, {MAT_PHONG, glm::vec3(1.0f), 30.0f, 0.6f}}},
+  };
+  return configs;
+}
+
+ShaderMath::Bsdf bsdf_of(const Config& c, glm::vec3 n) {
+  ShaderMath::Bsdf b = make_bsdf(n, {});
+  for (const Lobe& l : c.lobes) {
+    b.lobeType[b.lobeCount] = l.type;
+    b.lobeColor[b.lobeCount] = l.color;
+    b.lobeParam[b.lobeCount] = l.param;
+    b.lobeWeight[b.lobeCount] = l.weight;
+    ++b.lobeCount;
+  }
+  return b;
+}
+
+// Normal and incident direction pairs: normal incidence, oblique, grazing,
+// around normals that are not +Z.
+struct Geometry {
+  glm::vec3 n;
+  glm::vec3 wo;
+};
+const Geometry kGeometries[] = {
+    {{0, 0, 1}, {0, 0, 1}},
+    {{0, 0, 1}, {0.6f, 0.0f, 0.8f}},
+    {{0.48f, -0.6f, 0.64f}, {0.9f, 0.1f, 0.1f}},
+};
+
+constexpr int kChi2Samples = 300000;
+const int kChi2Tests = int(std::size(kGeometries)) * 8;  // smooth_configs().size() configurations
+const double kLevel = sidak(0.01, kChi2Tests);
+
+glm::vec3 unit(glm::vec3 v) { return glm::normalize(v); }
+
+std::string str(glm::vec3 v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+TEST(Bsdf, EverySmoothLobeSamplesItsPdf) {
+  ShaderMath m;
+  ASSERT_EQ(smooth_configs().size() * std::size(kGeometries), size_t(kChi2Tests));
+  uint32_t seed = 100;
+  for (const Config& c : smooth_configs()) {
+    for (const Geometry& g : kGeometries) {
+      glm::vec3 n = unit(g.n);
+      glm::vec3 wo = unit(g.wo);
+      if (glm::dot(wo, n) <= 0.0f) wo = -wo;
+      ShaderMath::Bsdf b = bsdf_of(c, n);
+      uint32_t extra = m.rng_seed(seed, 1u, 2u);  // a stream unrelated to the harness's
+      DirectionalChi2 chi;
+      chi.thetaRes = 48;
+      chi.phiRes = 96;
+      chi.integrationRes = 10;
+      Chi2Result r = chi.run(
+          kChi2Samples,
+          [&](glm::vec2 u, bool& ok) {
+            glm::vec4 u4(u.x, u.y, m.rng_next(extra), m.rng_next(extra));
+            glm::vec3 wi;
+            float pdf;
+            bool isDelta;
+            glm::vec3 w = m.bsdf_sample(b, wo, u4, wi, pdf, isDelta);
+            ok = pdf > 0.0f && !isDelta && (w.x > 0.0f || w.y > 0.0f || w.z > 0.0f);
+            return wi;
+          },
+          [&](glm::vec3 wi) { return double(m.bsdf_pdf(b, wo, wi)); }, seed++);
+      EXPECT_TRUE(r.problem.empty()) << c.name << ": " << r.problem;
+      EXPECT_GT(r.pValue, kLevel) << c.name << ", n = " << str(n) << ", wo = " << str(wo)
+                                  << ": chi2 = " << r.statistic << " with " << r.dof << " dof";
+    }
+  }
+}
+
+// A lobe whose pdf is off by 5% in its exponent must fail the same test.
+TEST(Bsdf, ChiSquareCatchesAPlantedExponentError) {
+  ShaderMath m;
+  glm::vec3 n(0, 0, 1);
+  glm::vec3 wo = unit(glm::vec3(0.3f, 0.0f, 0.9f));
+  ShaderMath::Bsdf sampled = make_bsdf(n, {{MAT_PHONG, glm::vec3(1.0f), 40.0f, 1.0f}});
+  ShaderMath::Bsdf claimed = make_bsdf(n, {{MAT_PHONG, glm::vec3(1.0f), 42.0f, 1.0f}});
+  uint32_t extra = m.rng_seed(3u, 1u, 2u);
+  DirectionalChi2 chi;
+  chi.thetaRes = 48;
+  chi.phiRes = 96;
+  chi.integrationRes = 10;
+  Chi2Result r = chi.run(
+      kChi2Samples,
+      [&](glm::vec2 u, bool& ok) {
+        glm::vec3 wi;
+        float pdf;
+        bool isDelta;
+        m.bsdf_sample(sampled, wo, glm::vec4(u.x, u.y, m.rng_next(extra), m.rng_next(extra)), wi, pdf, isDelta);
+        ok = pdf > 0.0f;
+        return wi;
+      },
+      [&](glm::vec3 wi) { return double(m.bsdf_pdf(claimed, wo, wi)); }, 4);
+  EXPECT_LT(r.pValue, kLevel) << "a 5% error in the Phong exponent was not detected";
+}
+
+TEST(Bsdf, SmoothLobesConserveEnergyAndWeightIsEvalOverPdf) {
+  ShaderMath m;
+  uint32_t state = 77;
+  for (const Config& c : smooth_configs()) {
+    for (int d = 0; d < 10; ++d) {
+      glm::vec3 n = m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state)));
+      glm::vec3 wo = m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state)));
+      if (glm::dot(wo, n) < 0.0f) wo = -wo;
+      ShaderMath::Bsdf b = bsdf_of(c, n);
+      double sum = 0.0;
+      const int samples = 16384;
+      for (int s = 0; s < samples; ++s) {
+        glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
+        glm::vec3 wi;
+        float pdf;
+        bool isDelta;
+        glm::vec3 weight = m.bsdf_sample(b, wo, u, wi, pdf, isDelta);
+        ASSERT_FALSE(isDelta) << c.name;
+        ASSERT_TRUE(std::isfinite(weight.x)) << c.name;
+        if (pdf <= 0.0f) continue;
+        glm::vec3 ratio = m.bsdf_eval(b, wo, wi) / pdf;
+        ASSERT_NEAR(ratio.x, weight.x, 1e-3f * std::max(1.0f, weight.x)) << c.name;
+        sum += weight.x;
+      }
+      EXPECT_LT(sum / samples, 1.01) << c.name << ", direction " << d;
+    }
+  }
+}
+
+// At normal incidence the lobes lie above the surface and their pdfs integrate
+// to 1, except Blinn-Phong, whose half vectors beyond 45 degrees send wi below
+// the surface: it integrates to 1 - cos(45)^(n + 1).
+TEST(Bsdf, PdfIntegratesToOneWhenTheLobeIsAboveTheSurface) {
+  ShaderMath m;
+  for (const Config& c : smooth_configs()) {
+    if (c.lobes[0].type == MAT_METAL && c.lobes[0].param > 1.0f) continue;  // its ball reaches below the surface
+    glm::vec3 n(0, 0, 1);
+    ShaderMath::Bsdf b = bsdf_of(c, n);
+    DirectionalChi2 grid;
+    grid.thetaRes = 400;
+    grid.phiRes = 64;
+    grid.integrationRes = 4;
+    grid.run(1, [](glm::vec2, bool& ok) { ok = false; return glm::vec3(0, 0, 1); },
+             [&](glm::vec3 wi) { return double(m.bsdf_pdf(b, n, wi)); }, 1);
+    double integral = std::accumulate(grid.expected.begin(), grid.expected.end(), 0.0);
+    double expected = 1.0;
+    if (c.lobes[0].type == MAT_BLINN_PHONG) expected -= std::pow(std::sqrt(0.5), c.lobes[0].param + 1.0);
+    EXPECT_NEAR(integral, expected, 5e-3) << c.name;
+  }
+}
+
+TEST(Bsdf, FresnelReflectanceMatchesKnownValues) {
+  ShaderMath m;
+  // Normal incidence: ((eta - 1) / (eta + 1))^2.
+  EXPECT_NEAR(m.fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-6f);
+  EXPECT_NEAR(m.fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
+  // Grazing: total reflection; past the critical angle from inside: total.
+  EXPECT_NEAR(m.fresnel_dielectric(0.0f, 1.5f), 1.0f, 1e-6f);
+  float critical = std::sqrt(1.0f - 1.0f / (1.5f * 1.5f));  // cos of the critical angle
+  EXPECT_EQ(m.fresnel_dielectric(critical * 0.99f, 1.0f / 1.5f), 1.0f);
+  EXPECT_LT(m.fresnel_dielectric(critical * 1.01f, 1.0f / 1.5f), 1.0f);
+  // Brewster's angle: tan(theta) = eta, where rp vanishes and F = rs^2 / 2.
+  float thetaB = std::atan(1.5f);
+  float cosI = std::cos(thetaB), cosT = std::cos(std::asin(std::sin(thetaB) / 1.5f));
+  float rs = (cosI - 1.5f * cosT) / (cosI + 1.5f * cosT);
+  EXPECT_NEAR(m.fresnel_dielectric(cosI, 1.5f), 0.5f * rs * rs, 1e-6f);
+}
+
+// The dielectric reflects with probability F and refracts by Snell's law,
+// from either side; the weight is white either way.
+TEST(Bsdf, DielectricReflectsWithFresnelProbabilityAndRefractsBySnell) {
+  ShaderMath m;
+  const float ior = 1.5f;
+  glm::vec3 n(0, 0, 1);
+  uint32_t state = 9;
+  for (bool front : {true, false}) {
+    for (float cosI : {0.95f, 0.6f, 0.3f}) {
+      glm::vec3 wo(std::sqrt(1.0f - cosI * cosI), 0.0f, cosI);
+      ShaderMath::Bsdf b = make_bsdf(n, {{MAT_DIELECTRIC, glm::vec3(1.0f), ior, 1.0f}}, front);
+      float eta = front ? ior : 1.0f / ior;
+      double f = m.fresnel_dielectric(cosI, eta);
+      int reflected = 0;
+      const int samples = 200000;
+      for (int s = 0; s < samples; ++s) {
+        glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
+        glm::vec3 wi;
+        float pdf;
+        bool isDelta;
+        glm::vec3 w = m.bsdf_sample(b, wo, u, wi, pdf, isDelta);
+        ASSERT_TRUE(isDelta);
+        ASSERT_EQ(w, glm::vec3(1.0f));
+        ASSERT_NEAR(glm::length(wi), 1.0f, 1e-5f);
+        if (wi.z > 0.0f) {
+          ++reflected;
+          ASSERT_NEAR(wi.x, -wo.x, 1e-5f);
+          ASSERT_NEAR(wi.z, wo.z, 1e-5f);
+        } else {
+          // Snell: sin(theta_t) * eta = sin(theta_i), in the plane of incidence, on the far side.
+          float sinT = std::sqrt(wi.x * wi.x + wi.y * wi.y);
+          ASSERT_NEAR(sinT * eta, wo.x, 1e-5f);
+          ASSERT_LT(wi.x, 0.0f);
+        }
+      }
+      // Binomial: 5 standard deviations.
+      double sd = std::sqrt(f * (1.0 - f) / samples);
+      EXPECT_NEAR(double(reflected) / samples, f, 5.0 * sd + 1e-9) << "front " << front << " cos " << cosI;
+    }
+  }
+}
+
+TEST(Bsdf, MirrorMetalReflectsExactlyAndHasNoDensity) {
+  ShaderMath m;
+  glm::vec3 n = unit(glm::vec3(0.2f, 0.3f, 0.9f));
+  glm::vec3 wo = unit(glm::vec3(0.5f, -0.2f, 0.7f));
+  ShaderMath::Bsdf b = make_bsdf(n, {{MAT_METAL, glm::vec3(0.9f, 0.5f, 0.2f), 0.0f, 1.0f}});
+  glm::vec3 wi;
+  float pdf;
+  bool isDelta;
+  glm::vec3 w = m.bsdf_sample(b, wo, glm::vec4(0.3f, 0.6f, 0.2f, 0.9f), wi, pdf, isDelta);
+  EXPECT_TRUE(isDelta);
+  EXPECT_EQ(w, glm::vec3(0.9f, 0.5f, 0.2f));
+  EXPECT_NEAR(glm::dot(wi, n), glm::dot(wo, n), 1e-6f);
+  EXPECT_NEAR(glm::length(glm::cross(wi + wo, n)), 0.0f, 1e-5f);
+  EXPECT_FALSE(m.bsdf_has_smooth_lobe(b));
+  EXPECT_EQ(m.bsdf_pdf(b, wo, wi), 0.0f);
+  EXPECT_EQ(m.bsdf_eval(b, wo, wi), glm::vec3(0.0f));
+}
+
+// A blend of a delta and a smooth lobe: the delta lobe is taken with its
+// weight's probability, and eval / pdf see only the smooth part.
+TEST(Bsdf, BlendOfDeltaAndSmoothLobesPicksEachByWeight) {
+  ShaderMath m;
+  glm::vec3 n(0, 0, 1);
+  glm::vec3 wo = unit(glm::vec3(0.3f, 0.1f, 0.9f));
+  ShaderMath::Bsdf b = make_bsdf(n, {{MAT_LAMBERTIAN, glm::vec3(0.5f), 0.0f, 0.7f}, {MAT_METAL, glm::vec3(1.0f), 0.0f, 0.3f}});
+  uint32_t state = 21;
+  int delta = 0;
+  const int samples = 100000;
+  double smoothWeight = 0.0;
+  for (int s = 0; s < samples; ++s) {
+    glm::vec3 wi;
+    float pdf;
+    bool isDelta;
+    glm::vec3 w = m.bsdf_sample(b, wo, glm::vec4(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state)), wi, pdf, isDelta);
+    if (isDelta) {
+      ++delta;
+      ASSERT_EQ(w, glm::vec3(1.0f));
+    } else {
+      ASSERT_NEAR(pdf, 0.7f * glm::dot(wi, n) / float(M_PI), 1e-5f);
+      smoothWeight += w.x;
+    }
+  }
+  double sd = std::sqrt(0.3 * 0.7 / samples);
+  EXPECT_NEAR(double(delta) / samples, 0.3, 5.0 * sd);
+  // The smooth part's weight is albedo (0.5) / selection probability (0.7) times 0.7.
+  EXPECT_NEAR(smoothWeight / (samples - delta), 0.5, 1e-4);
+}
+
+TEST(Sampling, ConePowerAndBallWarpsMatchTheirPdfs) {
+  ShaderMath m;
+  const double level = sidak(0.01, 4);
+  // Cone edges on cell boundaries (cells are 1/16 of 1 - cos wide), so the midpoint rule is exact.
+  for (float oneMinusCos : {0.0625f, 0.5f}) {
+    DirectionalChi2 chi;
+    chi.integrationRes = 8;
+    Chi2Result r = chi.run(
+        kChi2Samples, [&](glm::vec2 u, bool&) { return m.square_to_uniform_cone(u, oneMinusCos); },
+        [&](glm::vec3 w) { return 1.0f - w.z <= oneMinusCos ? double(m.uniform_cone_pdf(oneMinusCos)) : 0.0; }, 31);
+    EXPECT_GT(r.pValue, level) << "cone " << oneMinusCos << ": chi2 " << r.statistic;
+  }
+  DirectionalChi2 chi;
+  chi.integrationRes = 8;
+  Chi2Result r = chi.run(
+      kChi2Samples, [&](glm::vec2 u, bool&) { return m.square_to_cosine_power(u, 12.0f); },
+      [&](glm::vec3 w) { return double(m.cosine_power_pdf(w.z, 12.0f)); }, 32);
+  EXPECT_GT(r.pValue, level) << "cosine power: chi2 " << r.statistic;
+  // The ball: radii by their cube (uniform in [0, 1]) and the direction uniform.
+  uint32_t state = 33;
+  std::vector<double> obs(20, 0.0), expc(20, kChi2Samples / 20.0);
+  for (int s = 0; s < kChi2Samples; ++s) {
+    glm::vec3 p = m.square_to_uniform_ball(glm::vec3(m.rng_next(state), m.rng_next(state), m.rng_next(state)));
+    float r3 = std::pow(glm::length(p), 3.0f);
+    ASSERT_LE(r3, 1.0f + 1e-5f);
+    obs[std::min(size_t(19), size_t(r3 * 20.0f))] += 1.0;
+  }
+  EXPECT_GT(chi2_test(obs, expc, kChi2Samples).pValue, level) << "ball radii";
+}
+
+}  // namespace
+}  // namespace wp::test
