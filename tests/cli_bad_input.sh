@@ -45,6 +45,16 @@ expect_error "output directory missing" 2 "no-dir/out.png|does not exist" -- "$w
 expect_error "bad option value" 2 "spp" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 0
 expect_error "no Vulkan device" 3 "no Vulkan device" -- env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json "$wavepath" render "$data/furnace.json" -o "$out" --spp 1
 expect_error "no such device" 2 "--device nvidia" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 1 --device nvidia
+expect_error "unknown integrator" 2 "--integrator|bdpt" -- "$wavepath" render "$data/furnace.json" -o "$out" --integrator bdpt
+expect_error "unknown sampler" 2 "--sampler|sobol" -- "$wavepath" render "$data/furnace.json" -o "$out" --sampler sobol
+expect_error "missing texture image" 2 "no-such.png|no such file|/materials/0/albedo" -- "$wavepath" render "$data/bad-texture.json" -o "$out"
+
+# CS184 users' short options are aliases of wavepath's own.
+rm -f "$work"/out.*
+"$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 -b 0.05 -d 4 --cpu --quiet && [ -s "$work/out.png" ]
+check "CS184 options -f -s -m -r -t -b -d are accepted" $?
+"$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 --cpu | grep -q "12x8, 2 spp, 1 max bounces"
+check "CS184 options take effect" $?
 
 # And the good path writes both images, on the GPU and on the CPU.
 for mode in gpu cpu; do

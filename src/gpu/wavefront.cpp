@@ -13,6 +13,7 @@
 #include "generate.spv.h"
 #include "prepare.spv.h"
 #include "raycast.spv.h"
+#include "texprobe.spv.h"
 #include "shade.spv.h"
 
 namespace wp {
@@ -81,7 +82,7 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, shade{nullptr}, connect{nullptr},
-      accumulate{nullptr}, raycast{nullptr};
+      accumulate{nullptr}, raycast{nullptr}, texprobe{nullptr};
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
   // stage whose dispatch ended at timestamp i + 1.
@@ -226,6 +227,7 @@ struct WavefrontRenderer::Impl {
     connect = make_pipeline(kernel(connect_spv));
     accumulate = make_pipeline(kernel(accumulate_spv));
     raycast = make_pipeline(kernel(raycast_spv));
+    texprobe = make_pipeline(kernel(texprobe_spv));
   }
 
   void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups, Stage stage) {
@@ -323,11 +325,18 @@ struct WavefrontRenderer::Impl {
   }
 
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds) {
+    return run_on_rays(raycast, rays, truncated, kernelSeconds);
+  }
+
+  // Runs `kernel` (raycast or texprobe) over `rays` in chunks of the path
+  // capacity: each ray in the shadow-ray buffer, each result in the hit buffer.
+  std::vector<shader::Hit> run_on_rays(const vk::raii::Pipeline& kernel, const std::vector<shader::ShadowRay>& rays,
+                                       uint64_t* truncated, double* kernelSeconds) {
     std::vector<shader::Hit> hits(rays.size());
     const bool timed = timestamps;
     reserve_queries(2);
-    timestamps = false;  // no per-stage bookkeeping: only the raycast dispatch is timed
-    double kernel = 0.0;
+    timestamps = false;  // no per-stage bookkeeping: only the kernel's dispatch is timed
+    double kernelTime = 0.0;
     Buffer readHits(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
     uint64_t lost = 0;
     for (size_t start = 0; start < rays.size(); start += capacity) {
@@ -344,7 +353,7 @@ struct WavefrontRenderer::Impl {
           cb.resetQueryPool(*queries, 0, 2);
           cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
         }
-        dispatch(cb, raycast, push, groups_for(n), kExtend);
+        dispatch(cb, kernel, push, groups_for(n), kExtend);
         if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
@@ -356,12 +365,12 @@ struct WavefrontRenderer::Impl {
         uint64_t ticks[2] = {0, 0};
         if (ctx.device().getDispatcher()->vkGetQueryPoolResults(*ctx.device(), *queries, 0, 2, sizeof(ticks), ticks, sizeof(uint64_t),
                                                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
-          kernel += double(ticks[1] - ticks[0]) * timestampPeriodNs * 1e-9;
+          kernelTime += double(ticks[1] - ticks[0]) * timestampPeriodNs * 1e-9;
       }
       lost += static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
     }
     if (truncated) *truncated = lost;
-    if (kernelSeconds) *kernelSeconds = kernel;
+    if (kernelSeconds) *kernelSeconds = kernelTime;
     timestamps = timed;
     return hits;
   }
@@ -398,6 +407,19 @@ const StageTimes& WavefrontRenderer::stage_times() const {
 std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
                                                       double* kernelSeconds) {
   return impl_->cast_rays(rays, truncated, kernelSeconds);
+}
+
+std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<TextureQuery>& queries) {
+  std::vector<shader::ShadowRay> rays(queries.size());
+  for (size_t i = 0; i < queries.size(); ++i) {
+    rays[i].origin = queries[i].p;
+    rays[i].dir = glm::vec3(queries[i].uv, 0.0f);
+    rays[i].path = queries[i].texture;
+  }
+  std::vector<shader::Hit> out = impl_->run_on_rays(impl_->texprobe, rays, nullptr, nullptr);
+  std::vector<glm::vec3> colors(out.size());
+  for (size_t i = 0; i < out.size(); ++i) colors[i] = glm::vec3(out[i].t, out[i].u, out[i].v);
+  return colors;
 }
 
 }  // namespace wp

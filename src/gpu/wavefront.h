@@ -59,6 +59,14 @@ class WavefrontRenderer {
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr,
                                      double* kernelSeconds = nullptr);
 
+  // The kernels' texture_eval at each query, for comparing GLSL with C++.
+  struct TextureQuery {
+    uint32_t texture;
+    glm::vec2 uv;
+    glm::vec3 p;
+  };
+  std::vector<glm::vec3> eval_textures(const std::vector<TextureQuery>& queries);
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
