@@ -16,6 +16,7 @@ void main() {
   vec3 l = p.radiance;
   PixelAccum a = accum[p.pixel];
   a.sum += vec4(l, 1.0f);
-  a.sumSq += vec4(l * l, 0.0f);
+  float y = illuminance(l);
+  a.sumSq += vec4(l * l, y * y);  // w: for adaptive sampling
   accum[p.pixel] = a;
 }

@@ -1,5 +1,6 @@
 #version 460
-// Stage 1: one camera ray per pixel of the wave; every path enters queue 0.
+// Stage 1: one camera ray per pixel of the wave (consecutive pixels, or those
+// of the adaptive sampler's list); every path enters queue 0.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
@@ -8,7 +9,8 @@ void main() {
   if (i == 0u) counters[COUNTER_QUEUE0] = pc.pathCount;
   if (i >= pc.pathCount) return;
   PathState p;
-  path_begin(p, pc.waveStart + i, pc.sampleIndex);
+  uint pixel = pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + i] : pc.waveStart + i;
+  path_begin(p, pixel, pc.sampleIndex);
   paths[i] = p;
   queues[i] = i;
 }

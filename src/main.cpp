@@ -1,7 +1,8 @@
 // wavepath — a wavefront path tracer on Vulkan compute, with a CPU reference.
 //
 //   wavepath render SCENE.json [-o out.png] [--exr PATH] [--spp N] [--max-bounces N] [--seed N] [--resolution W H]
-//                   [--integrator NAME] [--sampler NAME] [--aperture R] [--focus-distance D]  (CS184: -f -s -m -r -t -b -d)
+//                   [--integrator NAME] [--sampler NAME] [--aperture R] [--focus-distance D] [--env MAP]
+//                   (CS184: -f -s -m -r -t -b -d -e)
 //                              [--device INDEX|NAME] [--variant NAME] [--cpu] [--threads N] [--quiet] [--stage-times]
 //   wavepath compare SCENE.json [--a VARIANT|cpu] [--b cpu|VARIANT] [--spp N] [--report DIR]
 //   wavepath compare --images A.exr B.exr [--report DIR]
@@ -19,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numeric>
 #include <unistd.h>
 
 #include "bench/bench.h"
@@ -56,6 +58,8 @@ struct RenderArgs {
   std::string sampler;     // independent or cmj
   float aperture = -1.0f;  // lens radius, overriding the scene's (CS184 -b)
   float focusDistance = -1.0f;  // (CS184 -d)
+  std::string environment;      // environment map replacing the background (CS184 -e)
+  std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
 };
 
 // darts integrator names, as the scene file and --integrator spell them.
@@ -69,6 +73,12 @@ IntegratorKind integrator_named(const std::string& name) {
   }
   throw InputError("--integrator: unknown integrator \"" + name +
                    "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis or path tracer mixture)");
+}
+
+// CS184 writes the sample-rate image of out.png as out_rate.png.
+std::string rate_image_path(const std::string& out) {
+  std::filesystem::path p(out);
+  return (p.parent_path() / (p.stem().string() + "_rate.png")).string();
 }
 
 std::string default_output(const std::string& scenePath) {
@@ -110,6 +120,14 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
   options.maxBounces = a.maxBounces;
   options.seed = seed;
   if (!a.integrator.empty()) options.integrator = integrator_named(a.integrator);
+  if (!a.adaptive.empty()) {
+    double batch = a.adaptive[0], tolerance = a.adaptive[1];
+    if (!(batch >= 1.0 && batch <= 65536.0 && batch == std::floor(batch)))
+      throw InputError("--adaptive: the batch size must be a whole number from 1 to 65536, got " + std::to_string(batch));
+    if (!(tolerance > 0.0 && tolerance < 1e6)) throw InputError("--adaptive: the tolerance must be positive");
+    options.adaptive.batch = int(batch);
+    options.adaptive.tolerance = float(tolerance);
+  }
   if (a.sampler == "cmj") options.sampler = SamplerKind::Cmj;
   else if (a.sampler == "independent") options.sampler = SamplerKind::Independent;
   else if (!a.sampler.empty()) throw InputError("--sampler: unknown sampler \"" + a.sampler + "\" (expected independent or cmj)");
@@ -124,6 +142,7 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   }
   if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
   if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
+  if (!a.environment.empty()) scene.environmentTexture = add_image_texture(scene, a.environment, "given by --env");
   return scene;
 }
 
@@ -148,21 +167,29 @@ int run_render(const RenderArgs& a) {
   ImageStats image = render_on(a.cpu ? "cpu" : a.variant, compiled, a, &where, &times);
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+  // With adaptive sampling, CS184's sample-rate image goes beside the render.
+  std::string rate = compiled.adaptive.enabled() ? rate_image_path(out) : "";
   write_exr(exr, image);
   try {
     write_png(out, image);
+    if (!rate.empty()) write_sample_rate_png(rate, image, compiled.spp);
   } catch (...) {
-    std::remove(exr.c_str());  // both images or neither
+    std::remove(exr.c_str());  // all images or none
+    std::remove(out.c_str());
     throw;
   }
   if (image.nonFinite > 0) {
     std::fprintf(stderr, "wavepath: warning: %llu non-finite samples were dropped\n", (unsigned long long)image.nonFinite);
   }
   if (!a.quiet) {
-    uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
+    double total = std::accumulate(image.count.begin(), image.count.end(), 0.0);  // samples taken
     std::printf("wrote %s and %s: %dx%d, %d spp, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
                 compiled.width, compiled.height, compiled.spp, int(compiled.params.image.z), seconds, where.c_str(),
                 double(total) / seconds * 1e-6);
+    if (!rate.empty()) {
+      std::printf("adaptive sampling: %.1f samples per pixel on average (at most %d); sample rates in %s\n",
+                  total / double(image.pixels()), compiled.spp, rate.c_str());
+    }
   }
   if (a.stageTimes && !a.cpu) {
     double gpu = times.total();
@@ -226,6 +253,50 @@ int run_compare(const CompareArgs& c) {
   return result.passed() ? 0 : 1;
 }
 
+// Convergence of the camera samplers: RMSE against a high-sample reference
+// at 1, 2, 4, ... samples per pixel, for the independent and the CMJ sampler.
+// Renders with the CPU reference (the kernels' own code, and faster than
+// lavapipe); one CSV row per sampler and sample count.
+struct ConvergenceArgs {
+  RenderArgs render;
+  int maxSpp = 256;
+  int referenceSpp = 4096;
+  std::string csv;
+};
+
+int run_convergence(const ConvergenceArgs& c) {
+  Scene scene = load_scene_with_overrides(c.render);
+  Progress quiet("", 0, false);
+  RenderOptions ro = options_from(c.render, 1000);
+  ro.spp = c.referenceSpp;
+  ro.sampler = SamplerKind::Independent;
+  ImageStats reference = render_cpu(compile_scene(scene, ro), c.render.threads, quiet);
+  std::string rows = "sampler,spp,rmse\n";
+  std::printf("%-12s %6s %12s\n", "sampler", "spp", "RMSE");
+  for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Cmj}) {
+    const char* name = sampler == SamplerKind::Cmj ? "cmj" : "independent";
+    for (int spp = 1; spp <= c.maxSpp; spp *= 2) {
+      RenderOptions o = options_from(c.render, 1);
+      o.spp = spp;
+      o.sampler = sampler;
+      ImageStats img = render_cpu(compile_scene(scene, o), c.render.threads, quiet);
+      double se = 0.0;
+      for (size_t p = 0; p < img.pixels(); ++p) {
+        glm::dvec3 d = img.mean(p) - reference.mean(p);
+        se += glm::dot(d, d);
+      }
+      double rmse = std::sqrt(se / (3.0 * double(img.pixels())));
+      std::printf("%-12s %6d %12.6g\n", name, spp, rmse);
+      rows += std::string(name) + "," + std::to_string(spp) + "," + std::to_string(rmse) + "\n";
+    }
+  }
+  if (!c.csv.empty()) {
+    FILE* f = std::fopen(c.csv.c_str(), "w");
+    if (!f || std::fputs(rows.c_str(), f) < 0 || std::fclose(f) != 0) throw InputError(c.csv + ": cannot write");
+  }
+  return 0;
+}
+
 // What the renderer would build for a scene: sizes, BVH quality and memory.
 int run_info(const std::string& scenePath, int maxLeafSize) {
   auto t0 = std::chrono::steady_clock::now();
@@ -282,6 +353,10 @@ int main(int argc, char** argv) {
   render->add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
   render->add_option("-d,--focus-distance", r.focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
       ->check(CLI::PositiveNumber);
+  render->add_option("-a,--adaptive", r.adaptive,
+                     "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
+      ->expected(2);
+  render->add_option("-e,--env", r.environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e)");
   render->add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
   render->add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   render->add_flag("--cpu", r.cpu, "render with the CPU reference renderer instead of Vulkan");
@@ -331,6 +406,18 @@ int main(int argc, char** argv) {
                      "trace fixed ray sets (camera rays, then one bounce from each hit) instead of rendering; "
                      "compared with Embree when built in");
 
+  ConvergenceArgs conv;
+  CLI::App* convergence = app.add_subcommand(
+      "convergence", "RMSE against a high-sample reference at 1, 2, 4, ... spp, independent vs cmj sampler (CPU reference)");
+  convergence->add_option("scene", conv.render.scene, "scene file (darts JSON)")->required();
+  convergence->add_option("--max-spp", conv.maxSpp, "largest sample count (default 256)")->check(CLI::Range(1, 1 << 16));
+  convergence->add_option("--reference-spp", conv.referenceSpp, "samples of the reference (default 4096)")->check(CLI::Range(1, 1 << 20));
+  convergence->add_option("--integrator", conv.render.integrator, "integrator, overriding the scene's (darts name)");
+  convergence->add_option("--max-bounces", conv.render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
+  convergence->add_option("-r,--resolution", conv.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
+  convergence->add_option("--csv", conv.csv, "write sampler,spp,rmse rows (scripts/plot_convergence.py draws them)");
+  convergence->add_option("-t,--threads", conv.render.threads, "CPU threads (default: all cores)")->check(CLI::Range(0, 1024));
+
   std::string infoScene;
   int infoLeaf = 0;
   CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
@@ -364,6 +451,7 @@ int main(int argc, char** argv) {
       return bench.raycast ? run_raycast_bench(bench) : run_bench(bench);
     }
     if (*info) return run_info(infoScene, infoLeaf);
+    if (*convergence) return run_convergence(conv);
   } catch (const InputError& e) {
     std::fprintf(stderr, "wavepath: error: %s\n", e.what());
     return 2;

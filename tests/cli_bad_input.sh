@@ -55,6 +55,14 @@ rm -f "$work"/out.*
 check "CS184 options -f -s -m -r -t -b -d are accepted" $?
 "$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 --cpu | grep -q "12x8, 2 spp, 1 max bounces"
 check "CS184 options take effect" $?
+expect_error "adaptive batch not whole" 2 "--adaptive|batch" -- "$wavepath" render "$data/furnace.json" -o "$out" --adaptive 2.5 0.05
+expect_error "environment map missing" 2 "no-such-sky.hdr|no such file|--env" -- "$wavepath" render "$data/furnace.json" -o "$out" -e "$data/no-such-sky.hdr"
+
+# Adaptive sampling writes CS184's sample-rate image beside the render.
+rm -f "$work"/out*
+"$wavepath" render "$data/features/integrators.json" -f "$out" -s 64 -a 16 0.05 --quiet && [ -s "$work/out.png" ] && [ -s "$work/out_rate.png" ]
+check "-a BATCH TOL writes out.png and out_rate.png" $?
+rm -f "$work"/out*
 
 # And the good path writes both images, on the GPU and on the CPU.
 for mode in gpu cpu; do

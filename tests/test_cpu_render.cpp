@@ -54,32 +54,66 @@ TEST(CpuReference, TruncatedTraversalIsAnErrorNotAnImage) {
 }
 
 // MIS, NEE alone, BSDF sampling alone and the one-sample mixture estimate the
-// same image (the scene has no point lights, which only NEE can reach, and
-// lights large enough for BSDF sampling alone to find them at 256 spp).
+// same image, with area lights and with an environment map (the scenes have no
+// point lights, which only NEE can reach, and lights large enough for BSDF
+// sampling alone to find them at 256 spp).
 TEST(CpuRender, AllPathTracersAgreeOnOneScene) {
-  Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
-  auto render = [&](IntegratorKind kind, uint32_t seed) {
-    RenderOptions o;
-    o.integrator = kind;
-    o.spp = 256;
-    o.seed = seed;
-    Progress quiet("", 0, false);
-    return render_cpu(compile_scene(scene, o), 0, quiet);
-  };
-  ImageStats mis = render(IntegratorKind::PathMis, 1);
-  for (auto [kind, name] : {std::pair{IntegratorKind::PathNee, "nee"}, std::pair{IntegratorKind::PathMats, "mats"},
-                            std::pair{IntegratorKind::PathMixture, "mixture"}}) {
-    CompareResult r = compare_images(render(kind, 2), mis);
-    EXPECT_TRUE(r.passed()) << name << " vs mis: " << r.summary();
+  for (const char* file : {"tests/data/features/integrators.json", "tests/data/features/environment.json"}) {
+    Scene scene = load_scene(source_path(file));
+    auto render = [&](IntegratorKind kind, uint32_t seed, float bias) {
+      RenderOptions o;
+      o.integrator = kind;
+      o.spp = 256;
+      o.seed = seed;
+      o.plantedBias = bias;
+      Progress quiet("", 0, false);
+      return render_cpu(compile_scene(scene, o), 0, quiet);
+    };
+    ImageStats mis = render(IntegratorKind::PathMis, 1, 1.0f);
+    for (auto [kind, name] : {std::pair{IntegratorKind::PathNee, "nee"}, std::pair{IntegratorKind::PathMats, "mats"},
+                              std::pair{IntegratorKind::PathMixture, "mixture"}}) {
+      CompareResult r = compare_images(render(kind, 2, 1.0f), mis);
+      EXPECT_TRUE(r.passed()) << file << ": " << name << " vs mis: " << r.summary();
+    }
+    // A planted 4% bias in one of them is seen.
+    EXPECT_FALSE(compare_images(render(IntegratorKind::PathNee, 3, 1.04f), mis).passed()) << file;
   }
-  // A planted 4% bias in one of them is seen.
+}
+
+TEST(AdaptiveSampling, StopsWhenTheConfidenceIntervalIsWithinTolerance) {
+  // 1.96 * sigma / sqrt(n) <= tol * mu.
+  EXPECT_FALSE(pixel_converged(1, 1.0, 1.0, 0.05f));  // one sample says nothing
+  EXPECT_TRUE(pixel_converged(32, 32.0, 32.0, 0.05f));  // constant: sigma = 0
+  // mu = 1, sigma = 1: the interval is 1.96 / sqrt(n); within 5% from n = 1537.
+  auto stats = [](double n) { return std::pair{n, 2.0 * n}; };  // E[y] = 1, E[y^2] = 2
+  auto [n1, s2a] = stats(1536);
+  EXPECT_FALSE(pixel_converged(n1, n1, s2a, 0.05f));
+  auto [n2, s2b] = stats(1600);
+  EXPECT_TRUE(pixel_converged(n2, n2, s2b, 0.05f));
+  EXPECT_TRUE(pixel_converged(64, 0.0, 0.0, 0.05f));  // black: mu = sigma = 0
+}
+
+// The CPU reference with adaptive sampling: flat background pixels stop after
+// one batch, noisy lit ones take more; every count is a whole number of
+// batches or the maximum.
+TEST(AdaptiveSampling, SpendsSamplesWhereTheNoiseIs) {
+  Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
   RenderOptions o;
-  o.integrator = IntegratorKind::PathNee;
   o.spp = 256;
-  o.seed = 3;
-  o.plantedBias = 1.04f;
+  o.adaptive.batch = 32;
+  o.adaptive.tolerance = 0.05f;
   Progress quiet("", 0, false);
-  EXPECT_FALSE(compare_images(render_cpu(compile_scene(scene, o), 0, quiet), mis).passed());
+  CompiledScene cs = compile_scene(scene, o);
+  ImageStats img = render_cpu(cs, 0, quiet);
+  double fewest = 1e9, most = 0.0;
+  for (size_t p = 0; p < img.pixels(); ++p) {
+    double n = img.count[p];
+    EXPECT_TRUE(std::fmod(n, 32.0) == 0.0 || n == 256.0) << "pixel " << p << ": " << n;
+    fewest = std::min(fewest, n);
+    most = std::max(most, n);
+  }
+  EXPECT_EQ(fewest, 32.0);  // the background (top rows) is constant
+  EXPECT_EQ(most, 256.0);   // some lit pixels never reach 5%
 }
 
 }  // namespace

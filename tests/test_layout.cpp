@@ -74,7 +74,7 @@ std::vector<Expected> expected_layouts() {
       {"SceneParams", sizeof(SceneParams),
        {FIELD(SceneParams, camToWorld0), FIELD(SceneParams, camToWorld1), FIELD(SceneParams, camToWorld2),
         FIELD(SceneParams, camLens), FIELD(SceneParams, background), FIELD(SceneParams, image), FIELD(SceneParams, counts),
-        FIELD(SceneParams, debug), FIELD(SceneParams, debugRegion), FIELD(SceneParams, mode)}},
+        FIELD(SceneParams, debug), FIELD(SceneParams, debugRegion), FIELD(SceneParams, mode), FIELD(SceneParams, environment)}},
       {"PathState", sizeof(PathState),
        {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
         FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf)}},

@@ -21,7 +21,9 @@
 #define BINDING_TEXELS 14
 #define BINDING_TRIANGLE_SHADING 15
 #define BINDING_POINT_LIGHTS 16
-#define BINDING_COUNT 17
+#define BINDING_ENVIRONMENT_CDF 17
+#define BINDING_PIXEL_LIST 18
+#define BINDING_COUNT 19
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -35,13 +37,17 @@ struct KernelPush {
   uint sampleIndex; // sample number of every path of this wave
   uint queueIn;     // 0 or 1: the queue of paths to extend / shade
   uint capacity;    // path slots per queue
-  uint phase;       // prepare kernel: PREPARE_*
+  uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
   uint pad0;
   uint pad1;
 };
 
 #define PREPARE_EXTEND 0u
 #define PREPARE_CONNECT 1u
+// Generate kernel: path i renders pixel waveStart + i, or (adaptive sampling)
+// pixel pixelList[waveStart + i].
+#define GENERATE_CONSECUTIVE 0u
+#define GENERATE_FROM_LIST 1u
 
 #ifndef __cplusplus
 layout(std140, set = 0, binding = BINDING_SCENE) uniform SceneBlock { SceneParams scene; };
@@ -63,6 +69,11 @@ layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer TextureBuffe
 layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uvec2 texels[]; };
 layout(std430, set = 0, binding = BINDING_TRIANGLE_SHADING) readonly buffer ShadingBuffer { TriangleShading triangleShading[]; };
 layout(std430, set = 0, binding = BINDING_POINT_LIGHTS) readonly buffer PointLightBuffer { PointLight pointLights[]; };
+// The environment map's sampling distribution: the CDF over rows (height + 1
+// values), then one CDF over the columns of each row (width + 1 values each).
+layout(std430, set = 0, binding = BINDING_ENVIRONMENT_CDF) readonly buffer EnvironmentCdfBuffer { float environmentCdf[]; };
+// The pixels still sampled under adaptive sampling.
+layout(std430, set = 0, binding = BINDING_PIXEL_LIST) readonly buffer PixelListBuffer { uint pixelList[]; };
 layout(push_constant) uniform PushBlock { KernelPush pc; };
 #endif
 

@@ -94,8 +94,18 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
   float radianceScale = planted_bias(p.pixel);
   uint mode = scene.mode.x;
   bool preview = mode == INTEGRATOR_NORMALS || mode == INTEGRATOR_AO;
+  bool mixture = mode == INTEGRATOR_MIXTURE;
+  bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
+  bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
   if (h.prim == WP_INVALID) {
-    if (!preview) p.radiance += p.throughput * vec3(scene.background.x, scene.background.y, scene.background.z) * radianceScale;
+    if (preview) return false;
+    float w = 1.0f;
+    if (scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
+      // NEE at the previous vertex could have picked this direction of the environment map.
+      float lightPdf = emitters[scene.environment.y].pmf * environment_pdf(p.dir);
+      w = useMis ? power_heuristic(p.bsdfPdf, lightPdf) : 0.0f;
+    }
+    p.radiance += p.throughput * background_radiance(p.dir) * (w * radianceScale);
     return false;
   }
   SurfaceHit s = surface_at(p.origin, p.dir, h);
@@ -106,9 +116,6 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
     return false;
   }
   uint depth = path_depth(p);
-  bool mixture = mode == INTEGRATOR_MIXTURE;
-  bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
-  bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
 
   // Emission, seen from the front side only.
   vec3 le = emitted_radiance(s, wo);
@@ -132,9 +139,14 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
       float w = useMis && ls.isDelta == 0u ? power_heuristic(ls.pdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
       sr.contribution = p.throughput * f * ls.radiance * (w * radianceScale / ls.pdf);
       sr.origin = offset_ray(s.p, b.ng);
-      vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
-      sr.dir = target - sr.origin;
-      sr.tmax = 1.0f;
+      if (ls.dist == WP_INF) {  // the environment: an unbounded ray
+        sr.dir = ls.wi;
+        sr.tmax = WP_INF;
+      } else {
+        vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
+        sr.dir = target - sr.origin;
+        sr.tmax = 1.0f;
+      }
     }
   }
 
@@ -174,6 +186,11 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
     p.throughput /= (1.0f - q);
   }
   return true;
+}
+
+// Luminance (Rec. 709), the "illuminance" of CS184's adaptive sampling.
+float illuminance(vec3 l) {
+  return 0.2126f * l.x + 0.7152f * l.y + 0.0722f * l.z;
 }
 
 bool radiance_is_finite(vec3 l) {

@@ -314,6 +314,78 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   return b;
 }
 
+// ---- environment map ----------------------------------------------------------
+
+// Equirectangular: -Z at the image's centre column, +Y at its top row.
+vec2 environment_uv(vec3 d) {
+  float phi = atan(d.x, -d.z);
+  float theta = acos(clamp(d.y, -1.0f, 1.0f));
+  return vec2(0.5f + phi * (0.5f * WP_INV_PI), 1.0f - theta * WP_INV_PI);
+}
+
+// Radiance arriving from direction d out of the scene: the environment map, or
+// the constant background.
+vec3 background_radiance(vec3 d) {
+  if (scene.environment.x == WP_INVALID) return vec3(scene.background.x, scene.background.y, scene.background.z);
+  return texture_eval(scene.environment.x, environment_uv(d), d);
+}
+
+// The interval i in [0, count) of the CDF at `offset` with cdf[i] <= u < cdf[i + 1]
+// (never an empty one). Bisection: at most 32 steps.
+uint cdf_find(uint offset, uint count, float u) {
+  uint lo = 0u;
+  uint hi = count;
+  while (lo + 1u < hi) {
+    uint mid = (lo + hi) / 2u;
+    if (environmentCdf[offset + mid] <= u) lo = mid;
+    else hi = mid;
+  }
+  return lo;
+}
+
+// Density of the grid cell (row, col) per unit of the (u, v) square.
+float environment_cell_pdf(uint row, uint col) {
+  uint w = scene.environment.z;
+  uint h = scene.environment.w;
+  uint rowCdf = h + 1u + row * (w + 1u);
+  float pRow = (environmentCdf[row + 1u] - environmentCdf[row]) * float(h);
+  float pCol = (environmentCdf[rowCdf + col + 1u] - environmentCdf[rowCdf + col]) * float(w);
+  return pRow * pCol;
+}
+
+// Solid-angle density with which environment_sample picks direction d: the
+// cell's density over the sphere's area element, 2 pi^2 sin(theta).
+float environment_pdf(vec3 d) {
+  uint w = scene.environment.z;
+  uint h = scene.environment.w;
+  vec2 uv = environment_uv(d);
+  uint col = min(uint(max(uv.x, 0.0f) * float(w)), w - 1u);
+  uint row = min(uint(max(1.0f - uv.y, 0.0f) * float(h)), h - 1u);
+  float sinTheta = length(vec2(d.x, d.z));  // not sqrt(1 - y^2): that cancels near the poles
+  return sinTheta > 0.0f ? environment_cell_pdf(row, col) / (2.0f * WP_PI * WP_PI * sinTheta) : 0.0f;
+}
+
+// A direction in proportion to the environment's luminance (times sin theta):
+// a row from the marginal CDF, a column from that row's CDF, uniform within the cell.
+vec3 environment_sample(vec2 u, OUT(float) pdf) {
+  uint w = scene.environment.z;
+  uint h = scene.environment.w;
+  uint row = cdf_find(0u, h, u.y);
+  float r0 = environmentCdf[row];
+  float dv = clamp((u.y - r0) / (environmentCdf[row + 1u] - r0), 0.0f, 1.0f);
+  uint rowCdf = h + 1u + row * (w + 1u);
+  uint col = cdf_find(rowCdf, w, u.x);
+  float c0 = environmentCdf[rowCdf + col];
+  float du = clamp((u.x - c0) / (environmentCdf[rowCdf + col + 1u] - c0), 0.0f, 1.0f);
+  float theta = (float(row) + dv) / float(h) * WP_PI;
+  float phi = ((float(col) + du) / float(w) - 0.5f) * (2.0f * WP_PI);
+  float sinTheta = sin(theta);
+  vec3 d = vec3(sinTheta * sin(phi), cos(theta), -sinTheta * cos(phi));
+  sinTheta = length(vec2(d.x, d.z));  // exactly as environment_pdf computes it
+  pdf = sinTheta > 0.0f ? environment_cell_pdf(row, col) / (2.0f * WP_PI * WP_PI * sinTheta) : 0.0f;
+  return d;
+}
+
 // ---- emitters ----------------------------------------------------------------
 
 // Picks an emitter index with the alias table (in proportion to power) and
@@ -358,7 +430,8 @@ float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
 }
 
 // Next-event estimation: picks an emitter, then a point on it as seen from ref:
-// uniform in the subtended cone for spheres, uniform by area for triangles.
+// uniform in the subtended cone for spheres, uniform by area for triangles, by
+// luminance for the environment map (a direction, at distance WP_INF).
 bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   ls.wi = vec3(0.0f);
   ls.dist = 0.0f;
@@ -371,6 +444,16 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   float pmf;
   Emitter e = emitters[pick_emitter(u.x, pmf)];
   vec2 uv = vec2(u.y, u.z);
+  if (e.prim == EMITTER_ENVIRONMENT) {
+    float pdfDir;
+    ls.wi = environment_sample(uv, pdfDir);
+    if (pdfDir <= 0.0f) return false;
+    ls.dist = WP_INF;  // at infinity: the shadow ray is unbounded
+    ls.radiance = background_radiance(ls.wi);
+    ls.pdf = pmf * pdfDir;
+    ls.n = -ls.wi;
+    return true;
+  }
   if ((e.prim & EMITTER_POINT_BIT) != 0u) {
     PointLight l = pointLights[e.prim & ~EMITTER_POINT_BIT];
     vec3 d = vec3(l.position.x, l.position.y, l.position.z) - ref;
@@ -430,6 +513,10 @@ float emitters_pdf_direction(vec3 ref, vec3 wi) {
   RayShear sh = make_ray_shear(wi);
   for (uint i = 0u; i < scene.counts.x; ++i) {
     Emitter e = emitters[i];
+    if (e.prim == EMITTER_ENVIRONMENT) {
+      pdf += e.pmf * environment_pdf(wi);  // every direction reaches it
+      continue;
+    }
     if ((e.prim & EMITTER_POINT_BIT) != 0u) continue;
     float t;
     SurfaceHit s;

@@ -36,8 +36,10 @@
 #define TEX_TYPE_MASK 0xffu
 #define TEX_SOLID 0x100u      // look up at the mapped hit point, not at (u, v, 0)
 
-// Emitter.prim: a point light (index into pointLights) rather than a surface.
+// Emitter.prim: a point light (index into pointLights) rather than a surface;
+// or the environment map.
 #define EMITTER_POINT_BIT 0x40000000u
+#define EMITTER_ENVIRONMENT 0x20000000u
 
 // SceneParams.mode.x: what the integrator computes (darts integrator names).
 #define INTEGRATOR_PATH 0u     // path tracer mis / nee / mats (see SCENE_FLAG_*)
@@ -160,6 +162,7 @@ struct SceneParams {
   vec4 debug;        // x: radiance scale inside debugRegion (1 unless a bias is planted); y: AO ray length
   uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata)
+  uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
 };
 
 // SceneParams.mode.y: how camera samples are placed.
@@ -197,7 +200,7 @@ struct ShadowRay {
 };
 
 // Per-pixel accumulator of one batch, 32 bytes: sum in xyz, sample count in
-// sum.w, sum of squares in sumSq.xyz. Each batch holds few samples, so float
+// sum.w, sum of squares in sumSq.xyz, sum of squared illuminance in sumSq.w. Each batch holds few samples, so float
 // is exact enough; the host folds batches into double precision.
 struct PixelAccum {
   vec4 sum;

@@ -18,6 +18,7 @@ ImageStats render_cpu(const CompiledScene& cs, int threads, Progress& progress) 
   std::atomic<uint64_t> nonFinite{0};
   const uint32_t spp = uint32_t(cs.spp);
   const uint32_t maxBounces = cs.params.image.z;
+  const AdaptiveSampling adaptive = cs.adaptive;
 
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
@@ -45,15 +46,22 @@ ImageStats render_cpu(const CompiledScene& cs, int threads, Progress& progress) 
             }
             if (!alive) break;
           }
-          if (!view.radiance_is_finite(p.radiance)) {
+          if (view.radiance_is_finite(p.radiance)) {
+            for (int c = 0; c < 3; ++c) {
+              image.sum[3 * pixel + size_t(c)] += p.radiance[c];
+              image.sumSq[3 * pixel + size_t(c)] += double(p.radiance[c]) * double(p.radiance[c]);
+            }
+            double y = view.illuminance(p.radiance);
+            image.illuminanceSumSq[pixel] += y * y;
+            image.count[pixel] += 1.0;
+          } else {
             ++localNonFinite;
-            continue;
           }
-          for (int c = 0; c < 3; ++c) {
-            image.sum[3 * pixel + size_t(c)] += p.radiance[c];
-            image.sumSq[3 * pixel + size_t(c)] += double(p.radiance[c]) * double(p.radiance[c]);
+          // Adaptive sampling: after each batch, stop once the pixel has converged.
+          if (adaptive.enabled() && (s + 1) % uint32_t(adaptive.batch) == 0 &&
+              pixel_converged(image.count[pixel], image.illuminance_sum(pixel), image.illuminanceSumSq[pixel], adaptive.tolerance)) {
+            break;
           }
-          image.count[pixel] += 1.0;
         }
       }
       truncated += localTruncated;

@@ -171,6 +171,8 @@ struct WavefrontRenderer::Impl {
     add_storage(BINDING_TEXELS, scene.texels, maxRange, "image texels");
     add_storage(BINDING_TRIANGLE_SHADING, scene.triangleShading, maxRange, "vertex normals and UVs");
     add_storage(BINDING_POINT_LIGHTS, scene.pointLights, maxRange, "point lights");
+    add_storage(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, maxRange, "environment map distribution");
+    add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
     add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
     add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
     add_work(BINDING_QUEUES, uint64_t(capacity) * 2 * sizeof(uint32_t));
@@ -247,12 +249,13 @@ struct WavefrontRenderer::Impl {
   }
 
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
-  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex) {
+  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed) {
     KernelPush push{};
     push.waveStart = waveStart;
     push.pathCount = pathCount;
     push.sampleIndex = sampleIndex;
     push.capacity = capacity;
+    push.phase = listed ? GENERATE_FROM_LIST : GENERATE_CONSECUTIVE;
     dispatch(cb, generate, push, groups_for(pathCount), kGenerate);
     // Bounce b extends the rays of paths with b scattering events behind them;
     // path_shade ends every path at max bounces, so there are max + 1 passes.
@@ -270,23 +273,54 @@ struct WavefrontRenderer::Impl {
     dispatch(cb, accumulate, push, groups_for(pathCount), kAccumulate);
   }
 
+  // Renders every pixel at scene.spp samples; with adaptive sampling, in
+  // batches, dropping the pixels that have converged after each batch.
   ImageStats render(Progress& progress) {
     const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
     const uint32_t spp = uint32_t(scene.spp);
     ImageStats image(scene.width, scene.height);
+    uint64_t truncated = 0;
+    times = StageTimes{};
+    if (!scene.adaptive.enabled()) {
+      render_samples(image, truncated, progress, 0, spp, pixels, false);
+    } else {
+      std::vector<uint32_t> active(pixels);
+      for (uint32_t p = 0; p < pixels; ++p) active[p] = p;
+      const uint32_t batch = uint32_t(scene.adaptive.batch);
+      for (uint32_t first = 0; first < spp && !active.empty(); first += batch) {
+        ctx.upload(*buffers[BINDING_PIXEL_LIST], active.data(), active.size() * sizeof(uint32_t));
+        render_samples(image, truncated, progress, first, std::min(first + batch, spp), uint32_t(active.size()), true);
+        std::vector<uint32_t> still;
+        for (uint32_t p : active) {
+          if (!pixel_converged(image.count[p], image.illuminance_sum(p), image.illuminanceSumSq[p], scene.adaptive.tolerance))
+            still.push_back(p);
+        }
+        active.swap(still);
+      }
+    }
+    progress.finish();
+    if (truncated > 0) {
+      throw RenderError(std::to_string(truncated) + " rays needed more than " + std::to_string(scene.params.counts.z) +
+                        " BVH traversal steps; the image would be wrong, so none was written");
+    }
+    return image;
+  }
+
+  // Samples [first, end) of `count` pixels: consecutive ones, or (listed)
+  // those in the pixel-list buffer. Folds the results into `image`.
+  void render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end,
+                      uint32_t count, bool listed) {
     vk::raii::CommandBuffers cbs(ctx.device(), vk::CommandBufferAllocateInfo(*commandPool, vk::CommandBufferLevel::ePrimary, 1));
     vk::CommandBuffer cb = *cbs[0];
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
-    uint64_t truncated = 0;
     uint32_t perSubmit = 1;
-    times = StageTimes{};
-    const uint32_t wavesPerSample = (pixels + capacity - 1) / capacity;
+    const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
     const uint32_t dispatchesPerWave = 2 + 5 * (scene.params.image.z + 1);
-    for (uint32_t sample = 0; sample < spp;) {
-      uint32_t count = std::min(perSubmit, spp - sample);
+    for (uint32_t sample = first; sample < end;) {
+      uint32_t n = std::min(perSubmit, end - sample);
       cb.reset();
       cb.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
-      reserve_queries(count * wavesPerSample * dispatchesPerWave + 1);
+      reserve_queries(n * wavesPerSample * dispatchesPerWave + 1);
       stageOf.clear();
       if (timestamps) cb.resetQueryPool(*queries, 0, queryCapacity);
       cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
@@ -294,8 +328,8 @@ struct WavefrontRenderer::Impl {
       cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
       stage_barrier(cb);
       if (timestamps) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
-      for (uint32_t s = sample; s < sample + count; ++s)
-        for (uint32_t start = 0; start < pixels; start += capacity) record_wave(cb, start, std::min(capacity, pixels - start), s);
+      for (uint32_t s = sample; s < sample + n; ++s)
+        for (uint32_t start = 0; start < count; start += capacity) record_wave(cb, start, std::min(capacity, count - start), s, listed);
       cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, readAccum->size()));
       cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
       vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
@@ -309,19 +343,13 @@ struct WavefrontRenderer::Impl {
       double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       fold(image, truncated);
       collect_times();
-      sample += count;
-      progress.add(uint64_t(count) * pixels);
+      sample += n;
+      progress.add(uint64_t(n) * count);
       // Aim for submissions of about targetSubmitSeconds: long enough to keep
       // the device busy, short enough for a live progress line. Float sums in
       // the accumulators stay exact enough for a few hundred samples.
       if (seconds < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
     }
-    progress.finish();
-    if (truncated > 0) {
-      throw RenderError(std::to_string(truncated) + " rays needed more than " + std::to_string(scene.params.counts.z) +
-                        " BVH traversal steps; the image would be wrong, so none was written");
-    }
-    return image;
   }
 
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds) {
@@ -384,6 +412,7 @@ struct WavefrontRenderer::Impl {
         image.sumSq[3 * p + size_t(c)] += acc[p].sumSq[c];
       }
       image.count[p] += acc[p].sum.w;
+      image.illuminanceSumSq[p] += acc[p].sumSq.w;
     }
     const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
     truncated += counters[COUNTER_TRUNCATED];

@@ -37,6 +37,13 @@ double ImageStats::mean_luminance() const {
   return pixels() ? total / double(pixels()) : 0.0;
 }
 
+// Writes encoded PNG bytes atomically (see write_png).
+static void write_png_bytes(const std::string& path, const std::vector<uint8_t>& png);
+
+double ImageStats::illuminance_sum(size_t pixel) const {
+  return 0.2126 * sum[3 * pixel] + 0.7152 * sum[3 * pixel + 1] + 0.0722 * sum[3 * pixel + 2];
+}
+
 namespace {
 
 uint8_t to_srgb8(double linear) {
@@ -86,7 +93,23 @@ std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t
 }
 
 void write_png(const std::string& path, const ImageStats& image) {
-  std::vector<uint8_t> png = encode_png(image.width, image.height, to_srgb8(image));
+  write_png_bytes(path, encode_png(image.width, image.height, to_srgb8(image)));
+}
+
+void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples) {
+  std::vector<uint8_t> rgb(image.pixels() * 3);
+  for (size_t p = 0; p < image.pixels(); ++p) {
+    double t = std::clamp(image.count[p] / double(std::max(maxSamples, 1)), 0.0, 1.0);
+    // Blue at 0, green at 1/2, red at 1.
+    double r = std::clamp(2.0 * t - 1.0, 0.0, 1.0), g = 1.0 - std::fabs(2.0 * t - 1.0), b = std::clamp(1.0 - 2.0 * t, 0.0, 1.0);
+    rgb[3 * p] = uint8_t(std::lround(255.0 * r));
+    rgb[3 * p + 1] = uint8_t(std::lround(255.0 * g));
+    rgb[3 * p + 2] = uint8_t(std::lround(255.0 * b));
+  }
+  write_png_bytes(path, encode_png(image.width, image.height, rgb));
+}
+
+static void write_png_bytes(const std::string& path, const std::vector<uint8_t>& png) {
   write_atomically(path, "PNG", [&](const std::string& tmp, std::string& error) {
     if (png.empty()) {
       error = "PNG encoding failed";

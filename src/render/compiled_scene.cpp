@@ -59,6 +59,7 @@ shader::SceneView CompiledScene::view() const {
   v.texels = texels.data();
   v.triangleShading = triangleShading.data();
   v.pointLights = pointLights.data();
+  v.environmentCdf = environmentCdf.data();
   return v;
 }
 
@@ -67,7 +68,52 @@ size_t CompiledScene::gpu_bytes() const {
          spheres.size() * sizeof(shader::Sphere) + materials.size() * sizeof(shader::Material) +
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
-         pointLights.size() * sizeof(shader::PointLight);
+         pointLights.size() * sizeof(shader::PointLight) + environmentCdf.size() * sizeof(float);
+}
+
+std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels) {
+  const int w = int(t.info.z), h = int(t.info.w);
+  auto lum = [&](int x, int y) {
+    glm::uvec2 p = texels[t.info.y + size_t(y) * size_t(w) + size_t(x)];
+    glm::vec2 rg = glm::unpackHalf2x16(p.x);
+    return double(luminance(glm::vec3(rg.x, rg.y, glm::unpackHalf2x16(p.y).x)));
+  };
+  std::vector<double> weight(size_t(w) * size_t(h));
+  double total = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double m = 0.0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) m = std::max(m, lum((x + dx + w) % w, std::clamp(y + dy, 0, h - 1)));
+      weight[size_t(y) * size_t(w) + size_t(x)] = m;
+      total += m;
+    }
+  double floor = total > 0.0 ? 1e-3 * total / double(weight.size()) : 1.0;
+  std::vector<float> cdf(size_t(h + 1) + size_t(h) * size_t(w + 1));
+  std::vector<double> rowSum(size_t(h), 0.0);
+  for (int y = 0; y < h; ++y) {
+    double sinTheta = std::sin(WP_PI * (double(y) + 0.5) / double(h));
+    size_t off = size_t(h + 1) + size_t(y) * size_t(w + 1);
+    double acc = 0.0;
+    std::vector<double> partial(size_t(w) + 1, 0.0);
+    for (int x = 0; x < w; ++x) {
+      acc += (weight[size_t(y) * size_t(w) + size_t(x)] + floor) * sinTheta;
+      partial[size_t(x) + 1] = acc;
+    }
+    for (int x = 0; x <= w; ++x) cdf[off + size_t(x)] = float(partial[size_t(x)] / acc);
+    cdf[off + size_t(w)] = 1.0f;
+    rowSum[size_t(y)] = acc;
+  }
+  double all = 0.0;
+  for (double r : rowSum) all += r;
+  double acc = 0.0;
+  cdf[0] = 0.0f;
+  for (int y = 0; y < h; ++y) {
+    acc += rowSum[size_t(y)];
+    cdf[size_t(y) + 1] = float(acc / all);
+  }
+  cdf[size_t(h)] = 1.0f;
+  return cdf;
 }
 
 glm::vec3 texture_mean(const std::vector<shader::Texture>& textures, const std::vector<glm::uvec2>& texels, uint32_t index) {
@@ -124,7 +170,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
   const size_t numSpheres = scene.spheres.size();
-  if (numTris + numSpheres >= size_t(HIT_SPHERE_BIT)) throw InputError(scene.sourcePath + ": too many primitives");
+  if (numTris + numSpheres >= size_t(EMITTER_ENVIRONMENT)) throw InputError(scene.sourcePath + ": too many primitives");
 
   BvhInput input;
   input.bounds.reserve(numTris + numSpheres);
@@ -225,6 +271,21 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     prims.push_back(uint32_t(i) | HIT_SPHERE_BIT);
     power.push_back(p);
   }
+  // The environment map: power of its mean radiance falling on a disc the
+  // size of the scene (only steers the choice among emitters).
+  uint32_t environmentEmitter = WP_INVALID;
+  if (scene.environmentTexture != WP_INVALID) {
+    const shader::Texture& env = out.textures[scene.environmentTexture];
+    out.environmentCdf = environment_cdf(env, out.texels);
+    glm::vec3 lo(out.nodes[0].bmin), hi(out.nodes[0].bmax);
+    double radius = 0.5 * double(glm::length(hi - lo));
+    double p = luminance(texture_mean(out.textures, out.texels, scene.environmentTexture)) * WP_PI * WP_PI * radius * radius * 4.0;
+    if (p > 0.0) {
+      environmentEmitter = uint32_t(prims.size());
+      prims.push_back(EMITTER_ENVIRONMENT);
+      power.push_back(p);
+    }
+  }
   for (size_t i = 0; i < out.pointLights.size(); ++i) {
     double p = luminance(glm::vec3(out.pointLights[i].intensity)) * 4.0 * WP_PI;
     if (p <= 0.0) continue;
@@ -242,17 +303,24 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (out.texels.empty()) out.texels.push_back(glm::uvec2(0u));
   if (out.triangleShading.empty()) out.triangleShading.push_back(shader::TriangleShading{});
   if (out.pointLights.empty()) out.pointLights.push_back(shader::PointLight{});
+  if (out.environmentCdf.empty()) out.environmentCdf.push_back(0.0f);
 
   const Camera& cam = scene.camera;
   out.width = cam.width;
   out.height = cam.height;
   out.spp = options.spp > 0 ? options.spp : scene.samplesPerPixel;
+  out.adaptive = options.adaptive;
   int maxBounces = options.maxBounces >= 0 ? options.maxBounces : scene.integrator.maxBounces;
   shader::SceneParams& p = out.params;
   rows_3x4(cam.toWorld, p.camToWorld0, p.camToWorld1, p.camToWorld2);
   p.camLens = glm::vec4(std::tan(glm::radians(cam.vfovDegrees) * 0.5f), float(cam.width) / float(cam.height),
                         cam.apertureRadius, cam.focusDistance);
   p.background = glm::vec4(scene.background, 0.0f);
+  p.environment = glm::uvec4(scene.environmentTexture, environmentEmitter, 0u, 0u);
+  if (scene.environmentTexture != WP_INVALID) {
+    p.environment.z = out.textures[scene.environmentTexture].info.z;
+    p.environment.w = out.textures[scene.environmentTexture].info.w;
+  }
   p.image = glm::uvec4(uint32_t(cam.width), uint32_t(cam.height), uint32_t(maxBounces),
                        uint32_t(scene.integrator.russianRouletteDepth));
   uint32_t flags = 0;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "render/adaptive.h"
 #include "render/shader_cpp.h"
 #include "scene/scene.h"
 
@@ -27,6 +28,7 @@ struct RenderOptions {
   // to show that the statistical comparison catches it.
   float plantedBias = 1.0f;
   glm::uvec4 plantedRegion{0u, 0u, ~0u, ~0u};
+  AdaptiveSampling adaptive;  // off unless batch > 0
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
@@ -43,9 +45,11 @@ struct CompiledScene {
   std::vector<glm::uvec2> texels;
   std::vector<shader::TriangleShading> triangleShading;
   std::vector<shader::PointLight> pointLights;
+  std::vector<float> environmentCdf;
   int width = 0;
   int height = 0;
-  int spp = 0;
+  int spp = 0;  // samples per pixel (with adaptive sampling: at most)
+  AdaptiveSampling adaptive;
   int bvhDepth = 0;
   double bvhSahCost = 0.0;
   double bvhBuildSeconds = 0.0;
@@ -62,6 +66,12 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
 // the average of the two colours for checkers and marble). Used to weigh
 // textured emitters; it only steers sampling, never the estimate.
 glm::vec3 texture_mean(const std::vector<shader::Texture>& textures, const std::vector<glm::uvec2>& texels, uint32_t index);
+
+// The sampling distribution of an environment map image texture: CDF over
+// rows, then a CDF per row, weighted by luminance times sin(theta). Each cell's
+// weight is the largest of its 3x3 neighbourhood (bilinear lookups reach into
+// neighbouring texels) plus a floor, so no direction with radiance has zero density.
+std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels);
 
 // Vose's alias table for sampling index i with probability weights[i] / sum.
 // Exposed for the sampling tests.

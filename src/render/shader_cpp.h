@@ -45,6 +45,7 @@ struct SceneView : ShaderMath {
   const uvec2* texels = nullptr;
   const TriangleShading* triangleShading = nullptr;
   const PointLight* pointLights = nullptr;
+  const float* environmentCdf = nullptr;
 
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
@@ -59,7 +60,7 @@ static_assert(sizeof(Material) == 48 && offsetof(Material, children) == 16 && of
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 160 && offsetof(SceneParams, debugRegion) == 128 && offsetof(SceneParams, mode) == 144);
+static_assert(sizeof(SceneParams) == 176 && offsetof(SceneParams, mode) == 144 && offsetof(SceneParams, environment) == 160);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, contribution) == 32);

@@ -46,7 +46,7 @@ class SceneLoader {
     if (root.has("media")) root["media"].fail("participating media are not supported yet");
     if (root.has("camera")) parse_camera(root["camera"]);
     if (root.has("sampler")) parse_sampler(root["sampler"]);
-    if (root.has("background")) scene_.background = non_negative(root["background"]);
+    if (root.has("background")) parse_background(root["background"]);
     if (root.has("accelerator")) parse_accelerator(root["accelerator"]);
     if (root.has("integrator")) parse_integrator(root["integrator"]);
     if (root.has("materials")) {
@@ -154,30 +154,15 @@ class SceneLoader {
       j.allow_only({"type", "filename", "mapping"});
       t.info.x = TEX_IMAGE;
       parse_mapping(j, t);
-      std::string rel = j["filename"].string();
-      fs::path path = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(file_).parent_path() / rel;
-      return add_texture(image_texture(t, path.lexically_normal().string(), j));
+      uint32_t index = add_image_texture(scene_, resolve(j["filename"].string()), "loaded by " + file_ + " at " + j.path());
+      // Keep the texels, take this texture's type flags and mapping.
+      glm::uvec4 image = scene_.textures[index].info;
+      t.info = glm::uvec4(image.x | (t.info.x & TEX_SOLID), image.y, image.z, image.w);
+      scene_.textures[index] = t;
+      return index;
     }
     if (type == "fresnel") j["type"].fail("a \"fresnel\" texture is only meaningful as a blend's amount");
     j["type"].fail("unknown texture type \"" + type + "\" (expected constant, checker, marble or image)");
-  }
-
-  // Appends the image's texels (as half floats) and points t at them.
-  shader::Texture image_texture(shader::Texture t, const std::string& path, const JsonCursor& where) {
-    LinearImage img;
-    try {
-      img = load_linear_image(path);
-    } catch (const InputError& e) {
-      throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + where.path() + ")");
-    }
-    t.info.y = uint32_t(scene_.texels.size());
-    t.info.z = uint32_t(img.width);
-    t.info.w = uint32_t(img.height);
-    scene_.texels.reserve(scene_.texels.size() + img.pixels.size());
-    for (const glm::vec3& c : img.pixels) {
-      scene_.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
-    }
-    return t;
   }
 
   static void rows_3x4(const glm::mat4& m, glm::vec4& r0, glm::vec4& r1, glm::vec4& r2) {
@@ -185,6 +170,25 @@ class SceneLoader {
     r0 = t[0];
     r1 = t[1];
     r2 = t[2];
+  }
+
+  // A colour, or {"type": "image", "filename": ...}: an equirectangular
+  // environment map (HDR or EXR for real lighting), importance-sampled.
+  void parse_background(const JsonCursor& j) {
+    if (!j.is_object()) {
+      scene_.background = non_negative(j);
+      return;
+    }
+    j.allow_only({"type", "filename"});
+    std::string type = j["type"].string();
+    if (type != "image") j["type"].fail("a background is a colour or {\"type\": \"image\", \"filename\": ...} (an environment map)");
+    scene_.environmentTexture = add_image_texture(scene_, resolve(j["filename"].string()), "loaded by " + file_ + " at " + j.path());
+  }
+
+  // A path in the scene file, relative to the scene's folder.
+  std::string resolve(const std::string& rel) const {
+    fs::path path = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(file_).parent_path() / rel;
+    return path.lexically_normal().string();
   }
 
   void parse_camera(const JsonCursor& j) {
@@ -451,10 +455,9 @@ class SceneLoader {
 
   void load_mesh(const JsonCursor& j, const glm::mat4& xform) {
     std::string rel = j["filename"].string();
-    fs::path objPath = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(file_).parent_path() / rel;
     ObjMesh mesh;
     try {
-      mesh = load_obj(objPath.lexically_normal().string());
+      mesh = load_obj(resolve(rel));
     } catch (const InputError& e) {
       throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + j.path() + ")");
     }
@@ -473,9 +476,7 @@ class SceneLoader {
       m.info = glm::uvec4(MAT_LAMBERTIAN, WP_INVALID, WP_INVALID, WP_INVALID);
       m.children = glm::uvec4(WP_INVALID);
       if (!om.diffuseMap.empty()) {
-        shader::Texture t = constant_texture(glm::vec3(0.0f));
-        t.info.x = TEX_IMAGE;
-        m.info.y = add_texture(image_texture(t, om.diffuseMap, j));
+        m.info.y = add_image_texture(scene_, om.diffuseMap, "map_Kd of " + om.name + ", loaded by " + file_ + " at " + j.path());
       } else {
         m.info.y = add_texture(constant_texture(glm::clamp(om.diffuse, 0.0f, 1.0f)));
       }

@@ -1,5 +1,10 @@
 #include "scene/scene.h"
 
+#include <glm/gtc/packing.hpp>
+
+#include "scene/texture_image.h"
+#include "util/error.h"
+
 namespace wp {
 
 shader::Texture constant_texture(glm::vec3 color) {
@@ -24,6 +29,22 @@ uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name)
   scene.materials.push_back(m);
   scene.materialNames.push_back(name);
   return uint32_t(scene.materials.size() - 1);
+}
+
+uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where) {
+  LinearImage img;
+  try {
+    img = load_linear_image(path);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + (where.empty() ? "" : " (" + where + ")"));
+  }
+  shader::Texture t = constant_texture(glm::vec3(0.0f));
+  t.info = glm::uvec4(TEX_IMAGE, uint32_t(scene.texels.size()), uint32_t(img.width), uint32_t(img.height));
+  scene.texels.reserve(scene.texels.size() + img.pixels.size());
+  for (const glm::vec3& c : img.pixels) {
+    scene.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
+  }
+  return add_texture(scene, t);
 }
 
 }  // namespace wp

@@ -61,6 +61,9 @@ struct Scene {
   int samplesPerPixel = 1;
   SamplerKind sampler = SamplerKind::Independent;
   glm::vec3 background{0.0f};
+  // An image texture used as an equirectangular environment map in place of
+  // the constant background, or WP_INVALID.
+  uint32_t environmentTexture = WP_INVALID;
   AcceleratorSettings accelerator;
   IntegratorSettings integrator;
   std::vector<shader::Material> materials;
@@ -78,5 +81,9 @@ shader::Texture constant_texture(glm::vec3 color);
 // Appends a texture / a Lambertian material of constant albedo; returns its index.
 uint32_t add_texture(Scene& scene, const shader::Texture& texture);
 uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name = "lambertian");
+
+// Loads an image file (see texture_image.h) into the scene's texels as an image
+// texture; returns the texture's index. `where` is appended to error messages.
+uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where);
 
 }  // namespace wp
