@@ -67,12 +67,13 @@ IntegratorKind integrator_named(const std::string& name) {
   static const std::pair<const char*, IntegratorKind> kNames[] = {
       {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
       {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
+      {"path tracer hemisphere", IntegratorKind::PathHemisphere},
       {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion}};
   for (const auto& [n, kind] : kNames) {
     if (name == n) return kind;
   }
   throw InputError("--integrator: unknown integrator \"" + name +
-                   "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis or path tracer mixture)");
+                   "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture or path tracer hemisphere)");
 }
 
 // CS184 writes the sample-rate image of out.png as out_rate.png.
@@ -348,7 +349,11 @@ int main(int argc, char** argv) {
   render->add_option("-s,--spp", r.spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")->check(CLI::Range(1, 1 << 24));
   render->add_option("-m,--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")
       ->check(CLI::Range(0, 1024));
-  render->add_option("--integrator", r.integrator, "integrator, overriding the scene's: normals, ao, \"path tracer mats|nee|mis|mixture\"");
+  render->add_option("--integrator", r.integrator,
+                     "integrator, overriding the scene's: normals, ao, \"path tracer mats|nee|mis|mixture|hemisphere\"");
+  bool hemisphere = false;
+  render->add_flag("-H,--hemisphere", hemisphere,
+                   "uniform hemisphere sampling instead of light sampling: --integrator \"path tracer hemisphere\" (CS184: -H)");
   render->add_option("--sampler", r.sampler, "sampler, overriding the scene's: independent or cmj");
   render->add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
   render->add_option("-d,--focus-distance", r.focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
@@ -437,6 +442,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (hemisphere) {
+      if (!r.integrator.empty() && r.integrator != "path tracer hemisphere")
+        throw InputError("-H (uniform hemisphere sampling) and --integrator \"" + r.integrator + "\" contradict each other");
+      r.integrator = "path tracer hemisphere";
+    }
     if (*render) return run_render(r);
     if (*compare) {
       if (cmp.images.empty() == cmp.render.scene.empty())

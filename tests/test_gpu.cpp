@@ -331,6 +331,7 @@ TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
       {"integrators.json", IntegratorKind::PathMats, "mats with rough metal, phong, quad and sphere lights"},
       {"environment.json", IntegratorKind::PathMis, "HDR environment map, importance-sampled (mis)"},
       {"environment.json", IntegratorKind::PathMixture, "HDR environment map (mixture)"},
+      {"integrators.json", IntegratorKind::PathHemisphere, "uniform hemisphere sampling (CS184 -H)"},
   };
   for (const FeatureCase& c : cases) {
     CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/features/") + c.scene), 0, 64, 1.0f, c.integrator);

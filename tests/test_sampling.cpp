@@ -9,7 +9,7 @@ using namespace shader;
 
 constexpr int kSamples = 1000000;
 // Family-wise level 0.01 over every chi-square test in this file.
-const double kLevel = sidak(0.01, 11);
+const double kLevel = sidak(0.01, 12);
 
 void expect_fit(const Chi2Result& r, const char* what) {
   EXPECT_TRUE(r.problem.empty()) << what << ": " << r.problem;
@@ -65,6 +65,15 @@ TEST(Sampling, CosineHemisphereMatchesPdf) {
       kSamples, [&](glm::vec2 u, bool&) { return m.square_to_cosine_hemisphere(u); },
       [&](glm::vec3 w) { return double(m.square_to_cosine_hemisphere_pdf(w)); }, 3);
   expect_fit(r, "cosine hemisphere");
+}
+
+TEST(Sampling, UniformHemisphereMatchesPdf) {
+  ShaderMath m;
+  DirectionalChi2 chi;
+  auto r = chi.run(
+      kSamples, [&](glm::vec2 u, bool&) { return m.square_to_uniform_hemisphere(u); },
+      [&](glm::vec3 w) { return double(m.square_to_uniform_hemisphere_pdf(w)); }, 7);
+  expect_fit(r, "uniform hemisphere");
 }
 
 TEST(Sampling, UniformSphereMatchesPdf) {

@@ -241,7 +241,8 @@ inline void expect_furnace_is_analytic(const std::function<ImageStats(const Comp
   // pixel). MIS tames exactly that; NEE is checked against the CPU and against
   // MIS on scenes without such edges.
   for (int bounces : {0, 2, 64}) {
-    for (IntegratorKind kind : {IntegratorKind::PathMis, IntegratorKind::PathMats, IntegratorKind::PathMixture}) {
+    for (IntegratorKind kind : {IntegratorKind::PathMis, IntegratorKind::PathMats, IntegratorKind::PathMixture,
+                                IntegratorKind::PathHemisphere}) {
       Scene scene = load_scene(source_path("tests/data/furnace.json"));
       scene.integrator.kind = kind;
       RenderOptions o;

@@ -38,6 +38,13 @@ bool bsdf_has_smooth_lobe(Bsdf b) {
   return false;
 }
 
+bool bsdf_has_delta_lobe(Bsdf b) {
+  for (uint i = 0u; i < b.lobeCount; ++i) {
+    if (lobe_is_delta(b.lobeType[i], b.lobeParam[i])) return true;
+  }
+  return false;
+}
+
 vec3 reflect_about(vec3 wo, vec3 n) {
   return n * (2.0f * dot(wo, n)) - wo;
 }

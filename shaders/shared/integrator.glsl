@@ -163,6 +163,16 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
     if (!sample_emitter(s.p, vec3(uBsdf.x, uBsdf.y, uBsdf.z), ls) || ls.isDelta != 0u) return false;
     wi = ls.wi;
     isDelta = false;
+  } else if ((scene.counts.w & SCENE_FLAG_HEMISPHERE) != 0u && hasSmooth && !bsdf_has_delta_lobe(b)) {
+    // CS184's -H: uniform over the hemisphere around the shading normal.
+    vec3 t;
+    vec3 bt;
+    make_frame(b.ns, t, bt);
+    vec3 local = square_to_uniform_hemisphere(vec2(uBsdf.x, uBsdf.y));
+    wi = frame_to_world(local, t, bt, b.ns);
+    pdf = square_to_uniform_hemisphere_pdf(local);
+    isDelta = false;
+    weight = bsdf_eval(b, wo, wi) / pdf;
   } else {
     weight = bsdf_sample(b, wo, uBsdf, wi, pdf, isDelta);
     if (isDelta) weight /= 1.0f - lightProb;

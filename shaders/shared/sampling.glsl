@@ -36,6 +36,18 @@ float square_to_cosine_hemisphere_pdf(vec3 v) {
   return v.z > 0.0f ? v.z * WP_INV_PI : 0.0f;
 }
 
+// Uniform over the hemisphere around +Z (CS184's "hemisphere sampling").
+vec3 square_to_uniform_hemisphere(vec2 u) {
+  float z = u.x;
+  float r = sqrt(max(0.0f, 1.0f - z * z));
+  float phi = 2.0f * WP_PI * u.y;
+  return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+float square_to_uniform_hemisphere_pdf(vec3 v) {
+  return v.z > 0.0f ? 0.5f * WP_INV_PI : 0.0f;
+}
+
 vec3 square_to_uniform_sphere(vec2 u) {
   float z = 1.0f - 2.0f * u.x;
   float r = sqrt(max(0.0f, 1.0f - z * z));

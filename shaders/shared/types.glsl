@@ -54,6 +54,7 @@
 // SceneParams.flags bits.
 #define SCENE_FLAG_NO_NEE 1u      // BSDF sampling only (darts "path tracer mats")
 #define SCENE_FLAG_NO_BSDF_MIS 2u // NEE only: emitters hit by BSDF rays are ignored
+#define SCENE_FLAG_HEMISPHERE 4u  // directions uniform over the hemisphere, not from the BSDF (CS184 -H)
 
 // Counters[] slots written by the kernels (see CounterSlot in src/gpu).
 #define COUNTER_QUEUE0 0u

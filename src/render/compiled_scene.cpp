@@ -326,6 +326,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   uint32_t flags = 0;
   IntegratorKind kind = options.integrator ? *options.integrator : scene.integrator.kind;
   if (kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;
+  if (kind == IntegratorKind::PathHemisphere) flags |= SCENE_FLAG_NO_NEE | SCENE_FLAG_HEMISPHERE;
   if (kind == IntegratorKind::PathNee) flags |= SCENE_FLAG_NO_BSDF_MIS;
   uint32_t mode = INTEGRATOR_PATH;
   if (kind == IntegratorKind::Normals) mode = INTEGRATOR_NORMALS;

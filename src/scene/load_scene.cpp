@@ -247,10 +247,11 @@ class SceneLoader {
       else if (type == "path tracer nee") s.kind = IntegratorKind::PathNee;
       else if (type == "path tracer mats") s.kind = IntegratorKind::PathMats;
       else if (type == "path tracer mixture") s.kind = IntegratorKind::PathMixture;
+      else if (type == "path tracer hemisphere") s.kind = IntegratorKind::PathHemisphere;
       else if (type == "normals") s.kind = IntegratorKind::Normals;
       else if (type == "ao") s.kind = IntegratorKind::AmbientOcclusion;
       else j["type"].fail("unknown integrator type \"" + type +
-                          "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis or path tracer mixture)");
+                          "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture or path tracer hemisphere)");
     }
     s.maxBounces = j.integer_or("max bounces", s.maxBounces, 0, 1024);
     if (j.has("russian roulette")) {

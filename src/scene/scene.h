@@ -29,7 +29,9 @@ struct AcceleratorSettings {
   SplitMethod split = SplitMethod::Sah;
 };
 
-enum class IntegratorKind { PathMis, PathNee, PathMats, PathMixture, Normals, AmbientOcclusion };
+// PathHemisphere: BSDF-sampling-only path tracing with directions uniform
+// over the hemisphere (CS184's -H), a wavepath extension of the darts names.
+enum class IntegratorKind { PathMis, PathNee, PathMats, PathMixture, PathHemisphere, Normals, AmbientOcclusion };
 
 enum class SamplerKind { Independent, Cmj };
 
