@@ -31,18 +31,24 @@ bool lobe_is_delta(uint type, float param) {
   return type == MAT_DIELECTRIC || (type == MAT_METAL && param <= 0.0f);
 }
 
+// Loops over lobes run to the constant BSDF_MAX_LOBES and skip unused slots:
+// with constant indices the compiler keeps the lobe arrays in registers
+// (lavapipe spills dynamically indexed local arrays to memory).
+
 bool bsdf_has_smooth_lobe(Bsdf b) {
-  for (uint i = 0u; i < b.lobeCount; ++i) {
-    if (!lobe_is_delta(b.lobeType[i], b.lobeParam[i])) return true;
+  bool any = false;
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
   }
-  return false;
+  return any;
 }
 
 bool bsdf_has_delta_lobe(Bsdf b) {
-  for (uint i = 0u; i < b.lobeCount; ++i) {
-    if (lobe_is_delta(b.lobeType[i], b.lobeParam[i])) return true;
+  bool any = false;
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    if (i < b.lobeCount && lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
   }
-  return false;
+  return any;
 }
 
 vec3 reflect_about(vec3 wo, vec3 n) {
@@ -61,26 +67,24 @@ float fresnel_dielectric(float cosI, float eta) {
   return 0.5f * (rs * rs + rp * rp);
 }
 
-// Density (solid angle) with which smooth lobe `i` samples wi.
-float lobe_pdf(Bsdf b, uint i, vec3 wo, vec3 wi) {
-  uint type = b.lobeType[i];
-  float param = b.lobeParam[i];
-  if (type == MAT_LAMBERTIAN) return max(dot(b.ns, wi), 0.0f) * WP_INV_PI;
-  if (type == MAT_METAL) return fuzzed_direction_pdf(wi, reflect_about(wo, b.ns), param);
-  if (type == MAT_PHONG) return cosine_power_pdf(dot(wi, reflect_about(wo, b.ns)), param);
+// Density (solid angle) with which a smooth lobe of `type` samples wi; ns is
+// the shading normal on wo's side.
+float lobe_pdf(uint type, float param, vec3 ns, vec3 wo, vec3 wi) {
+  if (type == MAT_LAMBERTIAN) return max(dot(ns, wi), 0.0f) * WP_INV_PI;
+  if (type == MAT_METAL) return fuzzed_direction_pdf(wi, reflect_about(wo, ns), param);
+  if (type == MAT_PHONG) return cosine_power_pdf(dot(wi, reflect_about(wo, ns)), param);
   if (type == MAT_BLINN_PHONG) {
     vec3 h = normalize(wo + wi);
-    float cosH = dot(h, b.ns);
     float woH = dot(wo, h);
-    return woH > 0.0f ? cosine_power_pdf(cosH, param) / (4.0f * woH) : 0.0f;
+    return woH > 0.0f ? cosine_power_pdf(dot(h, ns), param) / (4.0f * woH) : 0.0f;
   }
   return 0.0f;  // delta lobes
 }
 
-// f * cos of lobe i (smooth lobes only; zero below the surface).
-vec3 lobe_eval(Bsdf b, uint i, vec3 wo, vec3 wi) {
-  if (b.lobeType[i] == MAT_LAMBERTIAN) return b.lobeColor[i] * (max(dot(b.ns, wi), 0.0f) * WP_INV_PI);
-  return b.lobeColor[i] * lobe_pdf(b, i, wo, wi);
+// f * cos of a smooth lobe (zero below the surface).
+vec3 lobe_eval(uint type, float param, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
+  if (type == MAT_LAMBERTIAN) return color * (max(dot(ns, wi), 0.0f) * WP_INV_PI);
+  return color * lobe_pdf(type, param, ns, wo, wi);
 }
 
 // Reflection only: both directions on the same side of the geometric and the
@@ -93,8 +97,9 @@ bool bsdf_reflects(Bsdf b, vec3 wi) {
 vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
   vec3 f = vec3(0.0f);
   if (!bsdf_reflects(b, wi)) return f;
-  for (uint i = 0u; i < b.lobeCount; ++i) {
-    if (!lobe_is_delta(b.lobeType[i], b.lobeParam[i])) f += lobe_eval(b, i, wo, wi) * b.lobeWeight[i];
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i]))
+      f += lobe_eval(b.lobeType[i], b.lobeParam[i], b.lobeColor[i], b.ns, wo, wi) * b.lobeWeight[i];
   }
   return f;
 }
@@ -103,35 +108,34 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
 float bsdf_pdf(Bsdf b, vec3 wo, vec3 wi) {
   float pdf = 0.0f;
   if (!bsdf_reflects(b, wi)) return pdf;
-  for (uint i = 0u; i < b.lobeCount; ++i) {
-    if (!lobe_is_delta(b.lobeType[i], b.lobeParam[i])) pdf += lobe_pdf(b, i, wo, wi) * b.lobeWeight[i];
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i]))
+      pdf += lobe_pdf(b.lobeType[i], b.lobeParam[i], b.ns, wo, wi) * b.lobeWeight[i];
   }
   return pdf;
 }
 
-// Direction from smooth lobe i, or a zero vector when the lobe produced none.
-vec3 lobe_sample(Bsdf b, uint i, vec3 wo, vec3 u) {
-  uint type = b.lobeType[i];
-  float param = b.lobeParam[i];
+// Direction from a smooth lobe, or a zero vector when the lobe produced none.
+vec3 lobe_sample(uint type, float param, vec3 ns, vec3 wo, vec3 u) {
   vec3 t;
   vec3 bt;
   if (type == MAT_LAMBERTIAN) {
-    make_frame(b.ns, t, bt);
-    return frame_to_world(square_to_cosine_hemisphere(vec2(u.x, u.y)), t, bt, b.ns);
+    make_frame(ns, t, bt);
+    return frame_to_world(square_to_cosine_hemisphere(vec2(u.x, u.y)), t, bt, ns);
   }
   if (type == MAT_METAL) {
-    vec3 d = reflect_about(wo, b.ns) + square_to_uniform_ball(u) * param;
+    vec3 d = reflect_about(wo, ns) + square_to_uniform_ball(u) * param;
     float len = length(d);
     return len > 0.0f ? d / len : vec3(0.0f);
   }
   if (type == MAT_PHONG) {
-    vec3 r = reflect_about(wo, b.ns);
+    vec3 r = reflect_about(wo, ns);
     make_frame(r, t, bt);
     return frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, r);
   }
   // Blinn-Phong: a half vector around the normal, then the mirror of wo about it.
-  make_frame(b.ns, t, bt);
-  vec3 h = frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, b.ns);
+  make_frame(ns, t, bt);
+  vec3 h = frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, ns);
   return dot(wo, h) > 0.0f ? reflect_about(wo, h) : vec3(0.0f);
 }
 
@@ -144,20 +148,25 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
   pdf = 0.0f;
   isDelta = false;
   if (b.lobeCount == 0u) return vec3(0.0f);
-  uint k = b.lobeCount - 1u;
-  float uPick = u.z;
-  for (uint i = 0u; i + 1u < b.lobeCount; ++i) {
-    if (uPick < b.lobeWeight[i]) {
-      k = i;
-      break;
+  // Pick lobe k with probability lobeWeight[k]; copy its fields out with
+  // constant indices.
+  uint type = b.lobeType[0];
+  vec3 color = b.lobeColor[0];
+  float param = b.lobeParam[0];
+  float uPick = clamp(u.z / b.lobeWeight[0], 0.0f, 0.99999994f);
+  float below = 0.0f;
+  for (uint i = 1u; i < BSDF_MAX_LOBES; ++i) {
+    below += b.lobeWeight[i - 1u];
+    if (i < b.lobeCount && u.z >= below) {
+      type = b.lobeType[i];
+      color = b.lobeColor[i];
+      param = b.lobeParam[i];
+      uPick = clamp((u.z - below) / b.lobeWeight[i], 0.0f, 0.99999994f);
     }
-    uPick -= b.lobeWeight[i];
   }
-  uPick = clamp(uPick / b.lobeWeight[k], 0.0f, 0.99999994f);
-  uint type = b.lobeType[k];
   if (type == MAT_DIELECTRIC) {
     isDelta = true;
-    float eta = b.front ? b.lobeParam[k] : 1.0f / b.lobeParam[k];
+    float eta = b.front ? param : 1.0f / param;
     float cosI = dot(wo, b.ns);
     float f = fresnel_dielectric(cosI, eta);
     if (uPick < f) {
@@ -171,14 +180,14 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
     }
     // Choosing reflection with probability F cancels F: white either way
     // (radiance is not scaled by eta^2, as in darts).
-    return b.lobeColor[k];
+    return color;
   }
-  if (type == MAT_METAL && b.lobeParam[k] <= 0.0f) {
+  if (type == MAT_METAL && param <= 0.0f) {
     isDelta = true;
     wi = reflect_about(wo, b.ns);
-    return dot(wi, b.ng) > 0.0f ? b.lobeColor[k] : vec3(0.0f);
+    return dot(wi, b.ng) > 0.0f ? color : vec3(0.0f);
   }
-  wi = lobe_sample(b, k, wo, vec3(u.x, u.y, u.w));
+  wi = lobe_sample(type, param, b.ns, wo, vec3(u.x, u.y, u.w));
   pdf = bsdf_pdf(b, wo, wi);
   if (pdf <= 0.0f) {
     pdf = 0.0f;

@@ -68,7 +68,7 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
 
 // The normals and ambient-occlusion integrators: one hit, no paths.
 void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, float radianceScale) {
-  if (scene.mode.x == INTEGRATOR_NORMALS) {
+  if (INTEGRATOR_OF_SCENE == INTEGRATOR_NORMALS) {
     p.radiance += (s.ns + vec3(1.0f)) * (0.5f * radianceScale);
     return;
   }
@@ -92,7 +92,7 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, 
 bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
   shadow_ray_none(sr);
   float radianceScale = planted_bias(p.pixel);
-  uint mode = scene.mode.x;
+  uint mode = INTEGRATOR_OF_SCENE;  // equals scene.mode.x
   bool preview = mode == INTEGRATOR_NORMALS || mode == INTEGRATOR_AO;
   bool mixture = mode == INTEGRATOR_MIXTURE;
   bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;

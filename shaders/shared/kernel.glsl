@@ -1,6 +1,13 @@
 // kernel.glsl — prelude of every compute kernel: the shared headers in order.
 #include "common.glsl"
 #include "types.glsl"
+
+// The integrator (INTEGRATOR_*) is specialization constant 1, set from the
+// scene when the pipelines are built: the compiler then drops the other
+// integrators' code, which on lavapipe costs time even when never taken.
+// C++ reads it from the scene (integrator.glsl: INTEGRATOR_OF_SCENE).
+layout(constant_id = 1) const uint kIntegrator = INTEGRATOR_PATH;
+#define INTEGRATOR_OF_SCENE kIntegrator
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"

@@ -150,9 +150,8 @@ SurfaceHit sphere_surface(uint i, vec3 pw) {
   return s;
 }
 
-// The surface of triangle i at barycentrics (b1, b2).
-SurfaceHit triangle_surface(uint i, float b1, float b2) {
-  Triangle tri = triangles[i];
+// The surface of triangle `tri` at barycentrics (b1, b2).
+SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
   float b0 = 1.0f - b1 - b2;
   SurfaceHit s;
   s.p = tri.v0 * b0 + tri.v1 * b1 + tri.v2 * b2;
@@ -172,6 +171,10 @@ SurfaceHit triangle_surface(uint i, float b1, float b2) {
   s.emitter = tri.emitter;
   s.pad = 0.0f;
   return s;
+}
+
+SurfaceHit triangle_surface(uint i, float b1, float b2) {
+  return triangle_surface_of(triangles[i], b1, b2);
 }
 
 // The surface at a hit of the ray (o, d).
@@ -222,22 +225,31 @@ vec3 image_lookup(Texture t, vec3 q) {
   return mix(top, bottom, fy);
 }
 
-// Colour of texture `index` at a surface point.
+// Colour of texture `index` at a surface point. Reads only the fields a
+// texture's type needs: on lavapipe every 16 bytes loaded costs more than the
+// arithmetic around them, and most textures are constants.
 vec3 texture_eval(uint index, vec2 uv, vec3 p) {
-  Texture t = textures[index];
+  uvec4 info = textures[index].info;
   // A checker picks one of two textures; follow the picks (the loader bounds the nesting).
-  for (uint depth = 0u; depth < TEXTURE_MAX_NESTING && (t.info.x & TEX_TYPE_MASK) == TEX_CHECKER; ++depth) {
+  for (uint depth = 0u; depth < TEXTURE_MAX_NESTING && (info.x & TEX_TYPE_MASK) == TEX_CHECKER; ++depth) {
+    Texture t = textures[index];
     vec3 c = floor(texture_point(t, uv, p) * t.color0.w);
     int parity = (int(c.x) + int(c.y) + int(c.z)) & 1;
-    t = textures[parity == 0 ? t.info.y : t.info.z];
+    index = parity == 0 ? info.y : info.z;
+    info = textures[index].info;
   }
-  uint type = t.info.x & TEX_TYPE_MASK;
+  uint type = info.x & TEX_TYPE_MASK;
   if (type == TEX_MARBLE) {
+    Texture t = textures[index];
     float m = marble_pattern(texture_point(t, uv, p) * t.color0.w);
     return mix(vec3(t.color0.x, t.color0.y, t.color0.z), vec3(t.color1.x, t.color1.y, t.color1.z), m);
   }
-  if (type == TEX_IMAGE) return image_lookup(t, texture_point(t, uv, p));
-  return vec3(t.color0.x, t.color0.y, t.color0.z);
+  if (type == TEX_IMAGE) {
+    Texture t = textures[index];
+    return image_lookup(t, texture_point(t, uv, p));
+  }
+  vec4 c = textures[index].color0;
+  return vec3(c.x, c.y, c.z);
 }
 
 // ---- materials ---------------------------------------------------------------
@@ -260,9 +272,17 @@ float blend_amount(uint tex, SurfaceHit s, vec3 wo, bool front) {
   return clamp((c.x + c.y + c.z) * (1.0f / 3.0f), 0.0f, 1.0f);
 }
 
-// The BSDF at s seen from wo: blends flattened into weighted lobes (depth-first,
-// bounded: the loader allows at most BSDF_MAX_LOBES leaves per material),
-// textures looked up.
+// The lobe a non-blend material contributes, with the given weight.
+void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, SurfaceHit s, float w) {
+  b.lobeType[k] = m.info.x;
+  b.lobeColor[k] = m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+  b.lobeParam[k] = m.params.x;
+  b.lobeWeight[k] = w;
+}
+
+// The BSDF at s seen from wo: textures looked up, blends flattened into
+// weighted lobes (depth-first, bounded: the loader allows at most
+// BSDF_MAX_LOBES leaves per material).
 Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   Bsdf b;
   b.front = dot(s.ng, wo) >= 0.0f;
@@ -275,6 +295,13 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
     b.lobeParam[i] = 0.0f;
     b.lobeWeight[i] = 0.0f;
   }
+  Material m = materials[s.material];
+  if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter
+  if (m.info.x != MAT_BLEND) {  // the common case: one lobe
+    bsdf_set_lobe(b, 0u, m, s, 1.0f);
+    b.lobeCount = 1u;
+    return b;
+  }
   uint stackMaterial[BSDF_MAX_LOBES];
   float stackWeight[BSDF_MAX_LOBES];
   stackMaterial[0] = s.material;
@@ -283,7 +310,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   float total = 0.0f;
   for (uint iter = 0u; iter < 2u * BSDF_MAX_LOBES && sp > 0u; ++iter) {
     sp -= 1u;
-    Material m = materials[stackMaterial[sp]];
+    m = materials[stackMaterial[sp]];
     float w = stackWeight[sp];
     if (m.info.x == MAT_BLEND) {
       float amount = blend_amount(m.info.w, s, wo, b.front);
@@ -297,19 +324,17 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
       continue;
     }
     if (m.info.x == MAT_LIGHT || w <= 0.0f || b.lobeCount >= BSDF_MAX_LOBES) continue;
-    uint k = b.lobeCount;
-    b.lobeType[k] = m.info.x;
-    b.lobeColor[k] = m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
-    b.lobeParam[k] = m.params.x;
-    b.lobeWeight[k] = w;
-    b.lobeCount = k + 1u;
+    bsdf_set_lobe(b, b.lobeCount, m, s, w);
+    b.lobeCount += 1u;
     total += w;
   }
   // Weights are sampling probabilities: normalise them and move their sum into
   // the colours, so f is unchanged.
-  for (uint i = 0u; i < b.lobeCount; ++i) {
-    b.lobeWeight[i] /= total;
-    b.lobeColor[i] *= total;
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    if (i < b.lobeCount) {
+      b.lobeWeight[i] /= total;
+      b.lobeColor[i] *= total;
+    }
   }
   return b;
 }
@@ -487,9 +512,10 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     s = sphere_surface(i, ref + w * ds);
     ls.pdf = pmf * uniform_cone_pdf(cone);
   } else {
+    Triangle tri = triangles[e.prim];
     vec2 bary = square_to_triangle_barycentric(uv);
-    s = triangle_surface(e.prim, bary.x, bary.y);
-    ls.pdf = 0.0f;  // needs the distance: below
+    s = triangle_surface_of(tri, bary.x, bary.y);
+    ls.pdf = pmf / triangle_area(tri);  // per unit area; per solid angle below
   }
   vec3 d = s.p - ref;
   float dist2 = dot(d, d);
@@ -498,7 +524,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   ls.wi = d / ls.dist;
   float cosL = -dot(s.ng, ls.wi);
   if (cosL <= 0.0f) return false;  // back side: emits nothing
-  if ((e.prim & HIT_SPHERE_BIT) == 0u) ls.pdf = pmf / triangle_area(triangles[e.prim]) * dist2 / cosL;
+  if ((e.prim & HIT_SPHERE_BIT) == 0u) ls.pdf *= dist2 / cosL;
   ls.p = s.p;
   ls.n = s.ng;
   ls.radiance = emitted_radiance(s, -ls.wi);

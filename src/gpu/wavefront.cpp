@@ -196,8 +196,10 @@ struct WavefrontRenderer::Impl {
 
   vk::raii::Pipeline make_pipeline(Kernel k) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
-    vk::SpecializationMapEntry entry(0, 0, sizeof(uint32_t));  // constant 0: the workgroup size
-    vk::SpecializationInfo spec(1, &entry, sizeof(uint32_t), &settings.workgroupSize);
+    // Constant 0: the workgroup size; constant 1: the integrator (kernel.glsl).
+    const uint32_t values[2] = {settings.workgroupSize, scene.params.mode.x};
+    const vk::SpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)}, {1, sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo spec(2, entries, sizeof(values), values);
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
   }

@@ -47,6 +47,7 @@ struct SceneView : ShaderMath {
   const PointLight* pointLights = nullptr;
   const float* environmentCdf = nullptr;
 
+#define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: a specialization constant (kernel.glsl)
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
 };
