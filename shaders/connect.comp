@@ -1,6 +1,7 @@
 #version 460
 // Stage 4: shadow rays. An unoccluded segment adds its NEE contribution to its
-// path (each path has at most one shadow ray per bounce: no atomics needed).
+// path (each path has at most one shadow ray per bounce: no atomics needed;
+// connect_multi.comp handles several light samples per vertex).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 

@@ -10,16 +10,18 @@ void main() {
   if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
   uint path = queues[pc.queueIn * pc.capacity + i];
   PathState p = paths[path];
-  ShadowRay sr;
-  bool alive = path_shade(p, hits[path], sr);
+  ShadowRays srs;
+  bool alive = path_shade(p, hits[path], srs);
   paths[path] = p;
   if (alive) {
     uint queueOut = 1u - pc.queueIn;
     uint slot = atomicAdd(counters[COUNTER_QUEUE0 + queueOut], 1u);
     queues[queueOut * pc.capacity + slot] = path;
   }
-  if (sr.tmax > 0.0f) {
-    sr.path = path;
-    shadowRays[atomicAdd(counters[COUNTER_SHADOW], 1u)] = sr;
+  for (uint j = 0u; j < kLightSamples; ++j) {
+    if (srs.ray[j].tmax > 0.0f) {
+      srs.ray[j].path = path;
+      shadowRays[atomicAdd(counters[COUNTER_SHADOW], 1u)] = srs.ray[j];
+    }
   }
 }

@@ -60,6 +60,7 @@ struct RenderArgs {
   float focusDistance = -1.0f;  // (CS184 -d)
   std::string environment;      // environment map replacing the background (CS184 -e)
   std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
+  int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
 };
 
 // darts integrator names, as the scene file and --integrator spell them.
@@ -121,6 +122,7 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
   options.maxBounces = a.maxBounces;
   options.seed = seed;
   if (!a.integrator.empty()) options.integrator = integrator_named(a.integrator);
+  options.lightSamples = a.lightSamples;
   if (!a.adaptive.empty()) {
     double batch = a.adaptive[0], tolerance = a.adaptive[1];
     if (!(batch >= 1.0 && batch <= 65536.0 && batch == std::floor(batch)))
@@ -358,6 +360,9 @@ int main(int argc, char** argv) {
   render->add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
   render->add_option("-d,--focus-distance", r.focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
       ->check(CLI::PositiveNumber);
+  render->add_option("-l,--light-samples", r.lightSamples,
+                     "next-event-estimation samples per path vertex, 1 to " + std::to_string(MAX_LIGHT_SAMPLES) + " (CS184: -l)")
+      ->check(CLI::Range(1, int(MAX_LIGHT_SAMPLES)));
   render->add_option("-a,--adaptive", r.adaptive,
                      "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
       ->expected(2);

@@ -51,8 +51,8 @@ expect_error "missing texture image" 2 "no-such.png|no such file|/materials/0/al
 
 # CS184 users' short options are aliases of wavepath's own.
 rm -f "$work"/out.*
-"$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 -b 0.05 -d 4 --cpu --quiet && [ -s "$work/out.png" ]
-check "CS184 options -f -s -m -r -t -b -d are accepted" $?
+"$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 -b 0.05 -d 4 -l 2 -H --cpu --quiet && [ -s "$work/out.png" ]
+check "CS184 options -f -s -m -r -t -b -d -l -H are accepted" $?
 "$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 --cpu | grep -q "12x8, 2 spp, 1 max bounces"
 check "CS184 options take effect" $?
 expect_error "adaptive batch not whole" 2 "--adaptive|batch" -- "$wavepath" render "$data/furnace.json" -o "$out" --adaptive 2.5 0.05

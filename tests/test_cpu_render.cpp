@@ -120,5 +120,27 @@ TEST(AdaptiveSampling, SpendsSamplesWhereTheNoiseIs) {
   EXPECT_EQ(most, 256.0);   // some lit pixels never reach 5%
 }
 
+// Several light samples per vertex (CS184's -l) estimate the same image as
+// one, with the multi-sample MIS weights and with NEE alone.
+TEST(CpuRender, SeveralLightSamplesPerVertexAgreeWithOne) {
+  Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
+  for (IntegratorKind kind : {IntegratorKind::PathMis, IntegratorKind::PathNee}) {
+    RenderOptions o;
+    o.integrator = kind;
+    o.spp = 128;
+    o.seed = 1;
+    Progress quiet("", 0, false);
+    ImageStats one = render_cpu(compile_scene(scene, o), 0, quiet);
+    o.seed = 2;
+    o.lightSamples = 4;
+    ImageStats four = render_cpu(compile_scene(scene, o), 0, quiet);
+    CompareResult r = compare_images(four, one);
+    EXPECT_TRUE(r.passed()) << "4 light samples vs 1: " << r.summary();
+  }
+  RenderOptions bad;
+  bad.lightSamples = int(MAX_LIGHT_SAMPLES) + 1;
+  EXPECT_THROW(compile_scene(scene, bad), InputError);
+}
+
 }  // namespace
 }  // namespace wp::test

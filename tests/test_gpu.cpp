@@ -413,5 +413,22 @@ TEST_F(Gpu, AdaptiveSamplingMatchesTheCpuReference) {
   EXPECT_TRUE(r.passed()) << r.summary();
 }
 
+// Several light samples per vertex on the GPU (shadow rays of one path added
+// with float atomics) against the CPU reference.
+TEST_F(Gpu, SeveralLightSamplesPerVertexMatchTheCpuReference) {
+  ASSERT_TRUE(ctx_->info().floatAtomicAdd) << "lavapipe and the H100 both have VK_EXT_shader_atomic_float";
+  Scene scene = load_scene(source_path("tests/data/features/materials.json"));
+  RenderOptions o;
+  o.spp = 64;
+  o.lightSamples = 4;
+  o.seed = 1;
+  ImageStats gpu = render(compile_scene(scene, o));
+  o.seed = 2;
+  Progress quiet("", 0, false);
+  ImageStats cpu = render_cpu(compile_scene(scene, o), 0, quiet);
+  CompareResult r = compare_images(gpu, cpu);
+  EXPECT_TRUE(r.passed()) << r.summary();
+}
+
 }  // namespace
 }  // namespace wp::test

@@ -66,6 +66,13 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
   sr.pad = 0u;
 }
 
+// The shadow rays one path vertex may cast: one per light sample. On the GPU
+// the array has exactly the scene's light samples (a specialization
+// constant); in C++, MAX_LIGHT_SAMPLES.
+struct ShadowRays {
+  ShadowRay ray[LIGHT_SAMPLE_SLOTS];
+};
+
 // The normals and ambient-occlusion integrators: one hit, no paths.
 void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, float radianceScale) {
   if (INTEGRATOR_OF_SCENE == INTEGRATOR_NORMALS) {
@@ -86,11 +93,12 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, 
   sr.contribution = vec3(radianceScale);
 }
 
-// Accounts for what the path's ray hit and prepares the next bounce. Writes a
-// shadow ray (tmax > 0) when next-event estimation found a candidate. Returns
-// true while the path continues.
-bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
-  shadow_ray_none(sr);
+// Accounts for what the path's ray hit and prepares the next bounce. Writes
+// LIGHT_SAMPLES_OF_SCENE shadow rays, valid (tmax > 0) where next-event
+// estimation found a candidate. Returns true while the path continues.
+bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
+  uint lightSamples = LIGHT_SAMPLES_OF_SCENE;
+  for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) shadow_ray_none(srs.ray[j]);
   float radianceScale = planted_bias(p.pixel);
   uint mode = INTEGRATOR_OF_SCENE;  // equals scene.mode.x
   bool preview = mode == INTEGRATOR_NORMALS || mode == INTEGRATOR_AO;
@@ -103,7 +111,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
     if (scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this direction of the environment map.
       float lightPdf = emitters[scene.environment.y].pmf * environment_pdf(p.dir);
-      w = useMis ? power_heuristic(p.bsdfPdf, lightPdf) : 0.0f;
+      w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
     }
     p.radiance += p.throughput * background_radiance(p.dir) * (w * radianceScale);
     return false;
@@ -112,7 +120,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
   if (preview) {
-    shade_preview(p, s, b, sr, radianceScale);
+    shade_preview(p, s, b, srs.ray[0], radianceScale);
     return false;
   }
   uint depth = path_depth(p);
@@ -123,30 +131,35 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRay) sr) {
     float w = 1.0f;
     if ((p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this point too.
-      w = useMis ? power_heuristic(p.bsdfPdf, emitter_pdf(s.emitter, p.origin, s, p.dir, h.t)) : 0.0f;
+      float lightPdf = emitter_pdf(s.emitter, p.origin, s, p.dir, h.t);
+      w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
     }
     p.radiance += p.throughput * le * (w * radianceScale);
   }
   if (depth >= scene.image.z || b.lobeCount == 0u) return false;
   bool hasSmooth = bsdf_has_smooth_lobe(b);
 
-  // Next-event estimation: one point on one emitter, checked later by a shadow ray.
-  vec3 uLight = vec3(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+  // Next-event estimation: n points, each on one emitter, checked later by
+  // shadow rays; MIS counts the n light samples against the one BSDF sample
+  // (Veach's multi-sample power heuristic).
   LightSample ls;
-  if (useNee && hasSmooth && sample_emitter(s.p, uLight, ls)) {
+  for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
+    if (j >= lightSamples) break;
+    vec3 uLight = vec3(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+    if (!(useNee && hasSmooth && sample_emitter(s.p, uLight, ls))) continue;
     vec3 f = bsdf_eval(b, wo, ls.wi);
-    if (ls.pdf > 0.0f && (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f)) {
-      float w = useMis && ls.isDelta == 0u ? power_heuristic(ls.pdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
-      sr.contribution = p.throughput * f * ls.radiance * (w * radianceScale / ls.pdf);
-      sr.origin = offset_ray(s.p, b.ng);
-      if (ls.dist == WP_INF) {  // the environment: an unbounded ray
-        sr.dir = ls.wi;
-        sr.tmax = WP_INF;
-      } else {
-        vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
-        sr.dir = target - sr.origin;
-        sr.tmax = 1.0f;
-      }
+    if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
+    float nPdf = float(lightSamples) * ls.pdf;
+    float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
+    srs.ray[j].contribution = p.throughput * f * ls.radiance * (w * radianceScale / nPdf);
+    srs.ray[j].origin = offset_ray(s.p, b.ng);
+    if (ls.dist == WP_INF) {  // the environment: an unbounded ray
+      srs.ray[j].dir = ls.wi;
+      srs.ray[j].tmax = WP_INF;
+    } else {
+      vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
+      srs.ray[j].dir = target - srs.ray[j].origin;
+      srs.ray[j].tmax = 1.0f;
     }
   }
 

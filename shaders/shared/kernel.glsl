@@ -8,6 +8,12 @@
 // C++ reads it from the scene (integrator.glsl: INTEGRATOR_OF_SCENE).
 layout(constant_id = 1) const uint kIntegrator = INTEGRATOR_PATH;
 #define INTEGRATOR_OF_SCENE kIntegrator
+// Light samples per vertex (scene.mode.w), specialization constant 2, so the
+// usual single sample compiles to straight-line code.
+layout(constant_id = 2) const uint kLightSamples = 1u;
+#define LIGHT_SAMPLES_OF_SCENE kLightSamples
+// The shadow-ray array of a vertex is sized by it too: one slot, as a rule.
+#define LIGHT_SAMPLE_SLOTS kLightSamples
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"

@@ -162,9 +162,12 @@ struct SceneParams {
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
   vec4 debug;        // x: radiance scale inside debugRegion (1 unless a bias is planted); y: AO ray length
   uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
-  uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata)
+  uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
 };
+
+// Most next-event-estimation samples per path vertex (CS184's -l).
+#define MAX_LIGHT_SAMPLES 8u
 
 // SceneParams.mode.y: how camera samples are placed.
 #define SAMPLER_INDEPENDENT 0u

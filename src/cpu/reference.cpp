@@ -19,6 +19,7 @@ ImageStats render_cpu(const CompiledScene& cs, int threads, Progress& progress) 
   const uint32_t spp = uint32_t(cs.spp);
   const uint32_t maxBounces = cs.params.image.z;
   const AdaptiveSampling adaptive = cs.adaptive;
+  const uint32_t lightSamples = std::max(1u, cs.params.mode.w);
 
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
@@ -37,9 +38,11 @@ ImageStats render_cpu(const CompiledScene& cs, int threads, Progress& progress) 
               ++localTruncated;
               h.prim = WP_INVALID;
             }
-            ShadowRay sr;
-            bool alive = view.path_shade(p, h, sr);
-            if (sr.tmax > 0.0f) {
+            SceneView::ShadowRays srs;
+            bool alive = view.path_shade(p, h, srs);
+            for (uint32_t j = 0; j < lightSamples; ++j) {
+              const ShadowRay& sr = srs.ray[j];
+              if (sr.tmax <= 0.0f) continue;
               Hit sh;
               if (view.trace_ray(sr.origin, sr.dir, sr.tmax, true, sh) != TRACE_OK) ++localTruncated;
               else if (sh.prim == WP_INVALID) p.radiance += sr.contribution;

@@ -165,6 +165,21 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
   float priority = 1.0f;
   vk::DeviceQueueCreateInfo qci({}, queueFamily_, 1, &priority);
   vk::DeviceCreateInfo dci({}, qci);
+  // Float atomic adds on storage buffers, where the device has them: several
+  // light samples per vertex add to one path's radiance (connect_multi.comp).
+  std::vector<const char*> extensions;
+  vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT atomicFloat;
+  for (const vk::ExtensionProperties& e : physical_->enumerateDeviceExtensionProperties()) {
+    if (std::string(e.extensionName.data()) != VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) continue;
+    auto chain = physical_->getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>();
+    if (chain.get<vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>().shaderBufferFloat32AtomicAdd) {
+      atomicFloat.shaderBufferFloat32AtomicAdd = VK_TRUE;
+      extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+      dci.pNext = &atomicFloat;
+      info_.floatAtomicAdd = true;
+    }
+  }
+  dci.setPEnabledExtensionNames(extensions);
   device_ = std::make_unique<vk::raii::Device>(*physical_, dci);
   queue_ = *device_->getQueue(queueFamily_, 0);
   pool_ = std::make_unique<vk::raii::CommandPool>(

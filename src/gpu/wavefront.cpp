@@ -9,6 +9,7 @@
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
 #include "accumulate.spv.h"
 #include "connect.spv.h"
+#include "connect_multi.spv.h"
 #include "extend.spv.h"
 #include "generate.spv.h"
 #include "prepare.spv.h"
@@ -74,6 +75,7 @@ struct WavefrontRenderer::Impl {
   const CompiledScene& scene;
   WavefrontSettings settings;
   uint32_t capacity = 0;  // path slots per wave
+  uint32_t lightSamples = 1;  // shadow rays per path and bounce, at most
   std::vector<std::unique_ptr<Buffer>> buffers;  // indexed by BINDING_*
   std::unique_ptr<Buffer> readAccum;
   std::unique_ptr<Buffer> readCounters;
@@ -101,8 +103,12 @@ struct WavefrontRenderer::Impl {
     if (settings.workgroupSize == 0 || settings.workgroupSize > ctx.info().maxComputeWorkGroupInvocations) {
       throw RenderError("workgroup size " + std::to_string(settings.workgroupSize) + " is not supported by " + ctx.info().name);
     }
+    // Each path may cast one shadow ray per light sample: their buffer and
+    // their dispatch bound the paths per wave too.
+    lightSamples = std::max(1u, scene.params.mode.w);
     capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, maxRange / sizeof(shader::PathState),
-                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize});
+                                   maxRange / (sizeof(shader::ShadowRay) * lightSamples),
+                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples});
     create_buffers(pixels, maxRange);
     create_pipelines();
     commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
@@ -176,7 +182,7 @@ struct WavefrontRenderer::Impl {
     add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
     add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
     add_work(BINDING_QUEUES, uint64_t(capacity) * 2 * sizeof(uint32_t));
-    add_work(BINDING_SHADOW_RAYS, uint64_t(capacity) * sizeof(shader::ShadowRay));
+    add_work(BINDING_SHADOW_RAYS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, 6 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
     uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
@@ -197,9 +203,11 @@ struct WavefrontRenderer::Impl {
   vk::raii::Pipeline make_pipeline(Kernel k) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // Constant 0: the workgroup size; constant 1: the integrator (kernel.glsl).
-    const uint32_t values[2] = {settings.workgroupSize, scene.params.mode.x};
-    const vk::SpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)}, {1, sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo spec(2, entries, sizeof(values), values);
+    // Constant 2: light samples per vertex.
+    const uint32_t values[3] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w};
+    const vk::SpecializationMapEntry entries[3] = {
+        {0, 0, sizeof(uint32_t)}, {1, sizeof(uint32_t), sizeof(uint32_t)}, {2, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo spec(3, entries, sizeof(values), values);
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
   }
@@ -228,7 +236,15 @@ struct WavefrontRenderer::Impl {
     prepare = make_pipeline(kernel(prepare_spv));
     extend = make_pipeline(kernel(extend_spv));
     shade = make_pipeline(kernel(shade_spv));
-    connect = make_pipeline(kernel(connect_spv));
+    if (scene.params.mode.w > 1u) {
+      if (!ctx.info().floatAtomicAdd) {
+        throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
+                          std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
+      }
+      connect = make_pipeline(kernel(connect_multi_spv));
+    } else {
+      connect = make_pipeline(kernel(connect_spv));
+    }
     accumulate = make_pipeline(kernel(accumulate_spv));
     raycast = make_pipeline(kernel(raycast_spv));
     texprobe = make_pipeline(kernel(texprobe_spv));

@@ -340,7 +340,12 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
                      "): use \"path tracer mis\"");
   }
   SamplerKind sampler = options.sampler ? *options.sampler : scene.sampler;
-  p.mode = glm::uvec4(mode, sampler == SamplerKind::Cmj ? SAMPLER_CMJ : SAMPLER_INDEPENDENT, uint32_t(out.spp), 0u);
+  if (options.lightSamples < 1 || uint32_t(options.lightSamples) > MAX_LIGHT_SAMPLES) {
+    throw InputError("light samples per vertex must lie in [1, " + std::to_string(MAX_LIGHT_SAMPLES) + "], got " +
+                     std::to_string(options.lightSamples));
+  }
+  p.mode = glm::uvec4(mode, sampler == SamplerKind::Cmj ? SAMPLER_CMJ : SAMPLER_INDEPENDENT, uint32_t(out.spp),
+                      uint32_t(options.lightSamples));
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
   p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
   p.debugRegion = options.plantedRegion;

@@ -29,6 +29,7 @@ struct RenderOptions {
   float plantedBias = 1.0f;
   glm::uvec4 plantedRegion{0u, 0u, ~0u, ~0u};
   AdaptiveSampling adaptive;  // off unless batch > 0
+  int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;

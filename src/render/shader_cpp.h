@@ -47,7 +47,9 @@ struct SceneView : ShaderMath {
   const PointLight* pointLights = nullptr;
   const float* environmentCdf = nullptr;
 
-#define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: a specialization constant (kernel.glsl)
+#define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: specialization constants (kernel.glsl)
+#define LIGHT_SAMPLES_OF_SCENE scene.mode.w
+#define LIGHT_SAMPLE_SLOTS MAX_LIGHT_SAMPLES
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
 };
