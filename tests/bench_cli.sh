@@ -42,6 +42,14 @@ check "plot_bench.py draws the render and ray-casting charts" $([ -s "$work/plot
 "$plot" "$work/out" >/dev/null 2>"$work/err"
 check "plot_bench.py on a file that is not JSON: exit 2" $([ $? -eq 2 ] && grep -q "plot_bench: error" "$work/err"; echo $?)
 
+# Sampler convergence: RMSE rows for both samplers, and their chart.
+"$wavepath" convergence "$data/features/materials.json" --integrator normals -r 16 12 --max-spp 8 --reference-spp 64 \
+  --csv "$work/conv.csv" >"$work/out" 2>&1
+check "convergence writes a row per sampler and sample count" $([ $? -eq 0 ] && [ "$(wc -l <"$work/conv.csv")" -eq 9 ] &&
+  grep -q "^cmj,8," "$work/conv.csv"; echo $?)
+"$(dirname "$0")/../scripts/plot_convergence.py" "$work/conv.csv" --out "$work/conv.png"
+check "plot_convergence.py draws the chart" $([ -s "$work/conv.png" ]; echo $?)
+
 "$wavepath" bench --variants gpu-wg7 >"$work/out" 2>"$work/err"
 check "unknown variant: exit 2, one line" $([ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "gpu-wg7" "$work/err"; echo $?)
 "$wavepath" bench --scenes "$data/bad-unknown-key.json" >"$work/out" 2>"$work/err"
