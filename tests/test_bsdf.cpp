@@ -17,7 +17,7 @@ struct Lobe {
   float weight;
 };
 
-ShaderMath::Bsdf make_bsdf(glm::vec3 n, std::initializer_list<Lobe> lobes, bool front = true) {
+ShaderMath::Bsdf make_bsdf(glm::vec3 n, const std::vector<Lobe>& lobes, bool front = true) {
   ShaderMath::Bsdf b{};
   b.ns = n;
   b.ng = n;
@@ -55,16 +55,23 @@ const std::vector<Config>& smooth_configs() {
   return configs;
 }
 
+// One bsdf_sample call with four fresh random numbers from `state`.
+struct Sample {
+  glm::vec3 weight;
+  glm::vec3 wi;
+  float pdf;
+  bool isDelta;
+};
+Sample sample_of(const ShaderMath::Bsdf& b, glm::vec3 wo, uint32_t& state) {
+  ShaderMath m;
+  glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
+  Sample r{};
+  r.weight = m.bsdf_sample(b, wo, u, r.wi, r.pdf, r.isDelta);
+  return r;
+}
+
 ShaderMath::Bsdf bsdf_of(const Config& c, glm::vec3 n) {
-  ShaderMath::Bsdf b = make_bsdf(n, {});
-  for (const Lobe& l : c.lobes) {
-    b.lobeType[b.lobeCount] = l.type;
-    b.lobeColor[b.lobeCount] = l.color;
-    b.lobeParam[b.lobeCount] = l.param;
-    b.lobeWeight[b.lobeCount] = l.weight;
-    ++b.lobeCount;
-  }
-  return b;
+  return make_bsdf(n, c.lobes);
 }
 
 // Normal and incident direction pairs: normal incidence, oblique, grazing,
@@ -85,12 +92,34 @@ const double kLevel = sidak(0.01, kChi2Tests);
 
 glm::vec3 unit(glm::vec3 v) { return glm::normalize(v); }
 
+// Chi-square of the directions `sampled` produces from wo against the pdf
+// `claimed` reports (the same BSDF, unless an error is planted).
+Chi2Result lobe_chi2(const ShaderMath::Bsdf& sampled, const ShaderMath::Bsdf& claimed, glm::vec3 wo, uint32_t seed) {
+  ShaderMath m;
+  uint32_t extra = m.rng_seed(seed, 1u, 2u);  // a stream unrelated to the harness's
+  DirectionalChi2 chi;
+  chi.thetaRes = 48;
+  chi.phiRes = 96;
+  chi.integrationRes = 10;
+  return chi.run(
+      kChi2Samples,
+      [&](glm::vec2 u, bool& ok) {
+        glm::vec4 u4(u.x, u.y, m.rng_next(extra), m.rng_next(extra));
+        glm::vec3 wi;
+        float pdf;
+        bool isDelta;
+        glm::vec3 w = m.bsdf_sample(sampled, wo, u4, wi, pdf, isDelta);
+        ok = pdf > 0.0f && !isDelta && (w.x > 0.0f || w.y > 0.0f || w.z > 0.0f);
+        return wi;
+      },
+      [&](glm::vec3 wi) { return double(m.bsdf_pdf(claimed, wo, wi)); }, seed);
+}
+
 std::string str(glm::vec3 v) {
   return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
 }
 
 TEST(Bsdf, EverySmoothLobeSamplesItsPdf) {
-  ShaderMath m;
   ASSERT_EQ(smooth_configs().size() * std::size(kGeometries), size_t(kChi2Tests));
   uint32_t seed = 100;
   for (const Config& c : smooth_configs()) {
@@ -99,23 +128,7 @@ TEST(Bsdf, EverySmoothLobeSamplesItsPdf) {
       glm::vec3 wo = unit(g.wo);
       if (glm::dot(wo, n) <= 0.0f) wo = -wo;
       ShaderMath::Bsdf b = bsdf_of(c, n);
-      uint32_t extra = m.rng_seed(seed, 1u, 2u);  // a stream unrelated to the harness's
-      DirectionalChi2 chi;
-      chi.thetaRes = 48;
-      chi.phiRes = 96;
-      chi.integrationRes = 10;
-      Chi2Result r = chi.run(
-          kChi2Samples,
-          [&](glm::vec2 u, bool& ok) {
-            glm::vec4 u4(u.x, u.y, m.rng_next(extra), m.rng_next(extra));
-            glm::vec3 wi;
-            float pdf;
-            bool isDelta;
-            glm::vec3 w = m.bsdf_sample(b, wo, u4, wi, pdf, isDelta);
-            ok = pdf > 0.0f && !isDelta && (w.x > 0.0f || w.y > 0.0f || w.z > 0.0f);
-            return wi;
-          },
-          [&](glm::vec3 wi) { return double(m.bsdf_pdf(b, wo, wi)); }, seed++);
+      Chi2Result r = lobe_chi2(b, b, wo, seed++);
       EXPECT_TRUE(r.problem.empty()) << c.name << ": " << r.problem;
       EXPECT_GT(r.pValue, kLevel) << c.name << ", n = " << str(n) << ", wo = " << str(wo)
                                   << ": chi2 = " << r.statistic << " with " << r.dof << " dof";
@@ -125,27 +138,11 @@ TEST(Bsdf, EverySmoothLobeSamplesItsPdf) {
 
 // A lobe whose pdf is off by 5% in its exponent must fail the same test.
 TEST(Bsdf, ChiSquareCatchesAPlantedExponentError) {
-  ShaderMath m;
   glm::vec3 n(0, 0, 1);
   glm::vec3 wo = unit(glm::vec3(0.3f, 0.0f, 0.9f));
   ShaderMath::Bsdf sampled = make_bsdf(n, {{MAT_PHONG, glm::vec3(1.0f), 40.0f, 1.0f}});
   ShaderMath::Bsdf claimed = make_bsdf(n, {{MAT_PHONG, glm::vec3(1.0f), 42.0f, 1.0f}});
-  uint32_t extra = m.rng_seed(3u, 1u, 2u);
-  DirectionalChi2 chi;
-  chi.thetaRes = 48;
-  chi.phiRes = 96;
-  chi.integrationRes = 10;
-  Chi2Result r = chi.run(
-      kChi2Samples,
-      [&](glm::vec2 u, bool& ok) {
-        glm::vec3 wi;
-        float pdf;
-        bool isDelta;
-        m.bsdf_sample(sampled, wo, glm::vec4(u.x, u.y, m.rng_next(extra), m.rng_next(extra)), wi, pdf, isDelta);
-        ok = pdf > 0.0f;
-        return wi;
-      },
-      [&](glm::vec3 wi) { return double(m.bsdf_pdf(claimed, wo, wi)); }, 4);
+  Chi2Result r = lobe_chi2(sampled, claimed, wo, 4);
   EXPECT_LT(r.pValue, kLevel) << "a 5% error in the Phong exponent was not detected";
 }
 
@@ -161,17 +158,13 @@ TEST(Bsdf, SmoothLobesConserveEnergyAndWeightIsEvalOverPdf) {
       double sum = 0.0;
       const int samples = 16384;
       for (int s = 0; s < samples; ++s) {
-        glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
-        glm::vec3 wi;
-        float pdf;
-        bool isDelta;
-        glm::vec3 weight = m.bsdf_sample(b, wo, u, wi, pdf, isDelta);
-        ASSERT_FALSE(isDelta) << c.name;
-        ASSERT_TRUE(std::isfinite(weight.x)) << c.name;
-        if (pdf <= 0.0f) continue;
-        glm::vec3 ratio = m.bsdf_eval(b, wo, wi) / pdf;
-        ASSERT_NEAR(ratio.x, weight.x, 1e-3f * std::max(1.0f, weight.x)) << c.name;
-        sum += weight.x;
+        Sample r = sample_of(b, wo, state);
+        ASSERT_FALSE(r.isDelta) << c.name;
+        ASSERT_TRUE(std::isfinite(r.weight.x)) << c.name;
+        if (r.pdf <= 0.0f) continue;
+        glm::vec3 ratio = m.bsdf_eval(b, wo, r.wi) / r.pdf;
+        ASSERT_NEAR(ratio.x, r.weight.x, 1e-3f * std::max(1.0f, r.weight.x)) << c.name;
+        sum += r.weight.x;
       }
       EXPECT_LT(sum / samples, 1.01) << c.name << ", direction " << d;
     }
@@ -233,13 +226,10 @@ TEST(Bsdf, DielectricReflectsWithFresnelProbabilityAndRefractsBySnell) {
       int reflected = 0;
       const int samples = 200000;
       for (int s = 0; s < samples; ++s) {
-        glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
-        glm::vec3 wi;
-        float pdf;
-        bool isDelta;
-        glm::vec3 w = m.bsdf_sample(b, wo, u, wi, pdf, isDelta);
-        ASSERT_TRUE(isDelta);
-        ASSERT_EQ(w, glm::vec3(1.0f));
+        Sample r = sample_of(b, wo, state);
+        glm::vec3 wi = r.wi;
+        ASSERT_TRUE(r.isDelta);
+        ASSERT_EQ(r.weight, glm::vec3(1.0f));
         ASSERT_NEAR(glm::length(wi), 1.0f, 1e-5f);
         if (wi.z > 0.0f) {
           ++reflected;
@@ -280,7 +270,6 @@ TEST(Bsdf, MirrorMetalReflectsExactlyAndHasNoDensity) {
 // A blend of a delta and a smooth lobe: the delta lobe is taken with its
 // weight's probability, and eval / pdf see only the smooth part.
 TEST(Bsdf, BlendOfDeltaAndSmoothLobesPicksEachByWeight) {
-  ShaderMath m;
   glm::vec3 n(0, 0, 1);
   glm::vec3 wo = unit(glm::vec3(0.3f, 0.1f, 0.9f));
   ShaderMath::Bsdf b = make_bsdf(n, {{MAT_LAMBERTIAN, glm::vec3(0.5f), 0.0f, 0.7f}, {MAT_METAL, glm::vec3(1.0f), 0.0f, 0.3f}});
@@ -289,16 +278,13 @@ TEST(Bsdf, BlendOfDeltaAndSmoothLobesPicksEachByWeight) {
   const int samples = 100000;
   double smoothWeight = 0.0;
   for (int s = 0; s < samples; ++s) {
-    glm::vec3 wi;
-    float pdf;
-    bool isDelta;
-    glm::vec3 w = m.bsdf_sample(b, wo, glm::vec4(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state)), wi, pdf, isDelta);
-    if (isDelta) {
+    Sample r = sample_of(b, wo, state);
+    if (r.isDelta) {
       ++delta;
-      ASSERT_EQ(w, glm::vec3(1.0f));
+      ASSERT_EQ(r.weight, glm::vec3(1.0f));
     } else {
-      ASSERT_NEAR(pdf, 0.7f * glm::dot(wi, n) / float(M_PI), 1e-5f);
-      smoothWeight += w.x;
+      ASSERT_NEAR(r.pdf, 0.7f * glm::dot(r.wi, n) / float(M_PI), 1e-5f);
+      smoothWeight += r.weight.x;
     }
   }
   double sd = std::sqrt(0.3 * 0.7 / samples);

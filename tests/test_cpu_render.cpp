@@ -102,10 +102,7 @@ TEST(AdaptiveSampling, StopsWhenTheConfidenceIntervalIsWithinTolerance) {
 // batches or the maximum.
 TEST(AdaptiveSampling, SpendsSamplesWhereTheNoiseIs) {
   Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
-  RenderOptions o;
-  o.spp = 256;
-  o.adaptive.batch = 32;
-  o.adaptive.tolerance = 0.05f;
+  RenderOptions o = adaptive_options(256);
   Progress quiet("", 0, false);
   CompiledScene cs = compile_scene(scene, o);
   ImageStats img = render_cpu(cs, 0, quiet);

@@ -390,10 +390,7 @@ TEST_F(Gpu, TextureLookupsMatchTheCpuCode) {
 // way) and estimates the same image.
 TEST_F(Gpu, AdaptiveSamplingMatchesTheCpuReference) {
   Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
-  RenderOptions o;
-  o.spp = 256;
-  o.adaptive.batch = 32;
-  o.adaptive.tolerance = 0.05f;
+  RenderOptions o = adaptive_options(256);
   o.seed = 5;
   CompiledScene cs = compile_scene(scene, o);
   ImageStats gpu = render(cs);

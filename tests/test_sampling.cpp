@@ -145,7 +145,9 @@ TEST(Sampling, EmitterSamplingMatchesItsDirectionalDensity) {
         [&](glm::vec2 u, bool& ok) {
           SceneView::LightSample ls;
           ok = view.sample_emitter(ref, glm::vec3(view.rng_next(extra), u.x, u.y), ls);
-          if (ok) EXPECT_NEAR(ls.pdf, view.emitters_pdf_direction(ref, ls.wi), 2e-3f * ls.pdf);
+          if (ok) {
+            EXPECT_NEAR(ls.pdf, view.emitters_pdf_direction(ref, ls.wi), 2e-3f * ls.pdf);
+          }
           return ok ? ls.wi : glm::vec3(0, 0, 1);
         },
         [&](glm::vec3 w) { return double(view.emitters_pdf_direction(ref, w)); }, seed++);
@@ -175,7 +177,9 @@ TEST(Sampling, CorrelatedMultiJitteredPatternsAreStratifiedAndUniform) {
         ASSERT_EQ(ys[k], 1) << "y stratum " << k << " of " << count;
         // With count = m * n exactly, the x projection is stratified too.
         uint32_t mm = std::max(1u, uint32_t(std::sqrt(float(count))));
-        if (count % mm == 0) ASSERT_EQ(xs[k], 1) << "x stratum " << k << " of " << count;
+        if (count % mm == 0) {
+          ASSERT_EQ(xs[k], 1) << "x stratum " << k << " of " << count;
+        }
       }
     }
   }

@@ -234,6 +234,16 @@ inline void expect_mean(const ImageStats& img, double expected, const char* what
 // Inside a closed box whose walls have albedo 0.5 and emit 0.5, paths of at
 // most D bounces see exactly 1 - 0.5^(D+1), for every integrator. Runs that
 // check with `render` for several depths and each integrator.
+// CS184's adaptive sampling as its pathtracer defaults it: batches of 32,
+// tolerance 5%, at most `spp` samples.
+inline RenderOptions adaptive_options(int spp) {
+  RenderOptions o;
+  o.spp = spp;
+  o.adaptive.batch = 32;
+  o.adaptive.tolerance = 0.05f;
+  return o;
+}
+
 inline void expect_furnace_is_analytic(const std::function<ImageStats(const CompiledScene&)>& render) {
   // Not "path tracer nee": at the box's edges, light samples on the adjacent
   // wall carry cos * cos / d^2 without bound, so NEE alone has infinite variance

@@ -168,9 +168,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   vec4 uBsdf = vec4(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
   float uStrategy = rng_next(p.rng);
   vec3 wi;
-  float pdf;
+  float pdf = 0.0f;
   bool isDelta;
-  vec3 weight;
+  vec3 weight = vec3(0.0f);
   float lightProb = mixture && hasSmooth && scene.counts.x > 0u ? 0.5f : 0.0f;
   if (uStrategy < lightProb) {
     if (!sample_emitter(s.p, vec3(uBsdf.x, uBsdf.y, uBsdf.z), ls) || ls.isDelta != 0u) return false;
