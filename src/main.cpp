@@ -63,20 +63,6 @@ struct RenderArgs {
   int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
 };
 
-// darts integrator names, as the scene file and --integrator spell them.
-IntegratorKind integrator_named(const std::string& name) {
-  static const std::pair<const char*, IntegratorKind> kNames[] = {
-      {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
-      {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
-      {"path tracer hemisphere", IntegratorKind::PathHemisphere},
-      {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion}};
-  for (const auto& [n, kind] : kNames) {
-    if (name == n) return kind;
-  }
-  throw InputError("--integrator: unknown integrator \"" + name +
-                   "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture or path tracer hemisphere)");
-}
-
 // CS184 writes the sample-rate image of out.png as out_rate.png.
 std::string rate_image_path(const std::string& out) {
   std::filesystem::path p(out);
@@ -121,7 +107,10 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
   options.spp = a.spp;
   options.maxBounces = a.maxBounces;
   options.seed = seed;
-  if (!a.integrator.empty()) options.integrator = integrator_named(a.integrator);
+  if (!a.integrator.empty()) {
+    options.integrator = integrator_named(a.integrator);
+    if (!options.integrator) throw InputError("--integrator: unknown integrator \"" + a.integrator + "\" (expected " + kIntegratorNames + ")");
+  }
   options.lightSamples = a.lightSamples;
   if (!a.adaptive.empty()) {
     double batch = a.adaptive[0], tolerance = a.adaptive[1];
@@ -131,9 +120,10 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
     options.adaptive.batch = int(batch);
     options.adaptive.tolerance = float(tolerance);
   }
-  if (a.sampler == "cmj") options.sampler = SamplerKind::Cmj;
-  else if (a.sampler == "independent") options.sampler = SamplerKind::Independent;
-  else if (!a.sampler.empty()) throw InputError("--sampler: unknown sampler \"" + a.sampler + "\" (expected independent or cmj)");
+  if (!a.sampler.empty()) {
+    options.sampler = sampler_named(a.sampler);
+    if (!options.sampler) throw InputError("--sampler: unknown sampler \"" + a.sampler + "\" (expected independent or cmj)");
+  }
   return options;
 }
 

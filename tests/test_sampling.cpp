@@ -58,31 +58,32 @@ TEST(Sampling, TriangleBarycentricsAreUniform) {
   expect_fit(r, "triangle barycentrics");
 }
 
+// A warp from the square to directions against its pdf.
+Chi2Result direction_chi2(const std::function<glm::vec3(glm::vec2)>& warp, const std::function<double(glm::vec3)>& pdf,
+                          uint32_t seed) {
+  DirectionalChi2 chi;
+  return chi.run(kSamples, [&](glm::vec2 u, bool&) { return warp(u); }, pdf, seed);
+}
+
 TEST(Sampling, CosineHemisphereMatchesPdf) {
   ShaderMath m;
-  DirectionalChi2 chi;
-  auto r = chi.run(
-      kSamples, [&](glm::vec2 u, bool&) { return m.square_to_cosine_hemisphere(u); },
-      [&](glm::vec3 w) { return double(m.square_to_cosine_hemisphere_pdf(w)); }, 3);
-  expect_fit(r, "cosine hemisphere");
+  expect_fit(direction_chi2([&](glm::vec2 u) { return m.square_to_cosine_hemisphere(u); },
+                            [&](glm::vec3 w) { return double(m.square_to_cosine_hemisphere_pdf(w)); }, 3),
+             "cosine hemisphere");
 }
 
 TEST(Sampling, UniformHemisphereMatchesPdf) {
   ShaderMath m;
-  DirectionalChi2 chi;
-  auto r = chi.run(
-      kSamples, [&](glm::vec2 u, bool&) { return m.square_to_uniform_hemisphere(u); },
-      [&](glm::vec3 w) { return double(m.square_to_uniform_hemisphere_pdf(w)); }, 7);
-  expect_fit(r, "uniform hemisphere");
+  expect_fit(direction_chi2([&](glm::vec2 u) { return m.square_to_uniform_hemisphere(u); },
+                            [&](glm::vec3 w) { return double(m.square_to_uniform_hemisphere_pdf(w)); }, 7),
+             "uniform hemisphere");
 }
 
 TEST(Sampling, UniformSphereMatchesPdf) {
   ShaderMath m;
-  DirectionalChi2 chi;
-  auto r = chi.run(
-      kSamples, [&](glm::vec2 u, bool&) { return m.square_to_uniform_sphere(u); },
-      [&](glm::vec3 w) { return double(m.square_to_uniform_sphere_pdf(w)); }, 4);
-  expect_fit(r, "uniform sphere");
+  expect_fit(direction_chi2([&](glm::vec2 u) { return m.square_to_uniform_sphere(u); },
+                            [&](glm::vec3 w) { return double(m.square_to_uniform_sphere_pdf(w)); }, 4),
+             "uniform sphere");
 }
 
 // The same harness must reject a warp whose pdf is wrong: cosine-distributed

@@ -211,11 +211,6 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   return true;
 }
 
-// Luminance (Rec. 709), the "illuminance" of CS184's adaptive sampling.
-float illuminance(vec3 l) {
-  return 0.2126f * l.x + 0.7152f * l.y + 0.0722f * l.z;
-}
-
 bool radiance_is_finite(vec3 l) {
   return !(isnan(l.x) || isnan(l.y) || isnan(l.z) || isinf(l.x) || isinf(l.y) || isinf(l.z));
 }

@@ -124,6 +124,12 @@ float mixture_pdf(float pdfA, float pdfB, float probA) {
   return probA * pdfA + (1.0f - probA) * pdfB;
 }
 
+// Luminance (Rec. 709): weighs emitters and environment texels for sampling,
+// and is the "illuminance" of CS184's adaptive sampling.
+float illuminance(vec3 l) {
+  return 0.2126f * l.x + 0.7152f * l.y + 0.0722f * l.z;
+}
+
 // Power heuristic with beta = 2 (Veach).
 float power_heuristic(float pdfA, float pdfB) {
   float a = pdfA * pdfA;

@@ -135,9 +135,8 @@ vec2 sphere_uv(vec3 pl) {
   return vec2(phi * (0.5f * WP_INV_PI), theta * WP_INV_PI);
 }
 
-// The surface of sphere i nearest to world point pw (reprojected onto it).
-SurfaceHit sphere_surface(uint i, vec3 pw) {
-  Sphere sp = spheres[i];
+// The surface of sphere `sp` nearest to world point pw (reprojected onto it).
+SurfaceHit sphere_surface_of(Sphere sp, vec3 pw) {
   vec3 pl = normalize(xform_point(sp.toObject0, sp.toObject1, sp.toObject2, pw));
   SurfaceHit s;
   s.p = xform_point(sp.toWorld0, sp.toWorld1, sp.toWorld2, pl);
@@ -148,6 +147,10 @@ SurfaceHit sphere_surface(uint i, vec3 pw) {
   s.emitter = sp.emitter;
   s.pad = 0.0f;
   return s;
+}
+
+SurfaceHit sphere_surface(uint i, vec3 pw) {
+  return sphere_surface_of(spheres[i], pw);
 }
 
 // The surface of triangle `tri` at barycentrics (b1, b2).
@@ -494,10 +497,10 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   }
   SurfaceHit s;
   if ((e.prim & HIT_SPHERE_BIT) != 0u) {
-    uint i = e.prim & ~HIT_SPHERE_BIT;
+    Sphere sp = spheres[e.prim & ~HIT_SPHERE_BIT];
     vec3 c;
     float r;
-    float cone = sphere_cone(spheres[i], ref, c, r);
+    float cone = sphere_cone(sp, ref, c, r);
     if (cone <= 0.0f) return false;
     vec3 axis = normalize(c - ref);
     vec3 t;
@@ -509,7 +512,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     float dc = length(c - ref);
     float sin2 = max(0.0f, 1.0f - local.z * local.z);
     float ds = dc * local.z - sqrt(max(0.0f, r * r - dc * dc * sin2));
-    s = sphere_surface(i, ref + w * ds);
+    s = sphere_surface_of(sp, ref + w * ds);
     ls.pdf = pmf * uniform_cone_pdf(cone);
   } else {
     Triangle tri = triangles[e.prim];
@@ -551,13 +554,13 @@ float emitters_pdf_direction(vec3 ref, vec3 wi) {
       vec3 ol = xform_point(sp.toObject0, sp.toObject1, sp.toObject2, ref);
       vec3 dl = xform_vector(sp.toObject0, sp.toObject1, sp.toObject2, wi);
       if (!intersect_unit_sphere(ol, dl, WP_INF, t)) continue;
-      s = sphere_surface(e.prim & ~HIT_SPHERE_BIT, ref + wi * t);
+      s = sphere_surface_of(sp, ref + wi * t);
     } else {
       Triangle tri = triangles[e.prim];
       float b1;
       float b2;
       if (!intersect_triangle(ref, sh, tri.v0, tri.v1, tri.v2, WP_INF, t, b1, b2)) continue;
-      s = triangle_surface(e.prim, b1, b2);
+      s = triangle_surface_of(tri, b1, b2);
     }
     if (dot(s.ng, wi) < 0.0f) pdf += emitter_pdf(i, ref, s, wi, t);
   }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "scene/transform.h"
 #include "util/error.h"
 
 namespace wp {
@@ -32,17 +33,16 @@ Aabb sphere_bounds(const glm::mat4& m) {
   return b;
 }
 
-void rows_3x4(const glm::mat4& m, glm::vec4& r0, glm::vec4& r1, glm::vec4& r2) {
-  glm::mat4 t = glm::transpose(m);
-  r0 = t[0];
-  r1 = t[1];
-  r2 = t[2];
-}
-
 constexpr size_t kMaxMixtureEmitters = 16384;
 
 float luminance(glm::vec3 c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+  return shader::ShaderMath{}.illuminance(c);
+}
+
+// An image texel: RGB from two packed half-float pairs (as texel_at in scene.glsl).
+glm::vec3 texel_rgb(glm::uvec2 packed) {
+  glm::vec2 rg = glm::unpackHalf2x16(packed.x);
+  return glm::vec3(rg.x, rg.y, glm::unpackHalf2x16(packed.y).x);
 }
 
 }  // namespace
@@ -73,11 +73,7 @@ size_t CompiledScene::gpu_bytes() const {
 
 std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels) {
   const int w = int(t.info.z), h = int(t.info.w);
-  auto lum = [&](int x, int y) {
-    glm::uvec2 p = texels[t.info.y + size_t(y) * size_t(w) + size_t(x)];
-    glm::vec2 rg = glm::unpackHalf2x16(p.x);
-    return double(luminance(glm::vec3(rg.x, rg.y, glm::unpackHalf2x16(p.y).x)));
-  };
+  auto lum = [&](int x, int y) { return double(luminance(texel_rgb(texels[t.info.y + size_t(y) * size_t(w) + size_t(x)]))); };
   std::vector<double> weight(size_t(w) * size_t(h));
   double total = 0.0;
   for (int y = 0; y < h; ++y)
@@ -126,10 +122,7 @@ glm::vec3 texture_mean(const std::vector<shader::Texture>& textures, const std::
     case TEX_IMAGE: {
       glm::dvec3 sum(0.0);
       size_t n = size_t(t.info.z) * t.info.w;
-      for (size_t i = 0; i < n; ++i) {
-        glm::uvec2 packed = texels[t.info.y + i];
-        sum += glm::dvec3(glm::unpackHalf2x16(packed.x).x, glm::unpackHalf2x16(packed.x).y, glm::unpackHalf2x16(packed.y).x);
-      }
+      for (size_t i = 0; i < n; ++i) sum += glm::dvec3(texel_rgb(texels[t.info.y + i]));
       return glm::vec3(sum / double(std::max<size_t>(n, 1)));
     }
     default:

@@ -1,7 +1,6 @@
 #include "scene/load_scene.h"
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/packing.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -11,7 +10,6 @@
 
 #include "scene/json_cursor.h"
 #include "scene/obj_mesh.h"
-#include "scene/texture_image.h"
 #include "scene/transform.h"
 #include "util/error.h"
 
@@ -152,24 +150,12 @@ class SceneLoader {
     }
     if (type == "image") {
       j.allow_only({"type", "filename", "mapping"});
-      t.info.x = TEX_IMAGE;
+      t = image_texture(scene_, resolve(j["filename"].string()), "loaded by " + file_ + " at " + j.path());
       parse_mapping(j, t);
-      uint32_t index = add_image_texture(scene_, resolve(j["filename"].string()), "loaded by " + file_ + " at " + j.path());
-      // Keep the texels, take this texture's type flags and mapping.
-      glm::uvec4 image = scene_.textures[index].info;
-      t.info = glm::uvec4(image.x | (t.info.x & TEX_SOLID), image.y, image.z, image.w);
-      scene_.textures[index] = t;
-      return index;
+      return add_texture(t);
     }
     if (type == "fresnel") j["type"].fail("a \"fresnel\" texture is only meaningful as a blend's amount");
     j["type"].fail("unknown texture type \"" + type + "\" (expected constant, checker, marble or image)");
-  }
-
-  static void rows_3x4(const glm::mat4& m, glm::vec4& r0, glm::vec4& r1, glm::vec4& r2) {
-    glm::mat4 t = glm::transpose(m);
-    r0 = t[0];
-    r1 = t[1];
-    r2 = t[2];
   }
 
   // A colour, or {"type": "image", "filename": ...}: an equirectangular
@@ -216,8 +202,9 @@ class SceneLoader {
     j.allow_only({"type", "samples"});
     if (j.has("type")) {
       std::string type = j["type"].string();
-      if (type == "cmj") scene_.sampler = SamplerKind::Cmj;
-      else if (type != "independent") j["type"].fail("unknown sampler type \"" + type + "\" (expected independent or cmj)");
+      std::optional<SamplerKind> kind = sampler_named(type);
+      if (!kind) j["type"].fail("unknown sampler type \"" + type + "\" (expected independent or cmj)");
+      scene_.sampler = *kind;
     }
     if (j.has("samples")) scene_.samplesPerPixel = j["samples"].integer(1, 1 << 24);
   }
@@ -243,15 +230,9 @@ class SceneLoader {
     IntegratorSettings& s = scene_.integrator;
     if (j.has("type")) {
       std::string type = j["type"].string();
-      if (type == "path tracer mis") s.kind = IntegratorKind::PathMis;
-      else if (type == "path tracer nee") s.kind = IntegratorKind::PathNee;
-      else if (type == "path tracer mats") s.kind = IntegratorKind::PathMats;
-      else if (type == "path tracer mixture") s.kind = IntegratorKind::PathMixture;
-      else if (type == "path tracer hemisphere") s.kind = IntegratorKind::PathHemisphere;
-      else if (type == "normals") s.kind = IntegratorKind::Normals;
-      else if (type == "ao") s.kind = IntegratorKind::AmbientOcclusion;
-      else j["type"].fail("unknown integrator type \"" + type +
-                          "\" (expected normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture or path tracer hemisphere)");
+      std::optional<IntegratorKind> kind = integrator_named(type);
+      if (!kind) j["type"].fail("unknown integrator type \"" + type + "\" (expected " + kIntegratorNames + ")");
+      s.kind = *kind;
     }
     s.maxBounces = j.integer_or("max bounces", s.maxBounces, 0, 1024);
     if (j.has("russian roulette")) {
@@ -409,7 +390,7 @@ class SceneLoader {
       if (j.has("normals")) {
         JsonCursor nrm = j["normals"].expect_array();
         if (nrm.size() != 3) nrm.fail("expected 3 vertex normals, got " + std::to_string(nrm.size()));
-        glm::mat3 normalXform = glm::transpose(glm::inverse(glm::mat3(xform)));
+        glm::mat3 normalXform = normal_matrix(xform);
         for (size_t i = 0; i < 3; ++i) {
           glm::vec3 n = normalXform * nrm[i].vec3();
           if (!(glm::length(n) > 0.0f)) nrm[i].fail("a vertex normal must not be zero");
@@ -489,7 +470,7 @@ class SceneLoader {
       mtlToScene[i] = uint32_t(scene_.materials.size() - 1);
     }
     glm::mat4 x = xform;
-    glm::mat3 normalXform = glm::transpose(glm::inverse(glm::mat3(xform)));
+    glm::mat3 normalXform = normal_matrix(xform);
     for (size_t t = 0; t < mesh.triangleMaterials.size(); ++t) {
       int mm = mesh.triangleMaterials[t];
       if (!override && mm < 0) {

@@ -7,6 +7,27 @@
 
 namespace wp {
 
+const char* const kIntegratorNames =
+    "normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture or path tracer hemisphere";
+
+std::optional<IntegratorKind> integrator_named(const std::string& name) {
+  static const std::pair<const char*, IntegratorKind> kKinds[] = {
+      {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
+      {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
+      {"path tracer hemisphere", IntegratorKind::PathHemisphere},
+      {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion}};
+  for (const auto& [n, kind] : kKinds) {
+    if (name == n) return kind;
+  }
+  return std::nullopt;
+}
+
+std::optional<SamplerKind> sampler_named(const std::string& name) {
+  if (name == "independent") return SamplerKind::Independent;
+  if (name == "cmj") return SamplerKind::Cmj;
+  return std::nullopt;
+}
+
 shader::Texture constant_texture(glm::vec3 color) {
   shader::Texture t{};
   t.info.x = TEX_CONSTANT;
@@ -31,7 +52,7 @@ uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name)
   return uint32_t(scene.materials.size() - 1);
 }
 
-uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where) {
+shader::Texture image_texture(Scene& scene, const std::string& path, const std::string& where) {
   LinearImage img;
   try {
     img = load_linear_image(path);
@@ -44,7 +65,11 @@ uint32_t add_image_texture(Scene& scene, const std::string& path, const std::str
   for (const glm::vec3& c : img.pixels) {
     scene.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
   }
-  return add_texture(scene, t);
+  return t;
+}
+
+uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where) {
+  return add_texture(scene, image_texture(scene, path, where));
 }
 
 }  // namespace wp

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,12 @@ struct AcceleratorSettings {
 enum class IntegratorKind { PathMis, PathNee, PathMats, PathMixture, PathHemisphere, Normals, AmbientOcclusion };
 
 enum class SamplerKind { Independent, Cmj };
+
+// The integrator and sampler names scene files and the command line use
+// (darts' names); nullopt for an unknown one. The list is for error messages.
+std::optional<IntegratorKind> integrator_named(const std::string& name);
+std::optional<SamplerKind> sampler_named(const std::string& name);
+extern const char* const kIntegratorNames;  // "normals, ao, path tracer mats, ..."
 
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::PathMis;
@@ -84,8 +91,11 @@ shader::Texture constant_texture(glm::vec3 color);
 uint32_t add_texture(Scene& scene, const shader::Texture& texture);
 uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name = "lambertian");
 
-// Loads an image file (see texture_image.h) into the scene's texels as an image
-// texture; returns the texture's index. `where` is appended to error messages.
+// Loads an image file (see texture_image.h) into the scene's texels and
+// returns an image texture over them (identity mapping), not yet added.
+// `where` is appended to error messages.
+shader::Texture image_texture(Scene& scene, const std::string& path, const std::string& where);
+// The same, added to the scene; returns the texture's index.
 uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where);
 
 }  // namespace wp

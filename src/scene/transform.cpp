@@ -97,4 +97,15 @@ glm::mat4 parse_transform(const JsonCursor& j) {
   return m;
 }
 
+void rows_3x4(const glm::mat4& m, glm::vec4& r0, glm::vec4& r1, glm::vec4& r2) {
+  glm::mat4 t = glm::transpose(m);
+  r0 = t[0];
+  r1 = t[1];
+  r2 = t[2];
+}
+
+glm::mat3 normal_matrix(const glm::mat4& m) {
+  return glm::transpose(glm::inverse(glm::mat3(m)));
+}
+
 }  // namespace wp
