@@ -137,6 +137,9 @@ TEST(SceneErrors, BadMaterialsAndTexturesAreNamed) {
   expect_error(R"({"surfaces": [{"type": "triangle", "positions": [[0,0,0],[1,0,0],[0,1,0]], "normals": [[0,0,1],[0,0,1],[0,0,0]], "material": {"type": "lambertian"}}]})",
                {"/surfaces/0/normals/2", "must not be zero"});
   expect_error(R"({"surfaces": [{"type": "point_light", "position": [0, 1, 0]}]})", {"/surfaces/0", "intensity"});
+  expect_error(R"({"background": {"type": "sky"}})", {"/background/type", "environment map"});
+  expect_error(R"({"background": {"type": "image", "filename": "no-such-sky.hdr"}})", {"no-such-sky.hdr", "no such file", "/background"});
+  expect_error(R"({"background": {"type": "image", "filename": "sky.hdr", "strength": 2}})", {"/background/strength", "unknown key"});
   expect_error(R"({"surfaces": [{"type": "point_light", "position": [0, 1], "intensity": 1}]})", {"/surfaces/0/position"});
 }
 
