@@ -11,7 +11,7 @@ namespace wp::test {
 namespace {
 
 std::string write_scene(const std::string& name, const std::string& text) {
-  std::string path = testing::TempDir() + "/" + name;
+  std::string path = scratch_path(name);
   std::ofstream(path) << text;
   return path;
 }

@@ -64,7 +64,7 @@ TEST(Compare, RejectsImagesOfDifferentSizes) {
 
 TEST(Compare, ExrRoundTripKeepsTheStatistics) {
   ImageStats a = synthetic(16, 8, 32, 9, 1.0);
-  std::string path = testing::TempDir() + "/roundtrip.exr";
+  std::string path = scratch_path("roundtrip.exr");
   write_exr(path, a);
   ImageStats b = read_exr(path);
   ASSERT_EQ(b.width, 16);
@@ -77,7 +77,7 @@ TEST(Compare, ExrRoundTripKeepsTheStatistics) {
     }
   }
   EXPECT_TRUE(compare_images(a, b).passed());
-  EXPECT_THROW(read_exr(testing::TempDir() + "/missing.exr"), InputError);
+  EXPECT_THROW(read_exr(scratch_path("missing.exr")), InputError);
 }
 
 }  // namespace

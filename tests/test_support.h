@@ -12,6 +12,10 @@
 #include <string>
 #include <vector>
 
+#include <filesystem>
+
+#include <unistd.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "cpu/reference.h"
@@ -23,6 +27,17 @@ namespace wp::test {
 
 inline std::string source_path(const std::string& rel) {
   return std::string(WAVEPATH_SOURCE_DIR) + "/" + rel;
+}
+
+// A path for a file the current test writes. ctest runs each test as its own
+// process, two at a time, so every test gets its own folder (test name and
+// process id): a shared name in TempDir() raced between tests.
+inline std::string scratch_path(const std::string& name) {
+  const testing::TestInfo* t = testing::UnitTest::GetInstance()->current_test_info();
+  std::filesystem::path dir = std::filesystem::path(testing::TempDir()) /
+                              ("wavepath-" + std::to_string(::getpid()) + "-" + t->test_suite_name() + "." + t->name());
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
 }
 
 // Regularised upper incomplete gamma Q(a, x) (series for x < a + 1, Lentz's
