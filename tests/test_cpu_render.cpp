@@ -47,6 +47,59 @@ TEST(CpuReference, SphereUnderWhiteSkyIsExactlyHalf) {
   EXPECT_NEAR(corner.x, 1.0, 1e-6);  // the sky itself
 }
 
+// The thin lens: the camera rays of one pixel start anywhere on the lens disk
+// (radius `aperture`) yet meet again on the plane in focus (at `fdist` along
+// the view axis) inside that pixel's footprint, and are spread by the lens
+// elsewhere. With no aperture every ray starts at the eye.
+TEST(Camera, ThinLensRaysMeetOnThePlaneInFocus) {
+  Scene scene = load_scene(source_path("tests/data/features/camera.json"));
+  const float aperture = 0.25f, focus = 4.0f;
+  ASSERT_EQ(scene.camera.apertureRadius, aperture);
+  ASSERT_EQ(scene.camera.focusDistance, focus);
+  for (bool lens : {true, false}) {
+    Scene s = scene;
+    s.camera.width = 480;  // pixels small against the lens, so a blur shows
+    s.camera.height = 240;
+    if (!lens) s.camera.apertureRadius = 0.0f;
+    CompiledScene cs = compile_scene(s, RenderOptions{});
+    shader::SceneView view = cs.view();
+    glm::vec3 eye(s.camera.toWorld * glm::vec4(0, 0, 0, 1));
+    glm::vec3 forward = glm::normalize(glm::vec3(s.camera.toWorld * glm::vec4(0, 0, -1, 0)));
+    // The pixel's footprint on a plane at distance z: its diagonal.
+    float pixelWidth = 2.0f * std::tan(glm::radians(s.camera.vfovDegrees) * 0.5f) / float(cs.height);
+    const uint32_t pixel = 100 * uint32_t(cs.width) + 310;
+    auto spread_at = [&](float z, float& maxFromEye) {
+      glm::vec3 lo(INFINITY), hi(-INFINITY);
+      maxFromEye = 0.0f;
+      for (uint32_t sample = 0; sample < 256; ++sample) {
+        shader::PathState p;
+        view.path_begin(p, pixel, sample);
+        maxFromEye = std::max(maxFromEye, glm::distance(p.origin, eye));
+        float t = (z - glm::dot(p.origin - eye, forward)) / glm::dot(p.dir, forward);
+        glm::vec3 q = p.origin + p.dir * t;
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+      }
+      return glm::length(hi - lo);
+    };
+    float fromEye = 0.0f;
+    float inFocus = spread_at(focus, fromEye);
+    EXPECT_LE(inFocus, std::sqrt(2.0f) * pixelWidth * focus * 1.001f) << "lens " << lens;
+    if (lens) {
+      EXPECT_LE(fromEye, aperture * 1.0001f);
+      EXPECT_GT(fromEye, 0.9f * aperture);  // the samples reach the rim of the lens
+      float near = spread_at(0.5f * focus, fromEye);
+      EXPECT_GT(near, 0.8f * aperture);  // half way to the focus the lens blurs by about its radius
+      // The focus test has the power to see a focus distance 10 % off.
+      float off = spread_at(1.1f * focus, fromEye);
+      EXPECT_GT(off, 2.0f * std::sqrt(2.0f) * pixelWidth * 1.1f * focus);
+    } else {
+      EXPECT_LT(fromEye, 1e-5f);
+      EXPECT_LE(spread_at(0.5f * focus, fromEye), std::sqrt(2.0f) * pixelWidth * 0.5f * focus * 1.001f);
+    }
+  }
+}
+
 TEST(CpuReference, TruncatedTraversalIsAnErrorNotAnImage) {
   RenderOptions o;
   o.traversalStepCap = 2;

@@ -332,6 +332,7 @@ TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
       {"environment.json", IntegratorKind::PathMis, "HDR environment map, importance-sampled (mis)"},
       {"environment.json", IntegratorKind::PathMixture, "HDR environment map (mixture)"},
       {"integrators.json", IntegratorKind::PathHemisphere, "uniform hemisphere sampling (CS184 -H)"},
+      {"camera.json", std::nullopt, "thin lens (aperture, focus distance), cmj sampler, 2:1 image"},
   };
   for (const FeatureCase& c : cases) {
     CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/features/") + c.scene), 0, 64, 1.0f, c.integrator);
