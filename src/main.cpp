@@ -153,7 +153,7 @@ int run_render(const RenderArgs& a) {
     if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
   }
 
-  CompiledScene compiled = compile_scene(load_scene_with_overrides(a), options_from(a, a.seed));
+  CompiledScene compiled = compile_scene(load_scene_with_overrides(a), variant_options(options_from(a, a.seed), a.cpu ? "cpu" : a.variant));
   auto start = std::chrono::steady_clock::now();
   std::string where;
   StageTimes times;
@@ -223,8 +223,8 @@ int run_compare(const CompareArgs& c) {
     oa.plantedBias = c.plantBias;
     if (!c.plantRegion.empty()) oa.plantedRegion = glm::uvec4(c.plantRegion[0], c.plantRegion[1], c.plantRegion[2], c.plantRegion[3]);
     std::string whereA, whereB;
-    a = render_on(c.a, compile_scene(scene, oa), c.render, &whereA);
-    b = render_on(c.b, compile_scene(scene, ob), c.render, &whereB);
+    a = render_on(c.a, compile_scene(scene, variant_options(oa, c.a)), c.render, &whereA);
+    b = render_on(c.b, compile_scene(scene, variant_options(ob, c.b)), c.render, &whereB);
     auto label = [&](const std::string& r, const std::string& where, uint32_t seed, bool planted) {
       std::string l = r + " (" + where + "), seed " + std::to_string(seed);
       if (planted) {

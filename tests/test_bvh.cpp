@@ -3,15 +3,18 @@
 #include "test_support.h"
 
 #include "bvh/bvh.h"
+#include "bvh/wide_bvh.h"
 
 namespace wp::test {
 namespace {
 
 using namespace shader;
 
-void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount) {
+void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount, BvhLayout layout) {
   Scene scene = bunny_with_spheres(accel);
-  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  RenderOptions options;
+  options.bvhLayout = layout;
+  CompiledScene cs = compile_scene(scene, options);
   SceneView view = cs.view();
   std::vector<ShadowRay> rays = random_rays(scene, rayCount, 1234);
   std::vector<float> truth = brute_force_closest(scene, rays);
@@ -36,20 +39,62 @@ void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount) 
 }
 
 TEST(Bvh, SahClosestHitsEqualBruteForce) {
-  expect_matches_brute_force(AcceleratorSettings{4, SplitMethod::Sah}, 20000);
+  expect_matches_brute_force(AcceleratorSettings{4, SplitMethod::Sah}, 20000, BvhLayout::Wide);
+  expect_matches_brute_force(AcceleratorSettings{4, SplitMethod::Sah}, 20000, BvhLayout::Binary);
 }
 
 TEST(Bvh, OtherSplitMethodsAndLeafSizesEqualBruteForce) {
-  expect_matches_brute_force(AcceleratorSettings{1, SplitMethod::Sah}, 5000);
-  expect_matches_brute_force(AcceleratorSettings{8, SplitMethod::Middle}, 5000);
-  expect_matches_brute_force(AcceleratorSettings{2, SplitMethod::Equal}, 5000);
+  for (BvhLayout layout : {BvhLayout::Wide, BvhLayout::Binary}) {
+    expect_matches_brute_force(AcceleratorSettings{1, SplitMethod::Sah}, 5000, layout);
+    expect_matches_brute_force(AcceleratorSettings{8, SplitMethod::Middle}, 5000, layout);
+    expect_matches_brute_force(AcceleratorSettings{2, SplitMethod::Equal}, 5000, layout);
+  }
+}
+
+// Every record is a triangle or names a sphere, and every primitive has
+// exactly one record.
+void expect_records_cover_the_scene(const CompiledScene& cs, const Scene& scene) {
+  ASSERT_EQ(cs.triangles.size(), scene.triangles.size() + scene.spheres.size());
+  std::vector<int> sphereRecords(cs.spheres.size(), 0);
+  size_t triangles = 0;
+  for (const Triangle& t : cs.triangles) {
+    if (t.material == WP_INVALID) sphereRecords.at(t.shading)++;
+    else ++triangles;
+  }
+  EXPECT_EQ(triangles, scene.triangles.size());
+  for (int n : sphereRecords) EXPECT_EQ(n, 1);
+}
+
+Aabb record_bounds(const CompiledScene& cs, uint32_t i) {
+  const Triangle& t = cs.triangles[i];
+  Aabb b;
+  if (t.material != WP_INVALID) {
+    for (glm::vec3 v : {t.v0, t.v1, t.v2}) b.grow(v);
+    return b;
+  }
+  const Sphere& s = cs.spheres[t.shading];
+  glm::vec3 c(s.toWorld0.w, s.toWorld1.w, s.toWorld2.w);
+  glm::vec3 e(glm::length(glm::vec3(s.toWorld0)), glm::length(glm::vec3(s.toWorld1)), glm::length(glm::vec3(s.toWorld2)));
+  b.lo = c - e;
+  b.hi = c + e;
+  return b;
+}
+
+bool contains(const Aabb& outer, const Aabb& inner) {
+  for (int k = 0; k < 3; ++k)
+    if (inner.lo[k] < outer.lo[k] || inner.hi[k] > outer.hi[k]) return false;
+  return true;
 }
 
 TEST(Bvh, TreeIsWellFormed) {
   Scene scene = bunny_with_spheres(AcceleratorSettings{4, SplitMethod::Sah});
-  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  RenderOptions options;
+  options.bvhLayout = BvhLayout::Binary;
+  CompiledScene cs = compile_scene(scene, options);
   ASSERT_LE(cs.bvhDepth, BVH_MAX_DEPTH);
-  std::vector<int> seenTri(cs.triangles.size(), 0), seenSphere(cs.spheres.size(), 0);
+  ASSERT_LE(cs.params.accel.z, uint32_t(BVH_STACK_MAX));
+  expect_records_cover_the_scene(cs, scene);
+  std::vector<int> seen(cs.triangles.size(), 0);
   std::vector<int> parents(cs.nodes.size(), 0);
   for (const BvhNode& n : cs.nodes) {
     if (n.count == 0) {
@@ -64,23 +109,68 @@ TEST(Bvh, TreeIsWellFormed) {
       }
       continue;
     }
-    uint32_t count = n.count & ~BVH_SPHERE_LEAF;
-    EXPECT_LE(count, 4u);
-    for (uint32_t i = n.leftFirst; i < n.leftFirst + count; ++i) {
-      if (n.count & BVH_SPHERE_LEAF) seenSphere.at(i)++;
-      else {
-        seenTri.at(i)++;
-        const Triangle& t = cs.triangles[i];
-        for (glm::vec3 v : {t.v0, t.v1, t.v2})
-          for (int k = 0; k < 3; ++k) {
-            EXPECT_GE(v[k], n.bmin[k]);
-            EXPECT_LE(v[k], n.bmax[k]);
-          }
-      }
+    EXPECT_LE(n.count, 4u);
+    Aabb box;
+    box.lo = n.bmin;
+    box.hi = n.bmax;
+    for (uint32_t i = n.leftFirst; i < n.leftFirst + n.count; ++i) {
+      seen.at(i)++;
+      EXPECT_TRUE(contains(box, record_bounds(cs, i))) << "record " << i;
     }
   }
-  for (int s : seenTri) ASSERT_EQ(s, 1) << "every triangle sits in exactly one leaf";
-  for (int s : seenSphere) ASSERT_EQ(s, 1) << "every sphere sits in exactly one leaf";
+  for (int s : seen) ASSERT_EQ(s, 1) << "every record sits in exactly one leaf";
+  EXPECT_EQ(parents[0], 0);
+  for (size_t i = 1; i < parents.size(); ++i) ASSERT_EQ(parents[i], 1) << "node " << i;
+}
+
+// The wide tree: every record in exactly one leaf slot, interior children
+// consecutive and each with one parent, every decoded child box containing
+// what lies below it, and the hit-mask bits of a node's slots disjoint.
+TEST(Bvh, WideTreeIsWellFormed) {
+  Scene scene = bunny_with_spheres(AcceleratorSettings{4, SplitMethod::Sah});
+  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  ASSERT_EQ(cs.bvhLayout, BvhLayout::Wide);
+  ASSERT_EQ(cs.params.accel.z, 2u * uint32_t(cs.bvhDepth) + 2u);
+  expect_records_cover_the_scene(cs, scene);
+  std::vector<int> seen(cs.triangles.size(), 0), parents(cs.wideNodes.size(), 0);
+  // Bounds of everything below each node, filled bottom-up (children come
+  // after their parent in the array).
+  std::vector<Aabb> below(cs.wideNodes.size());
+  for (size_t k = cs.wideNodes.size(); k-- > 0;) {
+    const WideNode& n = cs.wideNodes[k];
+    uint32_t imask = n.exyzImask >> 24, interior = 0, bitsSeen = 0, prims = 0;
+    for (int slot = 0; slot < 8; ++slot) {
+      uint32_t meta = ((slot < 4 ? n.meta0123 : n.meta4567) >> (8 * (slot % 4))) & 0xffu;
+      if (meta == 0) {
+        EXPECT_FALSE((imask >> slot) & 1u);
+        continue;
+      }
+      uint32_t bits = (meta >> 5) << (meta & 31u);
+      EXPECT_EQ(bits & bitsSeen, 0u) << "node " << k;
+      bitsSeen |= bits;
+      Aabb content;
+      if ((imask >> slot) & 1u) {
+        EXPECT_EQ(meta, (1u << 5) | (24u + uint32_t(slot)));
+        uint32_t child = n.childBase + interior++;
+        ASSERT_LT(child, cs.wideNodes.size());
+        ASSERT_GT(child, k);
+        parents[child]++;
+        content = below[child];
+      } else {
+        uint32_t count = uint32_t(__builtin_popcount(meta >> 5));
+        ASSERT_TRUE(count >= 1 && count <= uint32_t(WIDE_MAX_LEAF_SIZE) && (meta >> 5) == (1u << count) - 1u) << meta;
+        for (uint32_t i = n.primBase + (meta & 31u); i < n.primBase + (meta & 31u) + count; ++i) {
+          seen.at(i)++;
+          content.grow(record_bounds(cs, i));
+        }
+        prims += count;
+      }
+      EXPECT_TRUE(contains(wide_child_box(n, slot), content)) << "node " << k << " slot " << slot;
+      below[k].grow(content);
+    }
+    EXPECT_LE(prims, uint32_t(WIDE_MAX_NODE_PRIMS));
+  }
+  for (int s : seen) ASSERT_EQ(s, 1) << "every record sits in exactly one leaf slot";
   EXPECT_EQ(parents[0], 0);
   for (size_t i = 1; i < parents.size(); ++i) ASSERT_EQ(parents[i], 1) << "node " << i;
 }
@@ -94,37 +184,49 @@ TEST(Bvh, SahBeatsMidpointSplitsOnCost) {
 }
 
 TEST(Bvh, DegenerateInputsBuild) {
-  // Many identical triangles (all centroids equal) and an empty scene.
-  Scene scene;
-  add_lambertian(scene, glm::vec3(0.5f));
-  for (int i = 0; i < 1000; ++i) scene.triangles.push_back(SceneTriangle{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 0});
-  CompiledScene cs = compile_scene(scene, RenderOptions{});
-  SceneView view = cs.view();
-  Hit h;
-  ASSERT_EQ(view.trace_ray(glm::vec3(0.2f, 0.2f, 1), glm::vec3(0, 0, -1), WP_INF, false, h), TRACE_OK);
-  EXPECT_FLOAT_EQ(h.t, 1.0f);
-  Scene empty;
-  CompiledScene ce = compile_scene(empty, RenderOptions{});
-  SceneView ev = ce.view();
-  ASSERT_EQ(ev.trace_ray(glm::vec3(0), glm::vec3(0, 0, -1), WP_INF, false, h), TRACE_OK);
-  EXPECT_EQ(h.prim, WP_INVALID);
+  // Many identical triangles (all centroids equal), one triangle, and an empty scene.
+  for (BvhLayout layout : {BvhLayout::Wide, BvhLayout::Binary}) {
+    RenderOptions options;
+    options.bvhLayout = layout;
+    for (int count : {1000, 1}) {
+      Scene scene;
+      add_lambertian(scene, glm::vec3(0.5f));
+      for (int i = 0; i < count; ++i) scene.triangles.push_back(SceneTriangle{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 0});
+      CompiledScene cs = compile_scene(scene, options);
+      SceneView view = cs.view();
+      Hit h;
+      ASSERT_EQ(view.trace_ray(glm::vec3(0.2f, 0.2f, 1), glm::vec3(0, 0, -1), WP_INF, false, h), TRACE_OK);
+      EXPECT_FLOAT_EQ(h.t, 1.0f);
+      ASSERT_EQ(view.trace_ray(glm::vec3(2.0f, 0.2f, 1), glm::vec3(0, 0, -1), WP_INF, false, h), TRACE_OK);
+      EXPECT_EQ(h.prim, WP_INVALID);
+    }
+    Scene empty;
+    CompiledScene ce = compile_scene(empty, options);
+    SceneView ev = ce.view();
+    Hit h;
+    ASSERT_EQ(ev.trace_ray(glm::vec3(0), glm::vec3(0, 0, -1), WP_INF, false, h), TRACE_OK);
+    EXPECT_EQ(h.prim, WP_INVALID);
+  }
 }
 
 // A traversal that would need more steps than the cap reports itself
 // truncated instead of returning a wrong answer.
 TEST(Bvh, TraversalPastTheStepCapIsReported) {
   Scene scene = bunny_with_spheres(AcceleratorSettings{4, SplitMethod::Sah});
-  RenderOptions options;
-  options.traversalStepCap = 3;
-  CompiledScene cs = compile_scene(scene, options);
-  SceneView view = cs.view();
-  std::vector<ShadowRay> rays = random_rays(scene, 200, 7);
-  int truncated = 0;
-  for (const ShadowRay& r : rays) {
-    Hit h;
-    truncated += view.trace_ray(r.origin, r.dir, r.tmax, false, h) == TRACE_TRUNCATED;
+  for (BvhLayout layout : {BvhLayout::Wide, BvhLayout::Binary}) {
+    RenderOptions options;
+    options.traversalStepCap = 2;
+    options.bvhLayout = layout;
+    CompiledScene cs = compile_scene(scene, options);
+    SceneView view = cs.view();
+    std::vector<ShadowRay> rays = random_rays(scene, 200, 7);
+    int truncated = 0;
+    for (const ShadowRay& r : rays) {
+      Hit h;
+      truncated += view.trace_ray(r.origin, r.dir, r.tmax, false, h) == TRACE_TRUNCATED;
+    }
+    EXPECT_GT(truncated, 100);
   }
-  EXPECT_GT(truncated, 100);
 }
 
 }  // namespace

@@ -100,8 +100,8 @@ TEST_F(Gpu, ClosestHitsEqualBruteForceOnARealMesh) {
 }
 
 // A stack of thin slivers in front of a target: a ray down the stack overlaps
-// every sliver's box, so it visits every node before it reaches the target.
-// One sliver per leaf: about three loop iterations per sliver.
+// every sliver's box, so it visits every node and tests every sliver before it
+// reaches the target.
 Scene sliver_stack(int slivers) {
   Scene scene;
   scene.accelerator.maxLeafSize = 1;
@@ -119,13 +119,11 @@ Scene sliver_stack(int slivers) {
 
 // The loop iterations one traversal takes, measured on the CPU by searching
 // for the smallest step cap under which it completes.
-uint32_t steps_needed(const Scene& scene, const ShadowRay& ray) {
+uint32_t steps_needed(CompiledScene cs, const ShadowRay& ray) {
   uint32_t lo = 1, hi = 1u << 20;
   while (lo < hi) {
     uint32_t mid = lo + (hi - lo) / 2;
-    RenderOptions o;
-    o.traversalStepCap = mid;
-    CompiledScene cs = compile_scene(scene, o);
+    cs.params.counts.z = mid;
     SceneView view = cs.view();
     Hit h;
     if (view.trace_ray(ray.origin, ray.dir, ray.tmax, false, h) == TRACE_OK) hi = mid;
@@ -146,40 +144,64 @@ std::vector<ShadowRay> down_the_stack() {
   return rays;
 }
 
+// A sliver stack whose traversal in `layout` takes between `lo` and `hi` loop
+// iterations: the two layouts take different numbers per sliver.
+struct SliverCase {
+  Scene scene;
+  CompiledScene compiled;
+  uint32_t steps;
+};
+SliverCase sliver_stack_taking(uint32_t lo, uint32_t hi, BvhLayout layout) {
+  RenderOptions o;
+  o.bvhLayout = layout;
+  // Steps grow with the slivers, not quite linearly: bisect on their number.
+  int fewest = 1000, most = 200000;
+  while (fewest < most) {
+    int slivers = fewest + (most - fewest) / 2;
+    Scene scene = sliver_stack(slivers);
+    CompiledScene cs = compile_scene(scene, o);
+    uint32_t steps = steps_needed(cs, down_the_stack()[0]);
+    if (steps > lo && steps < hi) return SliverCase{std::move(scene), std::move(cs), steps};
+    if (steps <= lo) fewest = slivers + 1;
+    else most = slivers;
+  }
+  return SliverCase{Scene{}, CompiledScene{}, 0};
+}
+
 // Just under the step cap, over 55,000 loop iterations in one invocation (real
-// scenes need a few hundred): still inside lavapipe's 65,535 budget, so the GPU
+// scenes need a few dozen): still inside lavapipe's 65,535 budget, so the GPU
 // must find the target. Were the loops cut short, the rays would miss. (This
 // test caught a nested leaf loop whose iterations lavapipe counted twice.)
 TEST_F(Gpu, DeepTraversalWithinTheBudgetIsExact) {
-  Scene scene = sliver_stack(19500);
-  CompiledScene cs = compile_scene(scene, RenderOptions{});
-  std::vector<ShadowRay> rays = down_the_stack();
-  uint32_t steps = steps_needed(scene, rays[0]);
-  EXPECT_GT(steps, 55000u);
-  EXPECT_LT(steps, RenderOptions{}.traversalStepCap);
-  std::vector<float> truth = brute_force_closest(scene, rays);
-  WavefrontRenderer renderer(*ctx_, cs);
-  uint64_t truncated = 0;
-  std::vector<Hit> hits = renderer.cast_rays(rays, &truncated);
-  EXPECT_EQ(truncated, 0u);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    ASSERT_NE(truth[i], WP_INF);
-    ASSERT_NE(hits[i].prim, WP_INVALID) << "ray " << i << ": the traversal stopped before the target";
-    EXPECT_NEAR(hits[i].t, truth[i], 1e-5f * truth[i]);
+  for (BvhLayout layout : {BvhLayout::Wide, BvhLayout::Binary}) {
+    SliverCase c = sliver_stack_taking(55000, RenderOptions{}.traversalStepCap, layout);
+    ASSERT_GT(c.steps, 0u) << "no sliver stack takes between 55,000 and the cap's steps";
+    std::vector<ShadowRay> rays = down_the_stack();
+    std::vector<float> truth = brute_force_closest(c.scene, rays);
+    WavefrontRenderer renderer(*ctx_, c.compiled);
+    uint64_t truncated = 0;
+    std::vector<Hit> hits = renderer.cast_rays(rays, &truncated);
+    EXPECT_EQ(truncated, 0u);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_NE(truth[i], WP_INF);
+      ASSERT_NE(hits[i].prim, WP_INVALID) << "ray " << i << ": the traversal stopped before the target";
+      EXPECT_NEAR(hits[i].t, truth[i], 1e-5f * truth[i]);
+    }
   }
 }
 
 // Past the step cap (which sits below lavapipe's budget) the kernels report
 // truncation instead of silently returning a miss.
 TEST_F(Gpu, TraversalPastTheCapIsReportedNotSilent) {
-  Scene scene = sliver_stack(25000);
-  CompiledScene cs = compile_scene(scene, RenderOptions{});
-  WavefrontRenderer renderer(*ctx_, cs);
-  uint64_t truncated = 0;
-  std::vector<ShadowRay> rays = down_the_stack();
-  EXPECT_GT(steps_needed(scene, rays[0]), 65535u);  // lavapipe would silently stop here
-  renderer.cast_rays(rays, &truncated);
-  EXPECT_EQ(truncated, rays.size());
+  for (BvhLayout layout : {BvhLayout::Wide, BvhLayout::Binary}) {
+    SliverCase c = sliver_stack_taking(66000, 80000, layout);  // lavapipe would silently stop at 65,535
+    ASSERT_GT(c.steps, 0u) << "no sliver stack takes between 66,000 and 80,000 steps";
+    WavefrontRenderer renderer(*ctx_, c.compiled);
+    uint64_t truncated = 0;
+    std::vector<ShadowRay> rays = down_the_stack();
+    renderer.cast_rays(rays, &truncated);
+    EXPECT_EQ(truncated, rays.size());
+  }
   RenderOptions tiny;
   tiny.traversalStepCap = 2;
   tiny.spp = 1;

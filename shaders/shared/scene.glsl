@@ -30,16 +30,115 @@ struct LightSample {
   vec3 n;         // surface normal at p (zero for point lights)
 };
 
-// Walks the BVH (ordered, stack-based). With anyHit it stops at the first hit
-// (shadow rays).
+// ---- records in texel buffers -------------------------------------------------
+// Decoded from RGBA32UI texels (bindings.glsl), field by field as the structs
+// in types.glsl lay them out; on the host the same code reads the uploaded
+// arrays through texelFetch on uvec4 pointers.
+
+vec3 texel_xyz(uvec4 t) {
+  return vec3(uintBitsToFloat(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z));
+}
+
+BvhNode load_node(uint i) {
+  int at = int(i) * BVH_NODE_TEXELS;
+  uvec4 a = texelFetch(nodeTexels, at);
+  uvec4 b = texelFetch(nodeTexels, at + 1);
+  BvhNode n;
+  n.bmin = texel_xyz(a);
+  n.leftFirst = a.w;
+  n.bmax = texel_xyz(b);
+  n.count = b.w;
+  return n;
+}
+
+WideNode load_wide_node(uint i) {
+  int at = int(i) * WIDE_NODE_TEXELS;
+  uvec4 a = texelFetch(wideNodeTexels, at);
+  uvec4 b = texelFetch(wideNodeTexels, at + 1);
+  WideNode n;
+  n.origin = texel_xyz(a);
+  n.exyzImask = a.w;
+  n.childBase = b.x;
+  n.primBase = b.y;
+  n.meta0123 = b.z;
+  n.meta4567 = b.w;
+  n.qlo = texelFetch(wideNodeTexels, at + 2);
+  n.qloZqhiX = texelFetch(wideNodeTexels, at + 3);
+  n.qhi = texelFetch(wideNodeTexels, at + 4);
+  return n;
+}
+
+Triangle load_triangle(uint i) {
+  int at = int(i) * TRIANGLE_TEXELS;
+  uvec4 a = texelFetch(triangleTexels, at);
+  uvec4 b = texelFetch(triangleTexels, at + 1);
+  uvec4 c = texelFetch(triangleTexels, at + 2);
+  Triangle t;
+  t.v0 = texel_xyz(a);
+  t.material = a.w;
+  t.v1 = texel_xyz(b);
+  t.emitter = b.w;
+  t.v2 = texel_xyz(c);
+  t.shading = c.w;
+  return t;
+}
+
+TriangleShading load_shading(uint i) {
+  int at = int(i) * TRIANGLE_SHADING_TEXELS;
+  uvec4 a = texelFetch(shadingTexels, at);
+  uvec4 b = texelFetch(shadingTexels, at + 1);
+  uvec4 c = texelFetch(shadingTexels, at + 2);
+  uvec4 d = texelFetch(shadingTexels, at + 3);
+  TriangleShading sh;
+  sh.n0 = texel_xyz(a);
+  sh.u0 = uintBitsToFloat(a.w);
+  sh.n1 = texel_xyz(b);
+  sh.v0 = uintBitsToFloat(b.w);
+  sh.n2 = texel_xyz(c);
+  sh.hasNormals = c.w;
+  sh.uv12 = vec4(uintBitsToFloat(d.x), uintBitsToFloat(d.y), uintBitsToFloat(d.z), uintBitsToFloat(d.w));
+  return sh;
+}
+
+// ---- traversal ----------------------------------------------------------------
 //
 // Loop budget: lavapipe silently ends all loops of a shader invocation after
 // 65,535 iterations in total, and counts the iterations of nested loops in ways
-// a counter cannot follow. So the walk is one flat loop in which every
-// iteration does exactly one thing, visit one node or test one primitive, and
-// counts itself against scene.counts.z (below the budget). A walk that reaches
-// the cap returns TRACE_TRUNCATED, which the host turns into an error.
-uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+// a counter cannot follow. So each walk is one flat loop whose every iteration
+// does a bounded amount of work and counts itself against scene.counts.z
+// (below the budget). A walk that reaches the cap returns TRACE_TRUNCATED,
+// which the host turns into an error.
+
+// Tests primitive record i (a triangle, or a sphere's placeholder) and keeps
+// the nearer hit.
+void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
+  Triangle tri = load_triangle(i);
+  float t;
+  if (tri.material != WP_INVALID) {
+    float u;
+    float v;
+    if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v)) {
+      hit.t = t;
+      hit.prim = i;
+      hit.u = u;
+      hit.v = v;
+    }
+  } else if (SCENE_HAS_SPHERES) {
+    Sphere sp = spheres[tri.shading];
+    vec3 ol = xform_point(sp.toObject0, sp.toObject1, sp.toObject2, o);
+    vec3 dl = xform_vector(sp.toObject0, sp.toObject1, sp.toObject2, d);
+    if (intersect_unit_sphere(ol, dl, hit.t, t)) {
+      hit.t = t;
+      hit.prim = tri.shading | HIT_SPHERE_BIT;
+      hit.u = 0.0f;
+      hit.v = 0.0f;
+    }
+  }
+}
+
+// The binary BVH (BvhNode), ordered and stack-based: each iteration visits one
+// node (testing both children's boxes) or tests one primitive.
+uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   hit.t = tmax;
   hit.prim = WP_INVALID;
   hit.u = 0.0f;
@@ -48,43 +147,25 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   RayShear sh = make_ray_shear(d);
   // Nodes are named by their (leftFirst, count) pair, read when their parent
   // tested their boxes, so each node is fetched from memory once.
-  uvec2 stack[BVH_MAX_DEPTH];
+  uvec2 stack[TRAVERSAL_STACK_SIZE];
   uint sp = 0u;
-  BvhNode root = nodes[0];
+  BvhNode root = load_node(0u);
   uvec2 node = uvec2(root.leftFirst, root.count);
   bool haveNode = true;  // `node` is still to be visited
   uint leafNext = 0u;    // primitives [leafNext, leafEnd) of the current leaf remain
   uint leafEnd = 0u;
-  bool leafSpheres = false;
   uint steps = 0u;
   uint cap = scene.counts.z;
-  if (root.count == 0u && intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF) return TRACE_OK;
+  // An empty scene's root has an inverted box, which the slab test alone would
+  // take for the whole space.
+  bool empty = root.bmin.x > root.bmax.x;
+  if (root.count == 0u && (empty || intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF)) return TRACE_OK;
   while (true) {
     steps += 1u;
     if (steps > cap) return TRACE_TRUNCATED;
     if (leafNext < leafEnd) {
-      uint i = leafNext;
+      intersect_prim(leafNext, o, d, sh, hit);
       leafNext += 1u;
-      float t;
-      if (leafSpheres) {
-        Sphere s = spheres[i];
-        vec3 ol = xform_point(s.toObject0, s.toObject1, s.toObject2, o);
-        vec3 dl = xform_vector(s.toObject0, s.toObject1, s.toObject2, d);
-        if (intersect_unit_sphere(ol, dl, hit.t, t)) {
-          hit.t = t;
-          hit.prim = i | HIT_SPHERE_BIT;
-        }
-      } else {
-        Triangle tri = triangles[i];
-        float u;
-        float v;
-        if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v)) {
-          hit.t = t;
-          hit.prim = i;
-          hit.u = u;
-          hit.v = v;
-        }
-      }
       if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
       continue;
     }
@@ -96,12 +177,11 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     haveNode = false;
     if (node.y != 0u) {
       leafNext = node.x;
-      leafEnd = node.x + (node.y & ~BVH_SPHERE_LEAF);
-      leafSpheres = (node.y & BVH_SPHERE_LEAF) != 0u;
+      leafEnd = node.x + node.y;
       continue;
     }
-    BvhNode n0 = nodes[node.x];
-    BvhNode n1 = nodes[node.x + 1u];
+    BvhNode n0 = load_node(node.x);
+    BvhNode n1 = load_node(node.x + 1u);
     float d0 = intersect_aabb(o, invDir, n0.bmin, n0.bmax, hit.t);
     float d1 = intersect_aabb(o, invDir, n1.bmin, n1.bmax, hit.t);
     uvec2 near = uvec2(n0.leftFirst, n0.count);
@@ -123,6 +203,147 @@ uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     }
   }
   return TRACE_OK;
+}
+
+// Hit-mask bits of interior children (bits 0-23 are primitives).
+#define WIDE_NODE_BITS 0xff000000u
+
+// Byte `slot` of the eight packed in a pair of words (slots 0-3, then 4-7).
+uint slot_byte(uvec2 words, uint slot) {
+  return ((slot < 4u ? words.x : words.y) >> ((slot & 3u) * 8u)) & 0xffu;
+}
+
+// The hit-mask bits of child `slot` of a wide node if the ray meets its box
+// before tmax, else 0. Per axis the ray's distance to a quantized plane q is
+// q * scale + base; nearX / farX are the plane words facing the ray and facing
+// away (lower and upper planes swapped for negative directions).
+uint wide_child_bits(uint slot, uvec2 meta, uint imask, uint xorSlot, uvec2 nearX, uvec2 farX, uvec2 nearY, uvec2 farY,
+                     uvec2 nearZ, uvec2 farZ, vec3 scale, vec3 base, float tmax) {
+  float tnx = float(slot_byte(nearX, slot)) * scale.x + base.x;
+  float tny = float(slot_byte(nearY, slot)) * scale.y + base.y;
+  float tnz = float(slot_byte(nearZ, slot)) * scale.z + base.z;
+  float tfx = float(slot_byte(farX, slot)) * scale.x + base.x;
+  float tfy = float(slot_byte(farY, slot)) * scale.y + base.y;
+  float tfz = float(slot_byte(farZ, slot)) * scale.z + base.z;
+  float tnear = max(max(tnx, tny), max(tnz, 0.0f));
+  // Widened by a few ulps against rounding in the slab distances.
+  float tfar = min(min(tfx, tfy), min(tfz, tmax)) * 1.0000004f;
+  uint m = slot_byte(meta, slot);
+  // Interior children's bits are permuted by the ray's octant (see WideNode).
+  uint shift = (m & 31u) ^ (((imask >> slot) & 1u) != 0u ? xorSlot : 0u);
+  return tnear <= tfar ? (m >> 5u) << shift : 0u;
+}
+
+// The 8-wide compressed BVH (WideNode), after Ylitie et al. 2017. The walk
+// keeps a node group (the hit interior children of a node still to visit) and
+// a primitive group (the hit primitives still to test); each iteration tests
+// one primitive and visits one node, since lavapipe runs both paths of a loop
+// body anyway. Groups set aside go on the stack.
+uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+  hit.t = tmax;
+  hit.prim = WP_INVALID;
+  hit.u = 0.0f;
+  hit.v = 0.0f;
+  RayShear sh = make_ray_shear(d);
+  // A zero direction component becomes a tiny one, so that no slab distance
+  // is 0 * inf: the result differs only for rays exactly in a box's face.
+  vec3 dd = vec3(abs(d.x) < 1e-20f ? 1e-20f : d.x, abs(d.y) < 1e-20f ? 1e-20f : d.y, abs(d.z) < 1e-20f ? 1e-20f : d.z);
+  vec3 invDir = vec3(1.0f) / dd;
+  bool negX = invDir.x < 0.0f;
+  bool negY = invDir.y < 0.0f;
+  bool negZ = invDir.z < 0.0f;
+  // Slot order for this ray: the builder put the child lying towards octant
+  // s in slot s, and the walk takes the highest bit first, so bit 24 + (s ^
+  // xorSlot) puts the child facing the ray's origin first.
+  uint xorSlot = (negX ? 0u : 1u) | (negY ? 0u : 2u) | (negZ ? 0u : 4u);
+  uvec2 stack[TRAVERSAL_STACK_SIZE];
+  uint sp = 0u;
+  uint visit = 0u;                  // the node to visit in this iteration (the root first), or WP_INVALID
+  uvec2 nodeGroup = uvec2(0u, 0u);  // x: first interior child; y: its remaining hit bits (24-31) | imask (0-7)
+  uvec2 primGroup = uvec2(0u, 0u);  // x: first primitive; y: remaining hit bits (0-23)
+  uint steps = 0u;
+  uint cap = scene.counts.z;
+  while (true) {
+    steps += 1u;
+    if (steps > cap) return TRACE_TRUNCATED;
+    if (primGroup.y != 0u) {
+      uint bit = uint(findLSB(primGroup.y));
+      primGroup.y &= primGroup.y - 1u;
+      intersect_prim(primGroup.x + bit, o, d, sh, hit);
+      if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
+    }
+    if (visit != WP_INVALID) {
+      WideNode n = load_wide_node(visit);
+      vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
+                       uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
+      vec3 scale = cell * invDir;
+      vec3 base = (n.origin - o) * invDir;
+      uvec2 loX = uvec2(n.qlo.x, n.qlo.y);
+      uvec2 loY = uvec2(n.qlo.z, n.qlo.w);
+      uvec2 loZ = uvec2(n.qloZqhiX.x, n.qloZqhiX.y);
+      uvec2 hiX = uvec2(n.qloZqhiX.z, n.qloZqhiX.w);
+      uvec2 hiY = uvec2(n.qhi.x, n.qhi.y);
+      uvec2 hiZ = uvec2(n.qhi.z, n.qhi.w);
+      uvec2 nearX = negX ? hiX : loX;
+      uvec2 farX = negX ? loX : hiX;
+      uvec2 nearY = negY ? hiY : loY;
+      uvec2 farY = negY ? loY : hiY;
+      uvec2 nearZ = negZ ? hiZ : loZ;
+      uvec2 farZ = negZ ? loZ : hiZ;
+      uvec2 meta = uvec2(n.meta0123, n.meta4567);
+      uint imask = n.exyzImask >> 24u;
+      // Eight explicit calls, not a loop: a loop would count against lavapipe's budget.
+      uint bits = wide_child_bits(0u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(1u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(2u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(3u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(4u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(5u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(6u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(7u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
+      if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
+        stack[sp] = nodeGroup;
+        sp += 1u;
+      }
+      nodeGroup = uvec2(n.childBase, (bits & WIDE_NODE_BITS) | imask);
+      uint prims = bits & ~WIDE_NODE_BITS;
+      if (prims != 0u) {
+        if (primGroup.y != 0u) {
+          stack[sp] = primGroup;
+          sp += 1u;
+        }
+        primGroup = uvec2(n.primBase, prims);
+      }
+      visit = WP_INVALID;
+    }
+    // With no node group left, take the top of the stack: a node group at
+    // once, a primitive group once the current one is done.
+    if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
+      uvec2 top = stack[sp - 1u];
+      bool isNodes = (top.y & WIDE_NODE_BITS) != 0u;
+      if (isNodes || primGroup.y == 0u) {
+        sp -= 1u;
+        if (isNodes) nodeGroup = top;
+        else primGroup = top;
+      }
+    }
+    if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
+      uint bit = uint(findMSB(nodeGroup.y));
+      nodeGroup.y &= ~(1u << bit);
+      uint slot = (bit - 24u) ^ xorSlot;
+      visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
+    } else if (primGroup.y == 0u) {
+      break;  // nothing to visit or test, and the stack is empty
+    }
+  }
+  return TRACE_OK;
+}
+
+// Closest hit (or, with anyHit, any hit) of the ray o + t d, t in (0, tmax),
+// through the scene's BVH layout. Returns TRACE_OK or TRACE_TRUNCATED.
+uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+  if (BVH_LAYOUT_OF_SCENE == BVH_LAYOUT_WIDE) return trace_wide(o, d, tmax, anyHit, hit);
+  return trace_binary(o, d, tmax, anyHit, hit);
 }
 
 // ---- surfaces ----------------------------------------------------------------
@@ -162,7 +383,7 @@ SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
   s.ns = s.ng;
   s.uv = vec2(b1, b2);
   if (tri.shading != WP_INVALID) {
-    TriangleShading sh = triangleShading[tri.shading];
+    TriangleShading sh = load_shading(tri.shading);
     s.uv = vec2(sh.u0, sh.v0) * b0 + vec2(sh.uv12.x, sh.uv12.y) * b1 + vec2(sh.uv12.z, sh.uv12.w) * b2;
     if (sh.hasNormals != 0u) {
       vec3 n = sh.n0 * b0 + sh.n1 * b1 + sh.n2 * b2;
@@ -177,7 +398,7 @@ SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
 }
 
 SurfaceHit triangle_surface(uint i, float b1, float b2) {
-  return triangle_surface_of(triangles[i], b1, b2);
+  return triangle_surface_of(load_triangle(i), b1, b2);
 }
 
 // The surface at a hit of the ray (o, d).
@@ -454,7 +675,7 @@ float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
   }
   float cosL = -dot(s.ng, wi);
   if (cosL <= 0.0f) return 0.0f;
-  return e.pmf / triangle_area(triangles[e.prim]) * dist * dist / cosL;
+  return e.pmf / triangle_area(load_triangle(e.prim)) * dist * dist / cosL;
 }
 
 // Next-event estimation: picks an emitter, then a point on it as seen from ref:
@@ -515,7 +736,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     s = sphere_surface_of(sp, ref + w * ds);
     ls.pdf = pmf * uniform_cone_pdf(cone);
   } else {
-    Triangle tri = triangles[e.prim];
+    Triangle tri = load_triangle(e.prim);
     vec2 bary = square_to_triangle_barycentric(uv);
     s = triangle_surface_of(tri, bary.x, bary.y);
     ls.pdf = pmf / triangle_area(tri);  // per unit area; per solid angle below
@@ -556,7 +777,7 @@ float emitters_pdf_direction(vec3 ref, vec3 wi) {
       if (!intersect_unit_sphere(ol, dl, WP_INF, t)) continue;
       s = sphere_surface_of(sp, ref + wi * t);
     } else {
-      Triangle tri = triangles[e.prim];
+      Triangle tri = load_triangle(e.prim);
       float b1;
       float b2;
       if (!intersect_triangle(ref, sh, tri.v0, tri.v1, tri.v2, WP_INF, t, b1, b2)) continue;

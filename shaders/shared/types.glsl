@@ -7,13 +7,23 @@
 #ifndef WP_TYPES_GLSL
 #define WP_TYPES_GLSL
 
-// ---- limits shared by the BVH builder and the traversal kernels -------------
-// Deepest BVH the builder may produce; the traversal stack has this many slots,
-// so it can never overflow.
+// ---- limits shared by the BVH builders and the traversal kernels ------------
+// Deepest binary BVH the builder may produce; the traversal stack never needs
+// more slots than that.
 #define BVH_MAX_DEPTH 80
 #define BVH_MAX_LEAF_SIZE 255
-// Leaf node flag in BvhNode.count: the leaf holds spheres, not triangles.
-#define BVH_SPHERE_LEAF 0x80000000u
+// Slots of the traversal stack in C++: enough for any tree the builders make
+// (the wide walk keeps at most two entries per level). The kernels size theirs
+// by specialization constant 5 to what the scene's tree needs.
+#define BVH_STACK_MAX (2 * BVH_MAX_DEPTH + 2)
+
+// SceneParams.accel.x: which node layout the kernels traverse.
+#define BVH_LAYOUT_BINARY 0u  // BvhNode: two children per node, float boxes
+#define BVH_LAYOUT_WIDE 1u    // WideNode: eight children, quantized boxes
+// A wide node's leaf child holds at most this many primitives, and all its
+// leaf children together at most WIDE_MAX_NODE_PRIMS (offsets in 5 bits).
+#define WIDE_MAX_LEAF_SIZE 3
+#define WIDE_MAX_NODE_PRIMS 24
 
 // Hit.prim: bit 31 marks a sphere; WP_INVALID marks a miss.
 #define HIT_SPHERE_BIT 0x80000000u
@@ -68,10 +78,9 @@
 #define INDIRECT_EXTEND 0u
 #define INDIRECT_CONNECT 1u
 
-// Two-level-free BVH2 node, 32 bytes. Interior node: count == 0, children at
+// Binary BVH node, 32 bytes. Interior node: count == 0, children at
 // leftFirst and leftFirst + 1 (siblings are adjacent so one index suffices).
-// Leaf: count = number of primitives (low 31 bits) starting at leftFirst in the
-// triangle array, or in the sphere array when BVH_SPHERE_LEAF is set.
+// Leaf: `count` primitives starting at leftFirst in the primitive array.
 struct BvhNode {
   vec3 bmin;
   uint leftFirst;
@@ -79,10 +88,47 @@ struct BvhNode {
   uint count;
 };
 
-// A triangle in world space, in BVH leaf order. 48 bytes.
+// Node of the 8-wide compressed BVH (after Ylitie, Karras and Laine, "Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017),
+// 80 bytes. Child boxes are quantized to 8 bits per plane on a grid that starts
+// at `origin` with cells of 2^(e - 127) per axis, rounded outwards, so the
+// decoded box always contains the child.
+//
+// Each of the 8 child slots has a meta byte: 0 for an empty slot; for an
+// interior child 0b001 << 5 | (24 + slot); for a leaf child the number of its
+// primitives in unary (0b001, 0b011, 0b111) << 5 | their offset from primBase.
+// Either way (meta >> 5) << (meta & 31) is the child's bits in a 32-bit hit
+// mask: bits 24-31 for interior slots, bits 0-23 for primitives. Interior
+// children are stored consecutively from childBase in slot order, leaf
+// primitives consecutively from primBase. The builder puts children in slots
+// by direction from the node's centre, so a ray visiting slots in the order
+// its direction octant gives meets near children first.
+struct WideNode {
+  vec3 origin;
+  uint exyzImask;  // bytes: exponents e.x, e.y, e.z, then imask (bit s: slot s is interior)
+  uint childBase;  // index of the first interior child node
+  uint primBase;   // index of the first primitive of the leaf children
+  uint meta0123;   // meta bytes of slots 0..3 (slot 0 in the low byte)
+  uint meta4567;
+  uvec4 qlo;       // quantized lower planes: x slots 0-3, x 4-7, y 0-3, y 4-7
+  uvec4 qloZqhiX;  // z lower 0-3, z lower 4-7, x upper 0-3, x upper 4-7
+  uvec4 qhi;       // y upper 0-3, y upper 4-7, z upper 0-3, z upper 4-7
+};
+
+// The BVH nodes, primitive records and shading records are read through
+// texel buffers of RGBA32UI texels (see bindings.glsl); these are their sizes
+// in texels.
+#define BVH_NODE_TEXELS 2
+#define WIDE_NODE_TEXELS 5
+#define TRIANGLE_TEXELS 3
+#define TRIANGLE_SHADING_TEXELS 4
+
+// A primitive record in BVH leaf order, 48 bytes: a triangle in world space,
+// or a sphere's placeholder (material == WP_INVALID, `shading` = its index in
+// the sphere array), so leaves of both BVH layouts hold one kind of record.
 struct Triangle {
   vec3 v0;
-  uint material;
+  uint material;  // WP_INVALID: this record stands for sphere `shading`
   vec3 v1;
   uint emitter;  // index into the emitter table, or WP_INVALID
   vec3 v2;
@@ -115,7 +161,7 @@ struct Sphere {
   uint material;
   uint emitter;
   float area;  // surface area in world space (only valid when uniformly scaled)
-  uint sourceIndex;
+  uint pad;
 };
 
 // A material. Colours are textures (a constant colour is a constant texture),
@@ -164,6 +210,7 @@ struct SceneParams {
   uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
+  uvec4 accel;       // x: BVH_LAYOUT_*, y: 1 if the scene has spheres, z: traversal stack slots needed, w: unused
 };
 
 // Most next-event-estimation samples per path vertex (CS184's -l).

@@ -49,8 +49,20 @@ nlohmann::json to_json(const Spread& s) {
   return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
 }
 
+// What one variant's scene compiles to: its BVH layout decides these.
+struct BvhFigures {
+  double buildSeconds = 0.0, sahCost = 0.0, bytesPerPrimitive = 0.0;
+  int depth = 0;
+};
+
+BvhFigures bvh_figures(const CompiledScene& cs, size_t primitives) {
+  return BvhFigures{cs.bvhBuildSeconds, cs.bvhSahCost, primitives ? double(cs.gpu_bytes()) / double(primitives) : 0.0,
+                    cs.bvhDepth};
+}
+
 struct VariantResult {
   std::string variant;
+  BvhFigures bvh;
   bool checked = false;
   std::string check;  // the comparison summary
   Spread seconds;
@@ -62,7 +74,6 @@ struct SceneResult {
   std::string scene;
   size_t primitives = 0;
   int width = 0, height = 0, spp = 0, maxBounces = 0;
-  double bvhBuildSeconds = 0.0, sahCost = 0.0, bytesPerPrimitive = 0.0;
   std::vector<VariantResult> variants;
 };
 
@@ -82,17 +93,9 @@ int run_bench(const BenchOptions& o) {
     Scene scene = with_resolution(scenes[si], o);
     RenderOptions timed;
     timed.spp = o.spp;
-    CompiledScene cs = compile_scene(scene, timed);
     SceneResult sr;
     sr.scene = o.scenes[si];
     sr.primitives = scene.triangles.size() + scene.spheres.size();
-    sr.width = cs.width;
-    sr.height = cs.height;
-    sr.spp = cs.spp;
-    sr.maxBounces = int(cs.params.image.z);
-    sr.bvhBuildSeconds = cs.bvhBuildSeconds;
-    sr.sahCost = cs.bvhSahCost;
-    sr.bytesPerPrimitive = sr.primitives ? double(cs.gpu_bytes()) / double(sr.primitives) : 0.0;
 
     // The reference image for the correctness checks: small, many samples.
     Scene small = scene;
@@ -105,11 +108,17 @@ int run_bench(const BenchOptions& o) {
     for (const KernelVariant* v : variants) {
       VariantResult vr;
       vr.variant = v->name;
+      CompiledScene cs = compile_scene(scene, variant_options(timed, v->name));
+      vr.bvh = bvh_figures(cs, sr.primitives);
+      sr.width = cs.width;
+      sr.height = cs.height;
+      sr.spp = cs.spp;
+      sr.maxBounces = int(cs.params.image.z);
       RenderOptions check = ref;
       check.seed = 2;
       check.plantedBias = o.plantedBias;
       {
-        WavefrontRenderer checker(ctx, compile_scene(small, check), v->settings);
+        WavefrontRenderer checker(ctx, compile_scene(small, variant_options(check, v->name)), v->settings);
         CompareResult c = compare_images(checker.render(quiet), reference);
         vr.checked = c.passed();
         vr.check = c.summary();
@@ -144,19 +153,19 @@ int run_bench(const BenchOptions& o) {
   // The table.
   std::printf("device: %s (%s)\n", ctx.info().name.c_str(), ctx.info().driver.c_str());
   for (const SceneResult& sr : results) {
-    std::printf("\n%s: %zu primitives, %dx%d, %d spp, %d bounces; BVH %.3f s, SAH cost %.2f, %.1f bytes/primitive\n",
-                sr.scene.c_str(), sr.primitives, sr.width, sr.height, sr.spp, sr.maxBounces, sr.bvhBuildSeconds, sr.sahCost,
-                sr.bytesPerPrimitive);
-    std::printf("  %-10s %-6s %9s %17s %9s %9s %9s\n", "variant", "check", "time s", "Msamples/s", "extend s", "shade s",
-                "connect s");
+    std::printf("\n%s: %zu primitives, %dx%d, %d spp, %d bounces\n", sr.scene.c_str(), sr.primitives, sr.width, sr.height,
+                sr.spp, sr.maxBounces);
+    std::printf("  %-10s %-6s %9s %17s %9s %9s %9s %9s %6s\n", "variant", "check", "time s", "Msamples/s", "extend s", "shade s",
+                "connect s", "BVH s", "B/prim");
     for (const VariantResult& v : sr.variants) {
       if (!v.checked) {
         std::printf("  %-10s %-6s (disagrees with the CPU reference: not timed)\n", v.variant.c_str(), "FAIL");
         continue;
       }
-      std::printf("  %-10s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f\n", v.variant.c_str(), "pass", v.seconds.median,
-                  v.samplesPerSecond.median * 1e-6, v.samplesPerSecond.min * 1e-6, v.samplesPerSecond.max * 1e-6,
-                  v.stageSeconds[2].median, v.stageSeconds[3].median, v.stageSeconds[4].median);
+      std::printf("  %-10s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %6.1f\n", v.variant.c_str(), "pass",
+                  v.seconds.median, v.samplesPerSecond.median * 1e-6, v.samplesPerSecond.min * 1e-6,
+                  v.samplesPerSecond.max * 1e-6, v.stageSeconds[2].median, v.stageSeconds[3].median, v.stageSeconds[4].median,
+                  v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
     }
   }
 
@@ -165,13 +174,16 @@ int run_bench(const BenchOptions& o) {
     j["device"] = {{"name", ctx.info().name}, {"driver", ctx.info().driver}, {"type", ctx.info().type}};
     j["settings"] = {{"spp", o.spp}, {"repeats", o.repeats}, {"check_size", o.checkSize}, {"check_spp", o.checkSpp}};
     for (const SceneResult& sr : results) {
-      nlohmann::json js = {{"scene", sr.scene},           {"primitives", sr.primitives},
-                           {"width", sr.width},           {"height", sr.height},
-                           {"spp", sr.spp},               {"max_bounces", sr.maxBounces},
-                           {"bvh_build_seconds", sr.bvhBuildSeconds}, {"sah_cost", sr.sahCost},
-                           {"gpu_bytes_per_primitive", sr.bytesPerPrimitive}};
+      nlohmann::json js = {{"scene", sr.scene}, {"primitives", sr.primitives}, {"width", sr.width},
+                           {"height", sr.height}, {"spp", sr.spp},               {"max_bounces", sr.maxBounces}};
       for (const VariantResult& v : sr.variants) {
-        nlohmann::json jv = {{"variant", v.variant}, {"check_passed", v.checked}, {"check", v.check}};
+        nlohmann::json jv = {{"variant", v.variant},
+                             {"check_passed", v.checked},
+                             {"check", v.check},
+                             {"bvh_build_seconds", v.bvh.buildSeconds},
+                             {"bvh_depth", v.bvh.depth},
+                             {"sah_cost", v.bvh.sahCost},
+                             {"gpu_bytes_per_primitive", v.bvh.bytesPerPrimitive}};
         if (v.checked) {
           jv["seconds"] = to_json(v.seconds);
           jv["samples_per_second"] = to_json(v.samplesPerSecond);
@@ -195,7 +207,7 @@ int run_bench(const BenchOptions& o) {
         out << sr.scene << "," << v.variant << "," << (v.checked ? 1 : 0) << "," << v.seconds.median << "," << v.seconds.min
             << "," << v.seconds.max << "," << v.samplesPerSecond.median;
         for (const Spread& s : v.stageSeconds) out << "," << s.median;
-        out << "," << sr.bvhBuildSeconds << "," << sr.sahCost << "," << sr.bytesPerPrimitive << "\n";
+        out << "," << v.bvh.buildSeconds << "," << v.bvh.sahCost << "," << v.bvh.bytesPerPrimitive << "\n";
       }
     }
     if (!out) throw InputError(o.csvPath + ": cannot write the results");
@@ -283,6 +295,8 @@ int run_raycast_bench(const BenchOptions& o) {
     CompiledScene cs = compile_scene(scene, RenderOptions{});
     shader::SceneView view = cs.view();
     RaySets sets = make_rays(view, cs);
+    std::vector<CompiledScene> variantScenes;  // each variant traces its own BVH layout
+    for (const KernelVariant* v : variants) variantScenes.push_back(compile_scene(scene, variant_options(RenderOptions{}, v->name)));
     std::unique_ptr<EmbreeScene> embree;
     std::string embreeNote;
     if (embree_available()) {
@@ -311,8 +325,9 @@ int run_raycast_bench(const BenchOptions& o) {
         embreeRate = double(rays->size()) / spread(secs).median;
         embreeMismatch = mismatches(et, reference);
       }
-      for (const KernelVariant* v : variants) {
-        WavefrontRenderer renderer(ctx, cs, v->settings);
+      for (size_t vi = 0; vi < variants.size(); ++vi) {
+        const KernelVariant* v = variants[vi];
+        WavefrontRenderer renderer(ctx, variantScenes[vi], v->settings);
         uint64_t truncated = 0;
         double kernel = 0.0;
         std::vector<shader::Hit> hits = renderer.cast_rays(*rays, &truncated, &kernel);  // also the warm-up

@@ -21,11 +21,9 @@ constexpr float kIntersectCost = 1.0f;
 struct RangeBounds {
   Aabb bounds;
   Aabb centroids;
-  uint32_t spheres = 0;
   void join(const RangeBounds& o) {
     bounds.grow(o.bounds);
     centroids.grow(o.centroids);
-    spheres += o.spheres;
   }
 };
 
@@ -47,12 +45,8 @@ class Builder {
     size_t n = in.bounds.size();
     centroids_.resize(n);
     for (size_t i = 0; i < n; ++i) centroids_[i] = 0.5f * (in.bounds[i].lo + in.bounds[i].hi);
-    uint32_t spheres = 0;
-    for (uint8_t s8 : in.isSphere) spheres += s8;
-    // A binary tree over n leaves-worth of primitives has at most 2n - 1 nodes;
-    // each leaf that would mix triangles and spheres costs two more, and there
-    // are at most as many of those as spheres.
-    nodes_.resize(std::max<size_t>(1, 2 * n + 2 * size_t(spheres)));
+    // A binary tree over n primitives has at most 2n - 1 nodes.
+    nodes_.resize(std::max<size_t>(1, 2 * n));
     order_.resize(n);
     for (size_t i = 0; i < n; ++i) order_[i] = uint32_t(i);
   }
@@ -60,9 +54,11 @@ class Builder {
   Bvh build() {
     Bvh bvh;
     if (order_.empty()) {
-      // An empty scene: a root leaf holding zero spheres, which no ray can hit.
+      // An empty scene: an interior root with an empty box, which every ray
+      // misses before any child is read.
       shader::BvhNode root{};
-      root.count = BVH_SPHERE_LEAF;
+      root.bmin = Aabb().lo;
+      root.bmax = Aabb().hi;
       bvh.nodes.push_back(root);
       return bvh;
     }
@@ -84,7 +80,6 @@ class Builder {
         uint32_t p = order_[i];
         acc.bounds.grow(in_.bounds[p]);
         acc.centroids.grow(centroids_[p]);
-        acc.spheres += in_.isSphere[p];
       }
       return acc;
     };
@@ -135,36 +130,13 @@ class Builder {
     return mid;
   }
 
-  void make_leaf(uint32_t nodeIndex, uint32_t begin, uint32_t end, uint32_t spheres, int depth) {
-    uint32_t count = end - begin;
-    if (spheres != 0 && spheres != count) {
-      // Mixed kinds: split by kind so each leaf indexes one primitive array.
-      uint32_t mid = partition(begin, end, [&](uint32_t p) { return in_.isSphere[p] == 0; });
-      uint32_t left = nodeCount_.fetch_add(2);
-      set_interior(nodeIndex, left);
-      leaf(left, begin, mid, false, depth + 1);
-      leaf(left + 1, mid, end, true, depth + 1);
-      fit(left);
-      fit(left + 1);
-      return;
-    }
-    leaf(nodeIndex, begin, end, spheres != 0, depth);
-  }
-
-  void leaf(uint32_t nodeIndex, uint32_t begin, uint32_t end, bool spheres, int depth) {
+  void make_leaf(uint32_t nodeIndex, uint32_t begin, uint32_t end, int depth) {
     shader::BvhNode& n = nodes_[nodeIndex];
     n.leftFirst = begin;
-    n.count = (end - begin) | (spheres ? BVH_SPHERE_LEAF : 0u);
+    n.count = end - begin;
     int d = maxDepth_.load();
     while (depth > d && !maxDepth_.compare_exchange_weak(d, depth)) {
     }
-  }
-
-  void fit(uint32_t nodeIndex) {
-    shader::BvhNode& n = nodes_[nodeIndex];
-    RangeBounds rb = range_bounds(n.leftFirst, n.leftFirst + (n.count & ~BVH_SPHERE_LEAF));
-    n.bmin = rb.bounds.lo;
-    n.bmax = rb.bounds.hi;
   }
 
   void set_interior(uint32_t nodeIndex, uint32_t left) {
@@ -178,7 +150,7 @@ class Builder {
     nodes_[nodeIndex].bmax = rb.bounds.hi;
     uint32_t count = end - begin;
     uint32_t maxLeaf = uint32_t(settings_.maxLeafSize);
-    if (count == 1) return make_leaf(nodeIndex, begin, end, rb.spheres, depth);
+    if (count == 1) return make_leaf(nodeIndex, begin, end, depth);
 
     glm::vec3 extent = rb.centroids.hi - rb.centroids.lo;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
@@ -189,13 +161,13 @@ class Builder {
     // kernels' traversal stack) never exceeds BVH_MAX_DEPTH.
     bool forceMedian = depth >= BVH_MAX_DEPTH - 33;
     if (degenerate) {
-      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, rb.spheres, depth);
+      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
       mid = begin + count / 2;  // identical centroids: any halving will do
     } else if (forceMedian || settings_.split == SplitMethod::Equal) {
-      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, rb.spheres, depth);
+      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
       mid = median_split(begin, end, axis);
     } else if (settings_.split == SplitMethod::Middle) {
-      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, rb.spheres, depth);
+      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
       float m = 0.5f * (rb.centroids.lo[axis] + rb.centroids.hi[axis]);
       mid = partition(begin, end, [&](uint32_t p) { return centroids_[p][axis] < m; });
       if (mid == begin || mid == end) mid = median_split(begin, end, axis);
@@ -232,7 +204,7 @@ class Builder {
       float splitCost = kTraversalCost + kIntersectCost * best / std::max(parentArea, 1e-30f);
       float leafCost = kIntersectCost * float(count);
       if (bestAxis < 0 || (splitCost >= leafCost && count <= maxLeaf)) {
-        if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, rb.spheres, depth);
+        if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
         mid = median_split(begin, end, axis);
       } else {
         float lo = rb.centroids.lo[bestAxis];
@@ -273,7 +245,7 @@ double sah_cost(const std::vector<shader::BvhNode>& nodes) {
     b.lo = n.bmin;
     b.hi = n.bmax;
     double rel = b.half_area() / rootArea;
-    cost += n.count == 0 ? kTraversalCost * rel : kIntersectCost * rel * double(n.count & ~BVH_SPHERE_LEAF);
+    cost += n.count == 0 ? kTraversalCost * rel : kIntersectCost * rel * double(n.count);
   }
   return cost;
 }

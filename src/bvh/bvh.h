@@ -1,6 +1,7 @@
-// bvh.h — BVH2 over triangles and spheres, built on the host with binned SAH
+// bvh.h — binary BVH over primitive bounds, built on the host with binned SAH
 // (or the darts "middle" / "equal" splits), in parallel, directly into the flat
 // node array the kernels and the CPU reference traverse (shader::BvhNode).
+// wide_bvh.h collapses it into the 8-wide layout.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -33,15 +34,14 @@ struct Aabb {
 };
 
 struct BvhInput {
-  std::vector<Aabb> bounds;      // one per primitive
-  std::vector<uint8_t> isSphere; // leaves never mix the two kinds
+  std::vector<Aabb> bounds;  // one per primitive
 };
 
 struct Bvh {
   std::vector<shader::BvhNode> nodes;  // node 0 is the root
-  // Leaf order: primitive ids as given to build_bvh, leaf after leaf. A leaf's
-  // leftFirst indexes this array until compile_scene rewrites it to index the
-  // reordered triangle or sphere array.
+  // Leaf order: primitive ids as given to build_bvh, leaf after leaf; a leaf's
+  // leftFirst indexes this array (and the primitive records, which
+  // compile_scene lays out in this order).
   std::vector<uint32_t> order;
   int depth = 0;
   double sahCost = 0.0;  // expected cost per ray, traversal = 1, intersection = 1

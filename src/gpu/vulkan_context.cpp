@@ -63,6 +63,7 @@ GpuDeviceInfo describe(const vk::raii::PhysicalDevice& pd, uint32_t index) {
   info.apiVersion = std::to_string(VK_API_VERSION_MAJOR(p.apiVersion)) + "." + std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) +
                     "." + std::to_string(VK_API_VERSION_PATCH(p.apiVersion));
   info.maxStorageBufferRange = p.limits.maxStorageBufferRange;
+  info.maxTexelBufferElements = p.limits.maxTexelBufferElements;
   info.maxComputeWorkGroupCount = p.limits.maxComputeWorkGroupCount[0];
   info.maxComputeWorkGroupInvocations = p.limits.maxComputeWorkGroupInvocations;
   info.subgroupSize = chain.get<vk::PhysicalDeviceSubgroupProperties>().subgroupSize;

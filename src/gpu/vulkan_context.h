@@ -22,6 +22,7 @@ struct GpuDeviceInfo {
   std::string driver;
   std::string apiVersion;
   uint64_t maxStorageBufferRange = 0;
+  uint64_t maxTexelBufferElements = 0;
   uint32_t maxComputeWorkGroupCount = 0;
   uint32_t maxComputeWorkGroupInvocations = 0;
   uint32_t subgroupSize = 0;

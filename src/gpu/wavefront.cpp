@@ -50,15 +50,23 @@ void stage_barrier(vk::CommandBuffer cb) {
 
 const std::vector<KernelVariant>& kernel_variants() {
   static const std::vector<KernelVariant> variants = [] {
-    std::vector<KernelVariant> v{{"gpu", "wavefront kernels, workgroups of 64", WavefrontSettings{}}};
+    std::vector<KernelVariant> v{
+        {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
+        {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
       s.workgroupSize = size;
-      v.push_back({"gpu-wg" + std::to_string(size), "wavefront kernels, workgroups of " + std::to_string(size), s});
+      v.push_back({"gpu-wg" + std::to_string(size), "wavefront kernels, 8-wide compressed BVH, workgroups of " + std::to_string(size),
+                   s, BvhLayout::Wide});
     }
     return v;
   }();
   return variants;
+}
+
+RenderOptions variant_options(RenderOptions options, const std::string& renderer) {
+  if (renderer != "cpu") options.bvhLayout = kernel_variant(renderer).bvhLayout;
+  return options;
 }
 
 const KernelVariant& kernel_variant(const std::string& name) {
@@ -77,6 +85,7 @@ struct WavefrontRenderer::Impl {
   uint32_t capacity = 0;  // path slots per wave
   uint32_t lightSamples = 1;  // shadow rays per path and bounce, at most
   std::vector<std::unique_ptr<Buffer>> buffers;  // indexed by BINDING_*
+  std::vector<vk::raii::BufferView> views;        // the texel buffers' views, indexed by BINDING_*
   std::unique_ptr<Buffer> readAccum;
   std::unique_ptr<Buffer> readCounters;
   vk::raii::DescriptorSetLayout setLayout{nullptr};
@@ -100,6 +109,7 @@ struct WavefrontRenderer::Impl {
   Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
     const uint64_t maxRange = ctx.info().maxStorageBufferRange;
     const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+    if (pixels == 0) throw RenderError("the image has no pixels");  // path slots (and ray batches) come from pixels
     if (settings.workgroupSize == 0 || settings.workgroupSize > ctx.info().maxComputeWorkGroupInvocations) {
       throw RenderError("workgroup size " + std::to_string(settings.workgroupSize) + " is not supported by " + ctx.info().name);
     }
@@ -158,6 +168,32 @@ struct WavefrontRenderer::Impl {
     ctx.upload(*buffers[binding], data.data(), bytes);
   }
 
+  // Records the kernels read as RGBA32UI texels (bindings.glsl).
+  static bool is_texel_binding(uint32_t binding) {
+    return binding == BINDING_NODES || binding == BINDING_WIDE_NODES || binding == BINDING_TRIANGLES ||
+           binding == BINDING_TRIANGLE_SHADING;
+  }
+
+  static vk::DescriptorType descriptor_type(uint32_t binding) {
+    if (binding == BINDING_SCENE) return vk::DescriptorType::eUniformBuffer;
+    return is_texel_binding(binding) ? vk::DescriptorType::eUniformTexelBuffer : vk::DescriptorType::eStorageBuffer;
+  }
+
+  template <typename T>
+  void add_texels(uint32_t binding, const std::vector<T>& data, const char* what) {
+    static_assert(sizeof(T) % 16 == 0, "records are whole RGBA32UI texels");
+    uint64_t bytes = data.size() * sizeof(T);
+    uint64_t maxBytes = ctx.info().maxTexelBufferElements * 16;
+    if (bytes > maxBytes) {
+      throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
+                        ctx.info().name + " allows " + std::to_string(maxBytes >> 20) + " MiB per texel buffer");
+    }
+    buffers[binding] = std::make_unique<Buffer>(ctx, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    ctx.upload(*buffers[binding], data.data(), bytes);
+    views[binding] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
+                                                                                  vk::Format::eR32G32B32A32Uint, 0, VK_WHOLE_SIZE));
+  }
+
   void add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra = {}) {
     using U = vk::BufferUsageFlagBits;
     buffers[binding] = std::make_unique<Buffer>(ctx, bytes, U::eStorageBuffer | U::eTransferDst | U::eTransferSrc | extra, false);
@@ -165,17 +201,19 @@ struct WavefrontRenderer::Impl {
 
   void create_buffers(uint32_t pixels, uint64_t maxRange) {
     buffers.resize(BINDING_COUNT);
+    for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
     buffers[BINDING_SCENE] = std::make_unique<Buffer>(ctx, sizeof(shader::SceneParams),
                                                       vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
     ctx.upload(*buffers[BINDING_SCENE], &scene.params, sizeof(shader::SceneParams));
-    add_storage(BINDING_NODES, scene.nodes, maxRange, "BVH nodes");
-    add_storage(BINDING_TRIANGLES, scene.triangles, maxRange, "triangles");
+    add_texels(BINDING_NODES, scene.nodes, "BVH nodes");
+    add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
+    add_texels(BINDING_TRIANGLES, scene.triangles, "primitives");
+    add_texels(BINDING_TRIANGLE_SHADING, scene.triangleShading, "vertex normals and UVs");
     add_storage(BINDING_SPHERES, scene.spheres, maxRange, "spheres");
     add_storage(BINDING_MATERIALS, scene.materials, maxRange, "materials");
     add_storage(BINDING_EMITTERS, scene.emitters, maxRange, "emitters");
     add_storage(BINDING_TEXTURES, scene.textures, maxRange, "textures");
     add_storage(BINDING_TEXELS, scene.texels, maxRange, "image texels");
-    add_storage(BINDING_TRIANGLE_SHADING, scene.triangleShading, maxRange, "vertex normals and UVs");
     add_storage(BINDING_POINT_LIGHTS, scene.pointLights, maxRange, "point lights");
     add_storage(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, maxRange, "environment map distribution");
     add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
@@ -202,32 +240,43 @@ struct WavefrontRenderer::Impl {
 
   vk::raii::Pipeline make_pipeline(Kernel k) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
-    // Constant 0: the workgroup size; constant 1: the integrator (kernel.glsl).
-    // Constant 2: light samples per vertex.
-    const uint32_t values[3] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w};
-    const vk::SpecializationMapEntry entries[3] = {
-        {0, 0, sizeof(uint32_t)}, {1, sizeof(uint32_t), sizeof(uint32_t)}, {2, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo spec(3, entries, sizeof(values), values);
+    // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
+    // integrator, 2 light samples per vertex, 3 the BVH layout, 4 whether the
+    // scene has spheres (a bool: a 32-bit 0 or 1), 5 the traversal stack size.
+    const shader::uvec4& accel = scene.params.accel;
+    const uint32_t values[6] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x, accel.y, accel.z};
+    vk::SpecializationMapEntry entries[6];
+    for (uint32_t i = 0; i < 6; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
+    vk::SpecializationInfo spec(6, entries, sizeof(values), values);
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
   }
 
   void create_pipelines() {
     std::vector<vk::DescriptorSetLayoutBinding> bindings;
+    uint32_t texelBindings = 0;
     for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
-      bindings.emplace_back(b, b == BINDING_SCENE ? vk::DescriptorType::eUniformBuffer : vk::DescriptorType::eStorageBuffer, 1,
-                            vk::ShaderStageFlagBits::eCompute);
+      bindings.emplace_back(b, descriptor_type(b), 1, vk::ShaderStageFlagBits::eCompute);
+      texelBindings += is_texel_binding(b);
     }
     setLayout = vk::raii::DescriptorSetLayout(ctx.device(), vk::DescriptorSetLayoutCreateInfo({}, bindings));
     vk::PushConstantRange push(vk::ShaderStageFlagBits::eCompute, 0, sizeof(KernelPush));
     vk::DescriptorSetLayout layouts[] = {*setLayout};
     pipelineLayout = vk::raii::PipelineLayout(ctx.device(), vk::PipelineLayoutCreateInfo({}, layouts, push));
-    vk::DescriptorPoolSize sizes[] = {{vk::DescriptorType::eUniformBuffer, 1}, {vk::DescriptorType::eStorageBuffer, BINDING_COUNT - 1}};
+    vk::DescriptorPoolSize sizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
+                                      {vk::DescriptorType::eUniformTexelBuffer, texelBindings},
+                                      {vk::DescriptorType::eStorageBuffer, BINDING_COUNT - 1 - texelBindings}};
     pool = vk::raii::DescriptorPool(ctx.device(), vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 1, sizes));
     set = std::move(vk::raii::DescriptorSets(ctx.device(), vk::DescriptorSetAllocateInfo(*pool, layouts))[0]);
     std::vector<vk::DescriptorBufferInfo> infos(BINDING_COUNT);
+    std::vector<vk::BufferView> texelViews(BINDING_COUNT);
     std::vector<vk::WriteDescriptorSet> writes;
     for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
+      if (is_texel_binding(b)) {
+        texelViews[b] = *views[b];
+        writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, nullptr, &texelViews[b]);
+        continue;
+      }
       infos[b] = vk::DescriptorBufferInfo(buffers[b]->handle(), 0, VK_WHOLE_SIZE);
       writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, &infos[b]);
     }

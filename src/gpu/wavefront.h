@@ -34,14 +34,20 @@ struct WavefrontSettings {
 };
 
 // Named kernel variants, selectable on the command line ("gpu" is the default).
+// The BVH layout is chosen when the scene is compiled: compile it with
+// `variant_options` before handing it to the variant's renderer.
 struct KernelVariant {
   std::string name;
   std::string description;
   WavefrontSettings settings;
+  BvhLayout bvhLayout = BvhLayout::Wide;
 };
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.
 const KernelVariant& kernel_variant(const std::string& name);
+// `options` with the compile-time choices of `renderer`: a kernel variant's
+// name, or "cpu" for the CPU reference (which keeps the default layout).
+RenderOptions variant_options(RenderOptions options, const std::string& renderer);
 
 class WavefrontRenderer {
  public:

@@ -4,10 +4,11 @@
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
-
+#include <chrono>
 #include <cmath>
 #include <numeric>
 
+#include "bvh/wide_bvh.h"
 #include "scene/transform.h"
 #include "util/error.h"
 
@@ -50,21 +51,25 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
 shader::SceneView CompiledScene::view() const {
   shader::SceneView v;
   v.scene = params;
-  v.nodes = nodes.data();
-  v.triangles = triangles.data();
+  // The arrays the kernels read as texel buffers, as texels.
+  auto texels_of = [](const auto& records) { return reinterpret_cast<const glm::uvec4*>(records.data()); };
+  v.nodeTexels = texels_of(nodes);
+  v.wideNodeTexels = texels_of(wideNodes);
+  v.triangleTexels = texels_of(triangles);
+  v.shadingTexels = texels_of(triangleShading);
   v.spheres = spheres.data();
   v.materials = materials.data();
   v.emitters = emitters.data();
   v.textures = textures.data();
   v.texels = texels.data();
-  v.triangleShading = triangleShading.data();
   v.pointLights = pointLights.data();
   v.environmentCdf = environmentCdf.data();
   return v;
 }
 
 size_t CompiledScene::gpu_bytes() const {
-  return nodes.size() * sizeof(shader::BvhNode) + triangles.size() * sizeof(shader::Triangle) +
+  size_t nodeBytes = bvhLayout == BvhLayout::Wide ? wideNodes.size() * sizeof(shader::WideNode) : nodes.size() * sizeof(shader::BvhNode);
+  return nodeBytes + triangles.size() * sizeof(shader::Triangle) +
          spheres.size() * sizeof(shader::Sphere) + materials.size() * sizeof(shader::Material) +
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
@@ -169,64 +174,82 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   input.bounds.reserve(numTris + numSpheres);
   for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
   for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
-  input.isSphere.assign(numTris + numSpheres, 0);
-  std::fill(input.isSphere.begin() + long(numTris), input.isSphere.end(), 1);
-  Bvh bvh = build_bvh(input, scene.accelerator);
+  Aabb sceneBounds;
+  for (const Aabb& b : input.bounds) sceneBounds.grow(b);
+  AcceleratorSettings accel = scene.accelerator;
+  const bool wide = options.bvhLayout == BvhLayout::Wide;
+  if (wide) accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);  // a wide node's slot holds at most that
+  Bvh bvh = build_bvh(input, accel);
   if (bvh.depth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
-  out.bvhDepth = bvh.depth;
+  out.bvhLayout = options.bvhLayout;
   out.bvhSahCost = bvh.sahCost;
-  out.bvhBuildSeconds = bvh.buildSeconds;
-
-  // Reorder primitives into leaf order, one array per kind, and rewrite the
-  // leaves to index those arrays.
-  std::vector<uint32_t> newIndex(bvh.order.size());
-  for (size_t pos = 0; pos < bvh.order.size(); ++pos) {
-    uint32_t id = bvh.order[pos];
-    if (id < numTris) {
-      newIndex[pos] = uint32_t(out.triangles.size());
-      const SceneTriangle& t = scene.triangles[id];
-      shader::Triangle g{};
-      g.v0 = t.v[0];
-      g.v1 = t.v[1];
-      g.v2 = t.v[2];
-      g.material = t.material;
-      g.emitter = WP_INVALID;
-      g.shading = WP_INVALID;
-      if (t.hasNormals || t.hasUvs) {
-        shader::TriangleShading sh{};
-        g.shading = uint32_t(out.triangleShading.size());
-        sh.hasNormals = t.hasNormals ? 1u : 0u;
-        if (t.hasNormals) {
-          sh.n0 = t.n[0];
-          sh.n1 = t.n[1];
-          sh.n2 = t.n[2];
-        }
-        // Without UVs the barycentrics serve, as for triangles without shading data.
-        glm::vec2 uv[3] = {{0, 0}, {1, 0}, {0, 1}};
-        if (t.hasUvs) std::copy(t.uv, t.uv + 3, uv);
-        sh.u0 = uv[0].x;
-        sh.v0 = uv[0].y;
-        sh.uv12 = glm::vec4(uv[1], uv[2]);
-        out.triangleShading.push_back(sh);
-      }
-      out.triangles.push_back(g);
-    } else {
-      newIndex[pos] = uint32_t(out.spheres.size());
-      const SceneSphere& s = scene.spheres[id - numTris];
-      shader::Sphere g{};
-      rows_3x4(s.toWorld, g.toWorld0, g.toWorld1, g.toWorld2);
-      rows_3x4(glm::inverse(s.toWorld), g.toObject0, g.toObject1, g.toObject2);
-      g.material = s.material;
-      g.emitter = WP_INVALID;
-      float r = glm::length(glm::vec3(s.toWorld[0]));  // uniform scale (checked when emissive)
-      g.area = 4.0f * WP_PI * r * r;
-      g.sourceIndex = uint32_t(id - numTris);
-      out.spheres.push_back(g);
-    }
+  uint32_t stackSlots;
+  std::vector<uint32_t> order;
+  if (wide) {
+    auto start = std::chrono::steady_clock::now();
+    WideBvh w = collapse_to_wide(bvh);
+    out.bvhBuildSeconds = bvh.buildSeconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.wideNodes = std::move(w.nodes);
+    order = std::move(w.order);
+    out.bvhDepth = w.depth;
+    stackSlots = 2u * uint32_t(w.depth) + 2u;  // the wide walk keeps at most two entries per level
+    out.nodes.push_back(shader::BvhNode{});
+  } else {
+    out.bvhBuildSeconds = bvh.buildSeconds;
+    out.nodes = std::move(bvh.nodes);
+    order = std::move(bvh.order);
+    out.bvhDepth = bvh.depth;
+    stackSlots = uint32_t(bvh.depth) + 1u;
+    out.wideNodes.push_back(shader::WideNode{});
   }
-  out.nodes = std::move(bvh.nodes);
-  for (shader::BvhNode& n : out.nodes) {
-    if (n.count != 0u && (n.count & ~BVH_SPHERE_LEAF) != 0u) n.leftFirst = newIndex[n.leftFirst];
+
+  // Primitive records in leaf order (both layouts' leaves index them): each
+  // triangle, and for each sphere a placeholder naming it.
+  out.triangles.reserve(order.size());
+  for (uint32_t id : order) {
+    shader::Triangle g{};
+    if (id >= numTris) {
+      g.material = WP_INVALID;
+      g.emitter = WP_INVALID;
+      g.shading = id - uint32_t(numTris);
+      out.triangles.push_back(g);
+      continue;
+    }
+    const SceneTriangle& t = scene.triangles[id];
+    g.v0 = t.v[0];
+    g.v1 = t.v[1];
+    g.v2 = t.v[2];
+    g.material = t.material;
+    g.emitter = WP_INVALID;
+    g.shading = WP_INVALID;
+    if (t.hasNormals || t.hasUvs) {
+      shader::TriangleShading sh{};
+      g.shading = uint32_t(out.triangleShading.size());
+      sh.hasNormals = t.hasNormals ? 1u : 0u;
+      if (t.hasNormals) {
+        sh.n0 = t.n[0];
+        sh.n1 = t.n[1];
+        sh.n2 = t.n[2];
+      }
+      // Without UVs the barycentrics serve, as for triangles without shading data.
+      glm::vec2 uv[3] = {{0, 0}, {1, 0}, {0, 1}};
+      if (t.hasUvs) std::copy(t.uv, t.uv + 3, uv);
+      sh.u0 = uv[0].x;
+      sh.v0 = uv[0].y;
+      sh.uv12 = glm::vec4(uv[1], uv[2]);
+      out.triangleShading.push_back(sh);
+    }
+    out.triangles.push_back(g);
+  }
+  for (const SceneSphere& s : scene.spheres) {
+    shader::Sphere g{};
+    rows_3x4(s.toWorld, g.toWorld0, g.toWorld1, g.toWorld2);
+    rows_3x4(glm::inverse(s.toWorld), g.toObject0, g.toObject1, g.toObject2);
+    g.material = s.material;
+    g.emitter = WP_INVALID;
+    float r = glm::length(glm::vec3(s.toWorld[0]));  // uniform scale (checked when emissive)
+    g.area = 4.0f * WP_PI * r * r;
+    out.spheres.push_back(g);
   }
 
   out.materials = scene.materials;
@@ -250,6 +273,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   };
   for (size_t i = 0; i < out.triangles.size(); ++i) {
     shader::Triangle& t = out.triangles[i];
+    if (t.material == WP_INVALID) continue;  // a sphere's placeholder
     double p = emits(t.material, 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)));
     if (p <= 0.0) continue;
     t.emitter = uint32_t(prims.size());
@@ -270,8 +294,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (scene.environmentTexture != WP_INVALID) {
     const shader::Texture& env = out.textures[scene.environmentTexture];
     out.environmentCdf = environment_cdf(env, out.texels);
-    glm::vec3 lo(out.nodes[0].bmin), hi(out.nodes[0].bmax);
-    double radius = 0.5 * double(glm::length(hi - lo));
+    double radius = sceneBounds.empty() ? 0.0 : 0.5 * double(glm::length(sceneBounds.hi - sceneBounds.lo));
     double p = luminance(texture_mean(out.textures, out.texels, scene.environmentTexture)) * WP_PI * WP_PI * radius * radius * 4.0;
     if (p > 0.0) {
       environmentEmitter = uint32_t(prims.size());
@@ -342,6 +365,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
   p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
   p.debugRegion = options.plantedRegion;
+  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, numSpheres > 0 ? 1u : 0u, stackSlots, 0u);
   return out;
 }
 

@@ -15,6 +15,11 @@
 
 namespace wp {
 
+// The node layout the kernels and the CPU reference traverse: the 8-wide
+// compressed BVH (the default: fewer, smaller node fetches per ray) or the
+// binary BVH it is collapsed from.
+enum class BvhLayout { Wide, Binary };
+
 struct RenderOptions {
   int spp = -1;          // -1: the scene's sampler count
   int maxBounces = -1;   // -1: the scene's integrator setting
@@ -30,6 +35,7 @@ struct RenderOptions {
   glm::uvec4 plantedRegion{0u, 0u, ~0u, ~0u};
   AdaptiveSampling adaptive;  // off unless batch > 0
   int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
+  BvhLayout bvhLayout = BvhLayout::Wide;
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
@@ -37,7 +43,11 @@ struct RenderOptions {
 
 struct CompiledScene {
   shader::SceneParams params{};
-  std::vector<shader::BvhNode> nodes;
+  BvhLayout bvhLayout = BvhLayout::Wide;
+  std::vector<shader::BvhNode> nodes;       // the binary layout's nodes (one unused node otherwise)
+  std::vector<shader::WideNode> wideNodes;  // the wide layout's nodes (one unused node otherwise)
+  // Primitive records in leaf order: triangles, and a placeholder for each
+  // sphere; spheres in scene order.
   std::vector<shader::Triangle> triangles;
   std::vector<shader::Sphere> spheres;
   std::vector<shader::Material> materials;
@@ -51,8 +61,8 @@ struct CompiledScene {
   int height = 0;
   int spp = 0;  // samples per pixel (with adaptive sampling: at most)
   AdaptiveSampling adaptive;
-  int bvhDepth = 0;
-  double bvhSahCost = 0.0;
+  int bvhDepth = 0;      // levels of the traversed layout's tree
+  double bvhSahCost = 0.0;  // of the binary tree
   double bvhBuildSeconds = 0.0;
 
   shader::SceneView view() const;

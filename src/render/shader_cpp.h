@@ -19,6 +19,8 @@ namespace wp::shader {
 // GLSL built-ins that GLM lacks for scalars.
 inline bool isnan(float x) { return std::isnan(x); }
 inline bool isinf(float x) { return std::isinf(x); }
+// A texel buffer of RGBA32UI texels is, on the host, an array of uvec4.
+inline glm::uvec4 texelFetch(const glm::uvec4* texels, int i) { return texels[i]; }
 
 #include "../../shaders/shared/types.glsl"
 #include "../../shaders/shared/bindings.glsl"
@@ -36,26 +38,34 @@ struct ShaderMath {
 // Read-only view of an uploaded scene: the same buffers the kernels bind.
 struct SceneView : ShaderMath {
   SceneParams scene{};
-  const BvhNode* nodes = nullptr;
-  const Triangle* triangles = nullptr;
+  const uvec4* nodeTexels = nullptr;  // the texel buffers, as the kernels see them
+  const uvec4* wideNodeTexels = nullptr;
+  const uvec4* triangleTexels = nullptr;
+  const uvec4* shadingTexels = nullptr;
   const Sphere* spheres = nullptr;
   const Material* materials = nullptr;
   const Emitter* emitters = nullptr;
   const Texture* textures = nullptr;
   const uvec2* texels = nullptr;
-  const TriangleShading* triangleShading = nullptr;
   const PointLight* pointLights = nullptr;
   const float* environmentCdf = nullptr;
 
 #define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: specialization constants (kernel.glsl)
 #define LIGHT_SAMPLES_OF_SCENE scene.mode.w
 #define LIGHT_SAMPLE_SLOTS MAX_LIGHT_SAMPLES
+#define BVH_LAYOUT_OF_SCENE scene.accel.x
+#define SCENE_HAS_SPHERES (scene.accel.y != 0u)
+#define TRAVERSAL_STACK_SIZE BVH_STACK_MAX
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
 };
 
 // Host-side layout checks; tests/test_layout.cpp checks the GLSL side.
+static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 * WIDE_NODE_TEXELS &&
+              sizeof(Triangle) == 16 * TRIANGLE_TEXELS && sizeof(TriangleShading) == 16 * TRIANGLE_SHADING_TEXELS);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
+static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
+              offsetof(WideNode, qlo) == 32 && offsetof(WideNode, qhi) == 64);
 static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof(Triangle, shading) == 44);
 static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, hasNormals) == 44 && offsetof(TriangleShading, uv12) == 48);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
@@ -63,7 +73,8 @@ static_assert(sizeof(Material) == 48 && offsetof(Material, children) == 16 && of
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 176 && offsetof(SceneParams, mode) == 144 && offsetof(SceneParams, environment) == 160);
+static_assert(sizeof(SceneParams) == 192 && offsetof(SceneParams, mode) == 144 && offsetof(SceneParams, environment) == 160 &&
+              offsetof(SceneParams, accel) == 176);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, contribution) == 32);

@@ -1,0 +1,29 @@
+// wide_bvh.h — the 8-wide compressed BVH (shader::WideNode), made by
+// collapsing a binary BVH: each wide node takes up to eight descendants of a
+// binary node, placed in slots by direction so that rays meet near children
+// first, with child boxes quantized outwards to 8 bits per plane.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/bvh.h"
+
+namespace wp {
+
+struct WideBvh {
+  std::vector<shader::WideNode> nodes;  // node 0 is the root
+  // Leaf order: primitive ids as given to build_bvh, in the order the wide
+  // nodes' primBase and offsets index them.
+  std::vector<uint32_t> order;
+  int depth = 0;  // wide nodes on the longest root-to-leaf path
+};
+
+// The binary tree's leaves must hold at most WIDE_MAX_LEAF_SIZE primitives.
+WideBvh collapse_to_wide(const Bvh& binary);
+
+// The box a wide node's slot decodes to (origin + q * 2^(e-127) per plane),
+// for the tests; empty slots decode to whatever their bytes say.
+Aabb wide_child_box(const shader::WideNode& node, int slot);
+
+}  // namespace wp
