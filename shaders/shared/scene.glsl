@@ -208,6 +208,16 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
 // Hit-mask bits of interior children (bits 0-23 are primitives).
 #define WIDE_NODE_BITS 0xff000000u
 
+// max / min for operands that are never NaN: a plain compare and select,
+// where GLSL's max / min compile to NaN-aware sequences on lavapipe.
+float max_of(float a, float b) {
+  return a > b ? a : b;
+}
+
+float min_of(float a, float b) {
+  return a < b ? a : b;
+}
+
 // Byte `slot` of the eight packed in a pair of words (slots 0-3, then 4-7).
 uint slot_byte(uvec2 words, uint slot) {
   return ((slot < 4u ? words.x : words.y) >> ((slot & 3u) * 8u)) & 0xffu;
@@ -216,22 +226,29 @@ uint slot_byte(uvec2 words, uint slot) {
 // The hit-mask bits of child `slot` of a wide node if the ray meets its box
 // before tmax, else 0. Per axis the ray's distance to a quantized plane q is
 // q * scale + base; nearX / farX are the plane words facing the ray and facing
-// away (lower and upper planes swapped for negative directions).
-uint wide_child_bits(uint slot, uvec2 meta, uint imask, uint xorSlot, uvec2 nearX, uvec2 farX, uvec2 nearY, uvec2 farY,
-                     uvec2 nearZ, uvec2 farZ, vec3 scale, vec3 base, float tmax) {
-  float tnx = float(slot_byte(nearX, slot)) * scale.x + base.x;
-  float tny = float(slot_byte(nearY, slot)) * scale.y + base.y;
-  float tnz = float(slot_byte(nearZ, slot)) * scale.z + base.z;
-  float tfx = float(slot_byte(farX, slot)) * scale.x + base.x;
-  float tfy = float(slot_byte(farY, slot)) * scale.y + base.y;
-  float tfz = float(slot_byte(farZ, slot)) * scale.z + base.z;
-  float tnear = max(max(tnx, tny), max(tnz, 0.0f));
+// away (lower and upper planes swapped for negative directions). `meta` has
+// the interior slots already permuted for the ray's octant.
+uint wide_child_bits(uint slot, uvec2 meta, uvec2 nearX, uvec2 farX, uvec2 nearY, uvec2 farY, uvec2 nearZ, uvec2 farZ,
+                     vec3 scale, vec3 base, float tmax) {
+  float tnx = fma(float(slot_byte(nearX, slot)), scale.x, base.x);
+  float tny = fma(float(slot_byte(nearY, slot)), scale.y, base.y);
+  float tnz = fma(float(slot_byte(nearZ, slot)), scale.z, base.z);
+  float tfx = fma(float(slot_byte(farX, slot)), scale.x, base.x);
+  float tfy = fma(float(slot_byte(farY, slot)), scale.y, base.y);
+  float tfz = fma(float(slot_byte(farZ, slot)), scale.z, base.z);
+  float tnear = max_of(max_of(tnx, tny), max_of(tnz, 0.0f));
   // Widened by a few ulps against rounding in the slab distances.
-  float tfar = min(min(tfx, tfy), min(tfz, tmax)) * 1.0000004f;
+  float tfar = min_of(min_of(tfx, tfy), min_of(tfz, tmax)) * 1.0000004f;
   uint m = slot_byte(meta, slot);
-  // Interior children's bits are permuted by the ray's octant (see WideNode).
-  uint shift = (m & 31u) ^ (((imask >> slot) & 1u) != 0u ? xorSlot : 0u);
-  return tnear <= tfar ? (m >> 5u) << shift : 0u;
+  return tnear <= tfar ? (m >> 5u) << (m & 31u) : 0u;
+}
+
+// The interior slots' bytes of a meta word (4 slots, `imask4` their interior
+// bits) XORed with the ray's slot permutation: imask spread to 0xff per
+// interior byte by a multiply, so all four bytes change in a few operations.
+uint permute_meta(uint meta, uint imask4, uint xorSlot) {
+  uint interiorBytes = ((imask4 * 0x00204081u) & 0x01010101u) * 0xffu;
+  return meta ^ (interiorBytes & (xorSlot * 0x01010101u));
 }
 
 // The 8-wide compressed BVH (WideNode), after Ylitie et al. 2017. The walk
@@ -290,17 +307,17 @@ uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       uvec2 farY = negY ? loY : hiY;
       uvec2 nearZ = negZ ? hiZ : loZ;
       uvec2 farZ = negZ ? loZ : hiZ;
-      uvec2 meta = uvec2(n.meta0123, n.meta4567);
       uint imask = n.exyzImask >> 24u;
+      uvec2 meta = uvec2(permute_meta(n.meta0123, imask & 15u, xorSlot), permute_meta(n.meta4567, imask >> 4u, xorSlot));
       // Eight explicit calls, not a loop: a loop would count against lavapipe's budget.
-      uint bits = wide_child_bits(0u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(1u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(2u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(3u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(4u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(5u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(6u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(7u, meta, imask, xorSlot, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
+      uint bits = wide_child_bits(0u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(1u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(2u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(3u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(4u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(5u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(6u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+                  wide_child_bits(7u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
       if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
         stack[sp] = nodeGroup;
         sp += 1u;
