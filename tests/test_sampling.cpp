@@ -110,7 +110,7 @@ TEST(Sampling, AliasTablePicksInProportionToWeight) {
   std::vector<double> weights = {1.0, 2.0, 3.0, 0.5, 10.0, 0.0, 4.0};
   std::vector<Emitter> table = build_alias_table(weights);
   SceneView view;
-  view.emitters = table.data();
+  view.emitterTexels = reinterpret_cast<const glm::uvec4*>(table.data());
   view.scene.counts.x = uint32_t(table.size());
   double total = std::accumulate(weights.begin(), weights.end(), 0.0);
   std::vector<double> obs(weights.size(), 0.0), expc(weights.size(), 0.0);

@@ -82,6 +82,26 @@ TEST(Scene, QuadFrontIsTheTransformedZAxisEvenWhenMirrored) {
   }
 }
 
+// The kernels compile out what a scene does not use (SceneParams.accel.y,
+// specialization constant 4): the mask must name everything a scene uses, and
+// nothing it does not.
+TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
+  auto features = [](const char* path) {
+    return compile_scene(load_scene(source_path(path)), RenderOptions{}).params.accel.y;
+  };
+  EXPECT_EQ(features("scenes/cornell-box.json"), 0u);  // Lambertian, constant colours, triangle lights
+  uint32_t materials = features("tests/data/features/materials.json");
+  for (uint32_t f : {FEATURE_SPHERES, FEATURE_BLEND, FEATURE_METAL, FEATURE_DIELECTRIC, FEATURE_PHONG, FEATURE_BLINN_PHONG,
+                     FEATURE_CHECKER, FEATURE_POINT_LIGHTS, FEATURE_SPHERE_LIGHTS})
+    EXPECT_TRUE(materials & f) << "feature " << f;
+  EXPECT_FALSE(materials & (FEATURE_MARBLE | FEATURE_IMAGE | FEATURE_ENVIRONMENT));
+  EXPECT_TRUE(materials & FEATURE_SHADING_DATA);  // quads carry planar UVs
+  uint32_t textures = features("tests/data/features/textures.json");
+  EXPECT_EQ(textures & (FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE), FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE);
+  EXPECT_TRUE(features("tests/data/features/smooth-mesh.json") & FEATURE_SHADING_DATA);
+  EXPECT_TRUE(features("tests/data/features/environment.json") & (FEATURE_ENVIRONMENT | FEATURE_IMAGE));
+}
+
 TEST(SceneErrors, SyntaxErrorsGiveLineAndColumn) {
   expect_error("{\n  \"camera\": {\n    \"vfov\": 40,\n    \"resolution\": [16 16]\n  }\n}\n", {":4:", "JSON syntax error"});
   expect_error("{\n  \"camera\": {\n", {":3:", "JSON syntax error"});

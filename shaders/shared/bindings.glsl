@@ -52,20 +52,29 @@ struct KernelPush {
 
 #ifndef __cplusplus
 layout(std140, set = 0, binding = BINDING_SCENE) uniform SceneBlock { SceneParams scene; };
-// The arrays the traversal reads, and the primitives' shading data, are
-// uniform texel buffers of RGBA32UI texels, decoded by scene.glsl's load_*
-// functions. On lavapipe a texel fetch compiles to plain loads, while a
-// storage-buffer load at a per-lane address becomes a loop with a branch and
-// a bounds check per lane: traversal ran twice as fast this way. Texel
-// buffers also reach 2 GiB (128M texels), where lavapipe's storage buffers
-// stop at 128 MiB.
+// Everything the scene holds is read through uniform texel buffers: records
+// as RGBA32UI texels, decoded by scene.glsl's load_* functions. On lavapipe a
+// texel fetch compiles to plain loads, while a storage-buffer load at a
+// per-lane address becomes a loop with a branch and a bounds check per lane:
+// traversal ran twice as fast this way. Texel buffers also reach 2 GiB (128M
+// texels), where lavapipe's storage buffers stop at 128 MiB.
 layout(set = 0, binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
 layout(set = 0, binding = BINDING_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;
 layout(set = 0, binding = BINDING_TRIANGLES) uniform usamplerBuffer triangleTexels;
 layout(set = 0, binding = BINDING_TRIANGLE_SHADING) uniform usamplerBuffer shadingTexels;
-layout(std430, set = 0, binding = BINDING_SPHERES) readonly buffer SphereBuffer { Sphere spheres[]; };
-layout(std430, set = 0, binding = BINDING_MATERIALS) readonly buffer MaterialBuffer { Material materials[]; };
-layout(std430, set = 0, binding = BINDING_EMITTERS) readonly buffer EmitterBuffer { Emitter emitters[]; };
+layout(set = 0, binding = BINDING_SPHERES) uniform usamplerBuffer sphereTexels;
+layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
+layout(set = 0, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;
+layout(set = 0, binding = BINDING_TEXTURES) uniform usamplerBuffer textureTexels;
+layout(set = 0, binding = BINDING_POINT_LIGHTS) uniform usamplerBuffer pointLightTexels;
+// Image texels, RG32UI: RGBA half floats (linear), all images back to back
+// (lavapipe has no descriptor indexing, so one buffer holds every image).
+layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;
+// The environment map's sampling distribution, R32F: the CDF over rows
+// (height + 1 values), then one CDF over the columns of each row (width + 1
+// values each).
+layout(set = 0, binding = BINDING_ENVIRONMENT_CDF) uniform samplerBuffer environmentCdf;
+// Work buffers, written by the kernels.
 layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
 layout(std430, set = 0, binding = BINDING_HITS) buffer HitBuffer { Hit hits[]; };
 layout(std430, set = 0, binding = BINDING_QUEUES) buffer QueueBuffer { uint queues[]; };
@@ -73,14 +82,6 @@ layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { Sha
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };
-layout(std430, set = 0, binding = BINDING_TEXTURES) readonly buffer TextureBuffer { Texture textures[]; };
-// Image texels as RGBA half floats (linear), all images back to back: lavapipe
-// has no descriptor indexing, so one buffer holds every image.
-layout(std430, set = 0, binding = BINDING_TEXELS) readonly buffer TexelBuffer { uvec2 texels[]; };
-layout(std430, set = 0, binding = BINDING_POINT_LIGHTS) readonly buffer PointLightBuffer { PointLight pointLights[]; };
-// The environment map's sampling distribution: the CDF over rows (height + 1
-// values), then one CDF over the columns of each row (width + 1 values each).
-layout(std430, set = 0, binding = BINDING_ENVIRONMENT_CDF) readonly buffer EnvironmentCdfBuffer { float environmentCdf[]; };
 // The pixels still sampled under adaptive sampling.
 layout(std430, set = 0, binding = BINDING_PIXEL_LIST) readonly buffer PixelListBuffer { uint pixelList[]; };
 layout(push_constant) uniform PushBlock { KernelPush pc; };

@@ -15,6 +15,8 @@
 #define WP_BSDF_GLSL
 
 #define BSDF_MAX_LOBES 4
+// Lobes a BSDF of this scene can have: one unless it has blend materials.
+#define BSDF_LOBES_OF_SCENE (SCENE_HAS(FEATURE_BLEND) ? BSDF_MAX_LOBES : 1u)
 
 struct Bsdf {
   vec3 ns;  // shading normal, on wo's side of the geometric surface
@@ -28,16 +30,17 @@ struct Bsdf {
 };
 
 bool lobe_is_delta(uint type, float param) {
-  return type == MAT_DIELECTRIC || (type == MAT_METAL && param <= 0.0f);
+  return (SCENE_HAS(FEATURE_DIELECTRIC) && type == MAT_DIELECTRIC) || (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL && param <= 0.0f);
 }
 
-// Loops over lobes run to the constant BSDF_MAX_LOBES and skip unused slots:
-// with constant indices the compiler keeps the lobe arrays in registers
-// (lavapipe spills dynamically indexed local arrays to memory).
+// Loops over lobes run to the constant BSDF_LOBES_OF_SCENE and skip unused
+// slots: with constant indices the compiler keeps the lobe arrays in registers
+// (lavapipe spills dynamically indexed local arrays to memory). Each material's
+// branch is guarded by SCENE_HAS, so scenes without it do not pay for it.
 
 bool bsdf_has_smooth_lobe(Bsdf b) {
   bool any = false;
-  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
   }
   return any;
@@ -45,7 +48,7 @@ bool bsdf_has_smooth_lobe(Bsdf b) {
 
 bool bsdf_has_delta_lobe(Bsdf b) {
   bool any = false;
-  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i < b.lobeCount && lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
   }
   return any;
@@ -71,9 +74,9 @@ float fresnel_dielectric(float cosI, float eta) {
 // the shading normal on wo's side.
 float lobe_pdf(uint type, float param, vec3 ns, vec3 wo, vec3 wi) {
   if (type == MAT_LAMBERTIAN) return max(dot(ns, wi), 0.0f) * WP_INV_PI;
-  if (type == MAT_METAL) return fuzzed_direction_pdf(wi, reflect_about(wo, ns), param);
-  if (type == MAT_PHONG) return cosine_power_pdf(dot(wi, reflect_about(wo, ns)), param);
-  if (type == MAT_BLINN_PHONG) {
+  if (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL) return fuzzed_direction_pdf(wi, reflect_about(wo, ns), param);
+  if (SCENE_HAS(FEATURE_PHONG) && type == MAT_PHONG) return cosine_power_pdf(dot(wi, reflect_about(wo, ns)), param);
+  if (SCENE_HAS(FEATURE_BLINN_PHONG) && type == MAT_BLINN_PHONG) {
     vec3 h = normalize(wo + wi);
     float woH = dot(wo, h);
     return woH > 0.0f ? cosine_power_pdf(dot(h, ns), param) / (4.0f * woH) : 0.0f;
@@ -97,7 +100,7 @@ bool bsdf_reflects(Bsdf b, vec3 wi) {
 vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
   vec3 f = vec3(0.0f);
   if (!bsdf_reflects(b, wi)) return f;
-  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i]))
       f += lobe_eval(b.lobeType[i], b.lobeParam[i], b.lobeColor[i], b.ns, wo, wi) * b.lobeWeight[i];
   }
@@ -108,7 +111,7 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
 float bsdf_pdf(Bsdf b, vec3 wo, vec3 wi) {
   float pdf = 0.0f;
   if (!bsdf_reflects(b, wi)) return pdf;
-  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i]))
       pdf += lobe_pdf(b.lobeType[i], b.lobeParam[i], b.ns, wo, wi) * b.lobeWeight[i];
   }
@@ -123,20 +126,23 @@ vec3 lobe_sample(uint type, float param, vec3 ns, vec3 wo, vec3 u) {
     make_frame(ns, t, bt);
     return frame_to_world(square_to_cosine_hemisphere(vec2(u.x, u.y)), t, bt, ns);
   }
-  if (type == MAT_METAL) {
+  if (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL) {
     vec3 d = reflect_about(wo, ns) + square_to_uniform_ball(u) * param;
     float len = length(d);
     return len > 0.0f ? d / len : vec3(0.0f);
   }
-  if (type == MAT_PHONG) {
+  if (SCENE_HAS(FEATURE_PHONG) && type == MAT_PHONG) {
     vec3 r = reflect_about(wo, ns);
     make_frame(r, t, bt);
     return frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, r);
   }
-  // Blinn-Phong: a half vector around the normal, then the mirror of wo about it.
-  make_frame(ns, t, bt);
-  vec3 h = frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, ns);
-  return dot(wo, h) > 0.0f ? reflect_about(wo, h) : vec3(0.0f);
+  if (SCENE_HAS(FEATURE_BLINN_PHONG) && type == MAT_BLINN_PHONG) {
+    // A half vector around the normal, then the mirror of wo about it.
+    make_frame(ns, t, bt);
+    vec3 h = frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, ns);
+    return dot(wo, h) > 0.0f ? reflect_about(wo, h) : vec3(0.0f);
+  }
+  return vec3(0.0f);
 }
 
 // Samples wi. Returns f * |cos| / pdf (zero when the sample is absorbed), writes
@@ -155,7 +161,7 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
   float param = b.lobeParam[0];
   float uPick = clamp(u.z / b.lobeWeight[0], 0.0f, 0.99999994f);
   float below = 0.0f;
-  for (uint i = 1u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 1u; i < BSDF_LOBES_OF_SCENE; ++i) {
     below += b.lobeWeight[i - 1u];
     if (i < b.lobeCount && u.z >= below) {
       type = b.lobeType[i];
@@ -164,7 +170,7 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
       uPick = clamp((u.z - below) / b.lobeWeight[i], 0.0f, 0.99999994f);
     }
   }
-  if (type == MAT_DIELECTRIC) {
+  if (SCENE_HAS(FEATURE_DIELECTRIC) && type == MAT_DIELECTRIC) {
     isDelta = true;
     float eta = b.front ? param : 1.0f / param;
     float cosI = dot(wo, b.ns);
@@ -182,7 +188,7 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
     // (radiance is not scaled by eta^2, as in darts).
     return color;
   }
-  if (type == MAT_METAL && param <= 0.0f) {
+  if (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL && param <= 0.0f) {
     isDelta = true;
     wi = reflect_about(wo, b.ns);
     return dot(wi, b.ng) > 0.0f ? color : vec3(0.0f);

@@ -108,9 +108,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   if (h.prim == WP_INVALID) {
     if (preview) return false;
     float w = 1.0f;
-    if (scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
+    if (SCENE_HAS(FEATURE_ENVIRONMENT) && scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this direction of the environment map.
-      float lightPdf = emitters[scene.environment.y].pmf * environment_pdf(p.dir);
+      float lightPdf = load_emitter(scene.environment.y).pmf * environment_pdf(p.dir);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
     }
     p.radiance += p.throughput * background_radiance(p.dir) * (w * radianceScale);

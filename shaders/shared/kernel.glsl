@@ -14,15 +14,16 @@ layout(constant_id = 2) const uint kLightSamples = 1u;
 #define LIGHT_SAMPLES_OF_SCENE kLightSamples
 // The shadow-ray array of a vertex is sized by it too: one slot, as a rule.
 #define LIGHT_SAMPLE_SLOTS kLightSamples
-// The BVH layout (scene.accel.x), whether the scene has spheres (accel.y) and
+// The BVH layout (scene.accel.x), the features the scene uses (accel.y) and
 // the traversal stack size (accel.z), constants 3 to 5: each kernel holds only
-// the traversal it runs, no sphere test in a scene without spheres, and a
-// stack no larger than the tree needs (lavapipe keeps it in memory per lane).
+// the traversal it runs, only the code of the materials, textures and lights
+// the scene has, and a stack no larger than the tree needs (lavapipe keeps it
+// in memory per lane).
 layout(constant_id = 3) const uint kBvhLayout = BVH_LAYOUT_WIDE;
-layout(constant_id = 4) const bool kHasSpheres = true;
+layout(constant_id = 4) const uint kSceneFeatures = FEATURE_ALL;
 layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
 #define BVH_LAYOUT_OF_SCENE kBvhLayout
-#define SCENE_HAS_SPHERES kHasSpheres
+#define SCENE_HAS(feature) ((kSceneFeatures & (feature)) != 0u)
 #define TRAVERSAL_STACK_SIZE kStackSize
 #include "bindings.glsl"
 #include "rng.glsl"

@@ -33,7 +33,8 @@ struct LightSample {
 // ---- records in texel buffers -------------------------------------------------
 // Decoded from RGBA32UI texels (bindings.glsl), field by field as the structs
 // in types.glsl lay them out; on the host the same code reads the uploaded
-// arrays through texelFetch on uvec4 pointers.
+// arrays through texelFetch on plain pointers. Unused fields cost nothing: a
+// texel fetch whose result is not used is removed by the compiler.
 
 vec3 texel_xyz(uvec4 t) {
   return vec3(uintBitsToFloat(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z));
@@ -100,6 +101,71 @@ TriangleShading load_shading(uint i) {
   return sh;
 }
 
+vec4 texel_vec4(uvec4 t) {
+  return vec4(uintBitsToFloat(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z), uintBitsToFloat(t.w));
+}
+
+Sphere load_sphere(uint i) {
+  int at = int(i) * SPHERE_TEXELS;
+  Sphere sp;
+  sp.toWorld0 = texel_vec4(texelFetch(sphereTexels, at));
+  sp.toWorld1 = texel_vec4(texelFetch(sphereTexels, at + 1));
+  sp.toWorld2 = texel_vec4(texelFetch(sphereTexels, at + 2));
+  sp.toObject0 = texel_vec4(texelFetch(sphereTexels, at + 3));
+  sp.toObject1 = texel_vec4(texelFetch(sphereTexels, at + 4));
+  sp.toObject2 = texel_vec4(texelFetch(sphereTexels, at + 5));
+  uvec4 g = texelFetch(sphereTexels, at + 6);
+  sp.material = g.x;
+  sp.emitter = g.y;
+  sp.area = uintBitsToFloat(g.z);
+  sp.pad = g.w;
+  return sp;
+}
+
+Material load_material(uint i) {
+  int at = int(i) * MATERIAL_TEXELS;
+  Material m;
+  m.info = texelFetch(materialTexels, at);
+  m.children = texelFetch(materialTexels, at + 1);
+  m.params = texel_vec4(texelFetch(materialTexels, at + 2));
+  return m;
+}
+
+Texture load_texture(uint i) {
+  int at = int(i) * TEXTURE_TEXELS;
+  Texture t;
+  t.info = texelFetch(textureTexels, at);
+  t.color0 = texel_vec4(texelFetch(textureTexels, at + 1));
+  t.color1 = texel_vec4(texelFetch(textureTexels, at + 2));
+  t.map0 = texel_vec4(texelFetch(textureTexels, at + 3));
+  t.map1 = texel_vec4(texelFetch(textureTexels, at + 4));
+  t.map2 = texel_vec4(texelFetch(textureTexels, at + 5));
+  return t;
+}
+
+PointLight load_point_light(uint i) {
+  int at = int(i) * POINT_LIGHT_TEXELS;
+  PointLight l;
+  l.position = texel_vec4(texelFetch(pointLightTexels, at));
+  l.intensity = texel_vec4(texelFetch(pointLightTexels, at + 1));
+  return l;
+}
+
+Emitter load_emitter(uint i) {
+  uvec4 t = texelFetch(emitterTexels, int(i) * EMITTER_TEXELS);
+  Emitter e;
+  e.prim = t.x;
+  e.alias = t.y;
+  e.threshold = uintBitsToFloat(t.z);
+  e.pmf = uintBitsToFloat(t.w);
+  return e;
+}
+
+// Entry i of the environment map's sampling distribution.
+float cdf_at(uint i) {
+  return texelFetch(environmentCdf, int(i)).x;
+}
+
 // ---- traversal ----------------------------------------------------------------
 //
 // Loop budget: lavapipe silently ends all loops of a shader invocation after
@@ -123,8 +189,8 @@ void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
       hit.u = u;
       hit.v = v;
     }
-  } else if (SCENE_HAS_SPHERES) {
-    Sphere sp = spheres[tri.shading];
+  } else if (SCENE_HAS(FEATURE_SPHERES)) {
+    Sphere sp = load_sphere(tri.shading);
     vec3 ol = xform_point(sp.toObject0, sp.toObject1, sp.toObject2, o);
     vec3 dl = xform_vector(sp.toObject0, sp.toObject1, sp.toObject2, d);
     if (intersect_unit_sphere(ol, dl, hit.t, t)) {
@@ -388,7 +454,7 @@ SurfaceHit sphere_surface_of(Sphere sp, vec3 pw) {
 }
 
 SurfaceHit sphere_surface(uint i, vec3 pw) {
-  return sphere_surface_of(spheres[i], pw);
+  return sphere_surface_of(load_sphere(i), pw);
 }
 
 // The surface of triangle `tri` at barycentrics (b1, b2).
@@ -399,7 +465,7 @@ SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
   s.ng = normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
   s.ns = s.ng;
   s.uv = vec2(b1, b2);
-  if (tri.shading != WP_INVALID) {
+  if (SCENE_HAS(FEATURE_SHADING_DATA) && tri.shading != WP_INVALID) {
     TriangleShading sh = load_shading(tri.shading);
     s.uv = vec2(sh.u0, sh.v0) * b0 + vec2(sh.uv12.x, sh.uv12.y) * b1 + vec2(sh.uv12.z, sh.uv12.w) * b2;
     if (sh.hasNormals != 0u) {
@@ -420,7 +486,7 @@ SurfaceHit triangle_surface(uint i, float b1, float b2) {
 
 // The surface at a hit of the ray (o, d).
 SurfaceHit surface_at(vec3 o, vec3 d, Hit h) {
-  if ((h.prim & HIT_SPHERE_BIT) != 0u) return sphere_surface(h.prim & ~HIT_SPHERE_BIT, o + d * h.t);
+  if (SCENE_HAS(FEATURE_SPHERES) && (h.prim & HIT_SPHERE_BIT) != 0u) return sphere_surface(h.prim & ~HIT_SPHERE_BIT, o + d * h.t);
   return triangle_surface(h.prim, h.u, h.v);
 }
 
@@ -440,7 +506,7 @@ vec3 texture_point(Texture t, vec2 uv, vec3 p) {
 }
 
 vec3 texel_at(Texture t, uint x, uint y) {
-  uvec2 packed = texels[t.info.y + y * t.info.z + x];
+  uvec4 packed = texelFetch(imageTexels, int(t.info.y + y * t.info.z + x));
   vec2 rg = unpackHalf2x16(packed.x);
   vec2 b = unpackHalf2x16(packed.y);
   return vec3(rg.x, rg.y, b.x);
@@ -470,26 +536,26 @@ vec3 image_lookup(Texture t, vec3 q) {
 // texture's type needs: on lavapipe every 16 bytes loaded costs more than the
 // arithmetic around them, and most textures are constants.
 vec3 texture_eval(uint index, vec2 uv, vec3 p) {
-  uvec4 info = textures[index].info;
+  uvec4 info = load_texture(index).info;
   // A checker picks one of two textures; follow the picks (the loader bounds the nesting).
-  for (uint depth = 0u; depth < TEXTURE_MAX_NESTING && (info.x & TEX_TYPE_MASK) == TEX_CHECKER; ++depth) {
-    Texture t = textures[index];
+  for (uint depth = 0u; SCENE_HAS(FEATURE_CHECKER) && depth < TEXTURE_MAX_NESTING && (info.x & TEX_TYPE_MASK) == TEX_CHECKER; ++depth) {
+    Texture t = load_texture(index);
     vec3 c = floor(texture_point(t, uv, p) * t.color0.w);
     int parity = (int(c.x) + int(c.y) + int(c.z)) & 1;
     index = parity == 0 ? info.y : info.z;
-    info = textures[index].info;
+    info = load_texture(index).info;
   }
   uint type = info.x & TEX_TYPE_MASK;
-  if (type == TEX_MARBLE) {
-    Texture t = textures[index];
+  if (SCENE_HAS(FEATURE_MARBLE) && type == TEX_MARBLE) {
+    Texture t = load_texture(index);
     float m = marble_pattern(texture_point(t, uv, p) * t.color0.w);
     return mix(vec3(t.color0.x, t.color0.y, t.color0.z), vec3(t.color1.x, t.color1.y, t.color1.z), m);
   }
-  if (type == TEX_IMAGE) {
-    Texture t = textures[index];
+  if (SCENE_HAS(FEATURE_IMAGE) && type == TEX_IMAGE) {
+    Texture t = load_texture(index);
     return image_lookup(t, texture_point(t, uv, p));
   }
-  vec4 c = textures[index].color0;
+  vec4 c = load_texture(index).color0;
   return vec3(c.x, c.y, c.z);
 }
 
@@ -497,14 +563,14 @@ vec3 texture_eval(uint index, vec2 uv, vec3 p) {
 
 // Radiance the surface emits towards wo (front side only).
 vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
-  uint tex = materials[s.material].info.z;
+  uint tex = load_material(s.material).info.z;
   if (tex == WP_INVALID || dot(s.ng, wo) <= 0.0f) return vec3(0.0f);
   return texture_eval(tex, s.uv, s.p);
 }
 
 // A blend's amount: a texture's mean, or the Fresnel reflectance at the hit.
 float blend_amount(uint tex, SurfaceHit s, vec3 wo, bool front) {
-  Texture t = textures[tex];
+  Texture t = load_texture(tex);
   if ((t.info.x & TEX_TYPE_MASK) == TEX_FRESNEL) {
     float cosI = abs(dot(wo, s.ns));
     return fresnel_dielectric(cosI, front ? t.color0.x : 1.0f / t.color0.x);
@@ -516,7 +582,7 @@ float blend_amount(uint tex, SurfaceHit s, vec3 wo, bool front) {
 // The lobe a non-blend material contributes, with the given weight.
 void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, SurfaceHit s, float w) {
   b.lobeType[k] = m.info.x;
-  b.lobeColor[k] = m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+  b.lobeColor[k] = SCENE_HAS(FEATURE_DIELECTRIC) && m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
   b.lobeParam[k] = m.params.x;
   b.lobeWeight[k] = w;
 }
@@ -530,15 +596,15 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   b.ng = b.front ? s.ng : -s.ng;
   b.ns = b.front ? s.ns : -s.ns;
   b.lobeCount = 0u;
-  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     b.lobeType[i] = MAT_LAMBERTIAN;
     b.lobeColor[i] = vec3(0.0f);
     b.lobeParam[i] = 0.0f;
     b.lobeWeight[i] = 0.0f;
   }
-  Material m = materials[s.material];
+  Material m = load_material(s.material);
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter
-  if (m.info.x != MAT_BLEND) {  // the common case: one lobe
+  if (!SCENE_HAS(FEATURE_BLEND) || m.info.x != MAT_BLEND) {  // the common case: one lobe
     bsdf_set_lobe(b, 0u, m, s, 1.0f);
     b.lobeCount = 1u;
     return b;
@@ -551,7 +617,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   float total = 0.0f;
   for (uint iter = 0u; iter < 2u * BSDF_MAX_LOBES && sp > 0u; ++iter) {
     sp -= 1u;
-    m = materials[stackMaterial[sp]];
+    m = load_material(stackMaterial[sp]);
     float w = stackWeight[sp];
     if (m.info.x == MAT_BLEND) {
       float amount = blend_amount(m.info.w, s, wo, b.front);
@@ -571,7 +637,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   }
   // Weights are sampling probabilities: normalise them and move their sum into
   // the colours, so f is unchanged.
-  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i < b.lobeCount) {
       b.lobeWeight[i] /= total;
       b.lobeColor[i] *= total;
@@ -592,7 +658,7 @@ vec2 environment_uv(vec3 d) {
 // Radiance arriving from direction d out of the scene: the environment map, or
 // the constant background.
 vec3 background_radiance(vec3 d) {
-  if (scene.environment.x == WP_INVALID) return vec3(scene.background.x, scene.background.y, scene.background.z);
+  if (!SCENE_HAS(FEATURE_ENVIRONMENT) || scene.environment.x == WP_INVALID) return vec3(scene.background.x, scene.background.y, scene.background.z);
   return texture_eval(scene.environment.x, environment_uv(d), d);
 }
 
@@ -603,7 +669,7 @@ uint cdf_find(uint offset, uint count, float u) {
   uint hi = count;
   while (lo + 1u < hi) {
     uint mid = (lo + hi) / 2u;
-    if (environmentCdf[offset + mid] <= u) lo = mid;
+    if (cdf_at(offset + mid) <= u) lo = mid;
     else hi = mid;
   }
   return lo;
@@ -614,8 +680,8 @@ float environment_cell_pdf(uint row, uint col) {
   uint w = scene.environment.z;
   uint h = scene.environment.w;
   uint rowCdf = h + 1u + row * (w + 1u);
-  float pRow = (environmentCdf[row + 1u] - environmentCdf[row]) * float(h);
-  float pCol = (environmentCdf[rowCdf + col + 1u] - environmentCdf[rowCdf + col]) * float(w);
+  float pRow = (cdf_at(row + 1u) - cdf_at(row)) * float(h);
+  float pCol = (cdf_at(rowCdf + col + 1u) - cdf_at(rowCdf + col)) * float(w);
   return pRow * pCol;
 }
 
@@ -637,12 +703,12 @@ vec3 environment_sample(vec2 u, OUT(float) pdf) {
   uint w = scene.environment.z;
   uint h = scene.environment.w;
   uint row = cdf_find(0u, h, u.y);
-  float r0 = environmentCdf[row];
-  float dv = clamp((u.y - r0) / (environmentCdf[row + 1u] - r0), 0.0f, 1.0f);
+  float r0 = cdf_at(row);
+  float dv = clamp((u.y - r0) / (cdf_at(row + 1u) - r0), 0.0f, 1.0f);
   uint rowCdf = h + 1u + row * (w + 1u);
   uint col = cdf_find(rowCdf, w, u.x);
-  float c0 = environmentCdf[rowCdf + col];
-  float du = clamp((u.x - c0) / (environmentCdf[rowCdf + col + 1u] - c0), 0.0f, 1.0f);
+  float c0 = cdf_at(rowCdf + col);
+  float du = clamp((u.x - c0) / (cdf_at(rowCdf + col + 1u) - c0), 0.0f, 1.0f);
   float theta = (float(row) + dv) / float(h) * WP_PI;
   float phi = ((float(col) + du) / float(w) - 0.5f) * (2.0f * WP_PI);
   float sinTheta = sin(theta);
@@ -660,9 +726,9 @@ uint pick_emitter(float u, OUT(float) pmf) {
   uint count = scene.counts.x;
   float x = u * float(count);
   uint i = min(uint(x), count - 1u);
-  Emitter e = emitters[i];
+  Emitter e = load_emitter(i);
   uint chosen = (x - float(i)) < e.threshold ? i : e.alias;
-  pmf = emitters[chosen].pmf;
+  pmf = load_emitter(chosen).pmf;
   return chosen;
 }
 
@@ -683,11 +749,11 @@ float sphere_cone(Sphere sp, vec3 ref, OUT(vec3) center, OUT(float) radius) {
 // Solid-angle density with which sample_emitter, called at ref, reaches the
 // emitter surface point s at distance dist along unit direction wi.
 float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
-  Emitter e = emitters[emitter];
-  if ((e.prim & HIT_SPHERE_BIT) != 0u) {
+  Emitter e = load_emitter(emitter);
+  if (SCENE_HAS(FEATURE_SPHERE_LIGHTS) && (e.prim & HIT_SPHERE_BIT) != 0u) {
     vec3 c;
     float r;
-    float cone = sphere_cone(spheres[e.prim & ~HIT_SPHERE_BIT], ref, c, r);
+    float cone = sphere_cone(load_sphere(e.prim & ~HIT_SPHERE_BIT), ref, c, r);
     return cone > 0.0f ? e.pmf * uniform_cone_pdf(cone) : 0.0f;
   }
   float cosL = -dot(s.ng, wi);
@@ -708,9 +774,9 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   ls.n = vec3(0.0f);
   if (scene.counts.x == 0u) return false;
   float pmf;
-  Emitter e = emitters[pick_emitter(u.x, pmf)];
+  Emitter e = load_emitter(pick_emitter(u.x, pmf));
   vec2 uv = vec2(u.y, u.z);
-  if (e.prim == EMITTER_ENVIRONMENT) {
+  if (SCENE_HAS(FEATURE_ENVIRONMENT) && e.prim == EMITTER_ENVIRONMENT) {
     float pdfDir;
     ls.wi = environment_sample(uv, pdfDir);
     if (pdfDir <= 0.0f) return false;
@@ -720,8 +786,8 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     ls.n = -ls.wi;
     return true;
   }
-  if ((e.prim & EMITTER_POINT_BIT) != 0u) {
-    PointLight l = pointLights[e.prim & ~EMITTER_POINT_BIT];
+  if (SCENE_HAS(FEATURE_POINT_LIGHTS) && (e.prim & EMITTER_POINT_BIT) != 0u) {
+    PointLight l = load_point_light(e.prim & ~EMITTER_POINT_BIT);
     vec3 d = vec3(l.position.x, l.position.y, l.position.z) - ref;
     float dist2 = dot(d, d);
     if (dist2 <= 0.0f) return false;
@@ -734,8 +800,8 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     return true;
   }
   SurfaceHit s;
-  if ((e.prim & HIT_SPHERE_BIT) != 0u) {
-    Sphere sp = spheres[e.prim & ~HIT_SPHERE_BIT];
+  if (SCENE_HAS(FEATURE_SPHERE_LIGHTS) && (e.prim & HIT_SPHERE_BIT) != 0u) {
+    Sphere sp = load_sphere(e.prim & ~HIT_SPHERE_BIT);
     vec3 c;
     float r;
     float cone = sphere_cone(sp, ref, c, r);
@@ -765,7 +831,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   ls.wi = d / ls.dist;
   float cosL = -dot(s.ng, ls.wi);
   if (cosL <= 0.0f) return false;  // back side: emits nothing
-  if ((e.prim & HIT_SPHERE_BIT) == 0u) ls.pdf *= dist2 / cosL;
+  if (!SCENE_HAS(FEATURE_SPHERE_LIGHTS) || (e.prim & HIT_SPHERE_BIT) == 0u) ls.pdf *= dist2 / cosL;
   ls.p = s.p;
   ls.n = s.ng;
   ls.radiance = emitted_radiance(s, -ls.wi);
@@ -779,16 +845,16 @@ float emitters_pdf_direction(vec3 ref, vec3 wi) {
   float pdf = 0.0f;
   RayShear sh = make_ray_shear(wi);
   for (uint i = 0u; i < scene.counts.x; ++i) {
-    Emitter e = emitters[i];
-    if (e.prim == EMITTER_ENVIRONMENT) {
+    Emitter e = load_emitter(i);
+    if (SCENE_HAS(FEATURE_ENVIRONMENT) && e.prim == EMITTER_ENVIRONMENT) {
       pdf += e.pmf * environment_pdf(wi);  // every direction reaches it
       continue;
     }
-    if ((e.prim & EMITTER_POINT_BIT) != 0u) continue;
+    if ((e.prim & (EMITTER_POINT_BIT | EMITTER_ENVIRONMENT)) != 0u) continue;
     float t;
     SurfaceHit s;
-    if ((e.prim & HIT_SPHERE_BIT) != 0u) {
-      Sphere sp = spheres[e.prim & ~HIT_SPHERE_BIT];
+    if (SCENE_HAS(FEATURE_SPHERE_LIGHTS) && (e.prim & HIT_SPHERE_BIT) != 0u) {
+      Sphere sp = load_sphere(e.prim & ~HIT_SPHERE_BIT);
       vec3 ol = xform_point(sp.toObject0, sp.toObject1, sp.toObject2, ref);
       vec3 dl = xform_vector(sp.toObject0, sp.toObject1, sp.toObject2, wi);
       if (!intersect_unit_sphere(ol, dl, WP_INF, t)) continue;

@@ -115,13 +115,17 @@ struct WideNode {
   uvec4 qhi;       // y upper 0-3, y upper 4-7, z upper 0-3, z upper 4-7
 };
 
-// The BVH nodes, primitive records and shading records are read through
-// texel buffers of RGBA32UI texels (see bindings.glsl); these are their sizes
-// in texels.
+// The scene's records are read through texel buffers of RGBA32UI texels (see
+// bindings.glsl); these are their sizes in texels.
 #define BVH_NODE_TEXELS 2
 #define WIDE_NODE_TEXELS 5
 #define TRIANGLE_TEXELS 3
 #define TRIANGLE_SHADING_TEXELS 4
+#define SPHERE_TEXELS 7
+#define MATERIAL_TEXELS 3
+#define TEXTURE_TEXELS 6
+#define POINT_LIGHT_TEXELS 2
+#define EMITTER_TEXELS 1
 
 // A primitive record in BVH leaf order, 48 bytes: a triangle in world space,
 // or a sphere's placeholder (material == WP_INVALID, `shading` = its index in
@@ -210,8 +214,27 @@ struct SceneParams {
   uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
-  uvec4 accel;       // x: BVH_LAYOUT_*, y: 1 if the scene has spheres, z: traversal stack slots needed, w: unused
+  uvec4 accel;       // x: BVH_LAYOUT_*, y: FEATURE_* the scene uses, z: traversal stack slots needed, w: unused
 };
+
+// SceneParams.accel.y: what the scene uses. On the GPU it is specialization
+// constant 4, and the code of every feature a scene lacks compiles out of the
+// kernels: lavapipe runs every branch of a kernel for every path, taken or
+// not, so an unused material or texture kind would cost every path its time.
+#define FEATURE_SPHERES 0x1u
+#define FEATURE_BLEND 0x2u         // blend materials: several lobes per BSDF
+#define FEATURE_METAL 0x4u
+#define FEATURE_DIELECTRIC 0x8u
+#define FEATURE_PHONG 0x10u
+#define FEATURE_BLINN_PHONG 0x20u
+#define FEATURE_CHECKER 0x40u
+#define FEATURE_MARBLE 0x80u
+#define FEATURE_IMAGE 0x100u       // image textures (the environment map's included)
+#define FEATURE_SHADING_DATA 0x200u  // triangles with vertex normals or UVs
+#define FEATURE_POINT_LIGHTS 0x400u
+#define FEATURE_SPHERE_LIGHTS 0x800u
+#define FEATURE_ENVIRONMENT 0x1000u
+#define FEATURE_ALL 0x1fffu
 
 // Most next-event-estimation samples per path vertex (CS184's -l).
 #define MAX_LIGHT_SAMPLES 8u

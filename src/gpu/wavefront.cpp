@@ -156,22 +156,25 @@ struct WavefrontRenderer::Impl {
     }
   }
 
-  template <typename T>
-  void add_storage(uint32_t binding, const std::vector<T>& data, uint64_t maxRange, const char* what) {
-    uint64_t bytes = data.size() * sizeof(T);
-    if (bytes > maxRange) {
-      throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
-                        ctx.info().name + " allows " + std::to_string(maxRange >> 20) +
-                        " MiB per storage buffer; scenes this large are not supported on this device yet");
-    }
-    buffers[binding] = std::make_unique<Buffer>(ctx, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
-    ctx.upload(*buffers[binding], data.data(), bytes);
-  }
-
-  // Records the kernels read as RGBA32UI texels (bindings.glsl).
+  // The scene's arrays, which the kernels read as texel buffers (bindings.glsl):
+  // records as RGBA32UI, image texels as RG32UI, the environment CDF as R32F.
   static bool is_texel_binding(uint32_t binding) {
-    return binding == BINDING_NODES || binding == BINDING_WIDE_NODES || binding == BINDING_TRIANGLES ||
-           binding == BINDING_TRIANGLE_SHADING;
+    switch (binding) {
+      case BINDING_NODES:
+      case BINDING_WIDE_NODES:
+      case BINDING_TRIANGLES:
+      case BINDING_TRIANGLE_SHADING:
+      case BINDING_SPHERES:
+      case BINDING_MATERIALS:
+      case BINDING_EMITTERS:
+      case BINDING_TEXTURES:
+      case BINDING_POINT_LIGHTS:
+      case BINDING_TEXELS:
+      case BINDING_ENVIRONMENT_CDF:
+        return true;
+      default:
+        return false;
+    }
   }
 
   static vk::DescriptorType descriptor_type(uint32_t binding) {
@@ -180,10 +183,12 @@ struct WavefrontRenderer::Impl {
   }
 
   template <typename T>
-  void add_texels(uint32_t binding, const std::vector<T>& data, const char* what) {
-    static_assert(sizeof(T) % 16 == 0, "records are whole RGBA32UI texels");
+  void add_texels(uint32_t binding, const std::vector<T>& data, const char* what, vk::Format format = vk::Format::eR32G32B32A32Uint) {
+    const uint64_t texelBytes = format == vk::Format::eR32G32B32A32Uint ? 16 : format == vk::Format::eR32G32Uint ? 8 : 4;
+    static_assert(sizeof(T) % 4 == 0);
+    if (sizeof(T) % texelBytes != 0) throw RenderError("internal error: a record is not a whole number of texels");
     uint64_t bytes = data.size() * sizeof(T);
-    uint64_t maxBytes = ctx.info().maxTexelBufferElements * 16;
+    uint64_t maxBytes = ctx.info().maxTexelBufferElements * texelBytes;
     if (bytes > maxBytes) {
       throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
                         ctx.info().name + " allows " + std::to_string(maxBytes >> 20) + " MiB per texel buffer");
@@ -191,7 +196,7 @@ struct WavefrontRenderer::Impl {
     buffers[binding] = std::make_unique<Buffer>(ctx, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
     ctx.upload(*buffers[binding], data.data(), bytes);
     views[binding] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
-                                                                                  vk::Format::eR32G32B32A32Uint, 0, VK_WHOLE_SIZE));
+                                                                                  format, 0, VK_WHOLE_SIZE));
   }
 
   void add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra = {}) {
@@ -209,13 +214,13 @@ struct WavefrontRenderer::Impl {
     add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
     add_texels(BINDING_TRIANGLES, scene.triangles, "primitives");
     add_texels(BINDING_TRIANGLE_SHADING, scene.triangleShading, "vertex normals and UVs");
-    add_storage(BINDING_SPHERES, scene.spheres, maxRange, "spheres");
-    add_storage(BINDING_MATERIALS, scene.materials, maxRange, "materials");
-    add_storage(BINDING_EMITTERS, scene.emitters, maxRange, "emitters");
-    add_storage(BINDING_TEXTURES, scene.textures, maxRange, "textures");
-    add_storage(BINDING_TEXELS, scene.texels, maxRange, "image texels");
-    add_storage(BINDING_POINT_LIGHTS, scene.pointLights, maxRange, "point lights");
-    add_storage(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, maxRange, "environment map distribution");
+    add_texels(BINDING_SPHERES, scene.spheres, "spheres");
+    add_texels(BINDING_MATERIALS, scene.materials, "materials");
+    add_texels(BINDING_EMITTERS, scene.emitters, "emitters");
+    add_texels(BINDING_TEXTURES, scene.textures, "textures");
+    add_texels(BINDING_POINT_LIGHTS, scene.pointLights, "point lights");
+    add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
+    add_texels(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, "environment map distribution", vk::Format::eR32Sfloat);
     add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
     add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
     add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));

@@ -46,6 +46,39 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
   return glm::vec3(rg.x, rg.y, glm::unpackHalf2x16(packed.y).x);
 }
 
+// The FEATURE_* bits of what a compiled scene uses (before its empty arrays
+// get their placeholder element); `emitters` are the emitter table's prims,
+// `environment` whether an environment map replaces the background.
+uint32_t scene_features(const CompiledScene& cs, const std::vector<uint32_t>& emitters, bool spheres, bool environment) {
+  uint32_t f = spheres ? FEATURE_SPHERES : 0u;
+  for (const shader::Material& m : cs.materials) {
+    switch (m.info.x) {
+      case MAT_BLEND: f |= FEATURE_BLEND; break;
+      case MAT_METAL: f |= FEATURE_METAL; break;
+      case MAT_DIELECTRIC: f |= FEATURE_DIELECTRIC; break;
+      case MAT_PHONG: f |= FEATURE_PHONG; break;
+      case MAT_BLINN_PHONG: f |= FEATURE_BLINN_PHONG; break;
+      default: break;
+    }
+  }
+  for (const shader::Texture& t : cs.textures) {
+    switch (t.info.x & TEX_TYPE_MASK) {
+      case TEX_CHECKER: f |= FEATURE_CHECKER; break;
+      case TEX_MARBLE: f |= FEATURE_MARBLE; break;
+      case TEX_IMAGE: f |= FEATURE_IMAGE; break;
+      default: break;
+    }
+  }
+  if (!cs.triangleShading.empty()) f |= FEATURE_SHADING_DATA;
+  for (uint32_t prim : emitters) {
+    if (prim == EMITTER_ENVIRONMENT) f |= FEATURE_ENVIRONMENT;
+    else if (prim & EMITTER_POINT_BIT) f |= FEATURE_POINT_LIGHTS;
+    else if (prim & HIT_SPHERE_BIT) f |= FEATURE_SPHERE_LIGHTS;
+  }
+  if (environment) f |= FEATURE_ENVIRONMENT;
+  return f;
+}
+
 }  // namespace
 
 shader::SceneView CompiledScene::view() const {
@@ -57,12 +90,12 @@ shader::SceneView CompiledScene::view() const {
   v.wideNodeTexels = texels_of(wideNodes);
   v.triangleTexels = texels_of(triangles);
   v.shadingTexels = texels_of(triangleShading);
-  v.spheres = spheres.data();
-  v.materials = materials.data();
-  v.emitters = emitters.data();
-  v.textures = textures.data();
-  v.texels = texels.data();
-  v.pointLights = pointLights.data();
+  v.sphereTexels = texels_of(spheres);
+  v.materialTexels = texels_of(materials);
+  v.emitterTexels = texels_of(emitters);
+  v.textureTexels = texels_of(textures);
+  v.pointLightTexels = texels_of(pointLights);
+  v.imageTexels = texels.data();
   v.environmentCdf = environmentCdf.data();
   return v;
 }
@@ -310,6 +343,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
   out.emitters = build_alias_table(power);
   for (size_t i = 0; i < prims.size(); ++i) out.emitters[i].prim = prims[i];
+  const uint32_t features = scene_features(out, prims, numSpheres > 0, scene.environmentTexture != WP_INVALID);
   if (out.triangles.empty()) out.triangles.push_back(shader::Triangle{});
   if (out.spheres.empty()) out.spheres.push_back(shader::Sphere{});
   // Buffers are never empty: bind a zero element where the scene has none.
@@ -365,7 +399,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
   p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
   p.debugRegion = options.plantedRegion;
-  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, numSpheres > 0 ? 1u : 0u, stackSlots, 0u);
+  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, features, stackSlots, 0u);
   return out;
 }
 

@@ -19,11 +19,19 @@ namespace wp::shader {
 // GLSL built-ins that GLM lacks for scalars.
 inline bool isnan(float x) { return std::isnan(x); }
 inline bool isinf(float x) { return std::isinf(x); }
-// A texel buffer of RGBA32UI texels is, on the host, an array of uvec4.
+// The kernels' texel buffers are, on the host, the arrays they were made
+// from: RGBA32UI records as uvec4, RG32UI image texels as uvec2, the R32F
+// environment CDF as float. texelFetch reads them as GLSL does.
 inline glm::uvec4 texelFetch(const glm::uvec4* texels, int i) { return texels[i]; }
+inline glm::uvec4 texelFetch(const glm::uvec2* texels, int i) { return glm::uvec4(texels[i].x, texels[i].y, 0u, 1u); }
+inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texels[i], 0.0f, 0.0f, 1.0f); }
 
 #include "../../shaders/shared/types.glsl"
 #include "../../shaders/shared/bindings.glsl"
+
+// The CPU takes the real branches only; skipping absent features is the
+// kernels' optimization (kernel.glsl), so here every feature counts as present.
+#define SCENE_HAS(feature) true
 
 // The scene-independent functions (RNG, sampling, intersection, BSDFs). They
 // are members only so that C++ treats them as inline; they use no state.
@@ -38,23 +46,23 @@ struct ShaderMath {
 // Read-only view of an uploaded scene: the same buffers the kernels bind.
 struct SceneView : ShaderMath {
   SceneParams scene{};
-  const uvec4* nodeTexels = nullptr;  // the texel buffers, as the kernels see them
+  // The texel buffers (bindings.glsl), as the kernels see them.
+  const uvec4* nodeTexels = nullptr;
   const uvec4* wideNodeTexels = nullptr;
   const uvec4* triangleTexels = nullptr;
   const uvec4* shadingTexels = nullptr;
-  const Sphere* spheres = nullptr;
-  const Material* materials = nullptr;
-  const Emitter* emitters = nullptr;
-  const Texture* textures = nullptr;
-  const uvec2* texels = nullptr;
-  const PointLight* pointLights = nullptr;
+  const uvec4* sphereTexels = nullptr;
+  const uvec4* materialTexels = nullptr;
+  const uvec4* emitterTexels = nullptr;
+  const uvec4* textureTexels = nullptr;
+  const uvec4* pointLightTexels = nullptr;
+  const uvec2* imageTexels = nullptr;
   const float* environmentCdf = nullptr;
 
 #define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: specialization constants (kernel.glsl)
 #define LIGHT_SAMPLES_OF_SCENE scene.mode.w
 #define LIGHT_SAMPLE_SLOTS MAX_LIGHT_SAMPLES
 #define BVH_LAYOUT_OF_SCENE scene.accel.x
-#define SCENE_HAS_SPHERES (scene.accel.y != 0u)
 #define TRAVERSAL_STACK_SIZE BVH_STACK_MAX
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
@@ -62,7 +70,10 @@ struct SceneView : ShaderMath {
 
 // Host-side layout checks; tests/test_layout.cpp checks the GLSL side.
 static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 * WIDE_NODE_TEXELS &&
-              sizeof(Triangle) == 16 * TRIANGLE_TEXELS && sizeof(TriangleShading) == 16 * TRIANGLE_SHADING_TEXELS);
+              sizeof(Triangle) == 16 * TRIANGLE_TEXELS && sizeof(TriangleShading) == 16 * TRIANGLE_SHADING_TEXELS &&
+              sizeof(Sphere) == 16 * SPHERE_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
+              sizeof(Texture) == 16 * TEXTURE_TEXELS && sizeof(PointLight) == 16 * POINT_LIGHT_TEXELS &&
+              sizeof(Emitter) == 16 * EMITTER_TEXELS);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
               offsetof(WideNode, qlo) == 32 && offsetof(WideNode, qhi) == 64);
