@@ -263,7 +263,7 @@ int run_convergence(const ConvergenceArgs& c) {
   RenderOptions ro = options_from(c.render, 1000);
   ro.spp = c.referenceSpp;
   ro.sampler = SamplerKind::Independent;
-  ImageStats reference = render_cpu(compile_scene(scene, ro), c.render.threads, quiet);
+  ImageStats reference = render_cpu(compile_scene(scene, reference_options(ro)), c.render.threads, quiet);
   std::string rows = "sampler,spp,rmse\n";
   std::printf("%-12s %6s %12s\n", "sampler", "spp", "RMSE");
   for (SamplerKind sampler : {SamplerKind::Independent, SamplerKind::Cmj}) {
@@ -272,7 +272,7 @@ int run_convergence(const ConvergenceArgs& c) {
       RenderOptions o = options_from(c.render, 1);
       o.spp = spp;
       o.sampler = sampler;
-      ImageStats img = render_cpu(compile_scene(scene, o), c.render.threads, quiet);
+      ImageStats img = render_cpu(compile_scene(scene, reference_options(o)), c.render.threads, quiet);
       double se = 0.0;
       for (size_t p = 0; p < img.pixels(); ++p) {
         glm::dvec3 d = img.mean(p) - reference.mean(p);

@@ -25,7 +25,7 @@ TEST(CpuReference, FurnaceCheckCatchesAPlantedBiasOfTwoPercent) {
   o.spp = 32;
   o.plantedBias = 1.02f;
   Progress quiet("", 0, false);
-  ImageStats img = render_cpu(compile_scene(scene, o), 0, quiet);
+  ImageStats img = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
   EXPECT_NONFATAL_FAILURE(expect_mean(img, 0.875, "planted"), "planted");
 }
 
@@ -124,7 +124,7 @@ TEST(CpuRender, AllPathTracersAgreeOnOneScene) {
       o.seed = seed;
       o.plantedBias = bias;
       Progress quiet("", 0, false);
-      return render_cpu(compile_scene(scene, o), 0, quiet);
+      return render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
     };
     ImageStats mis = render(IntegratorKind::PathMis, 1, 1.0f);
     for (auto [kind, name] : {std::pair{IntegratorKind::PathNee, "nee"}, std::pair{IntegratorKind::PathMats, "mats"},
@@ -157,7 +157,7 @@ TEST(AdaptiveSampling, SpendsSamplesWhereTheNoiseIs) {
   Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
   RenderOptions o = adaptive_options(256);
   Progress quiet("", 0, false);
-  CompiledScene cs = compile_scene(scene, o);
+  CompiledScene cs = compile_scene(scene, reference_options(o));
   ImageStats img = render_cpu(cs, 0, quiet);
   double fewest = 1e9, most = 0.0;
   for (size_t p = 0; p < img.pixels(); ++p) {
@@ -180,10 +180,10 @@ TEST(CpuRender, SeveralLightSamplesPerVertexAgreeWithOne) {
     o.spp = 128;
     o.seed = 1;
     Progress quiet("", 0, false);
-    ImageStats one = render_cpu(compile_scene(scene, o), 0, quiet);
+    ImageStats one = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
     o.seed = 2;
     o.lightSamples = 4;
-    ImageStats four = render_cpu(compile_scene(scene, o), 0, quiet);
+    ImageStats four = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
     CompareResult r = compare_images(four, one);
     EXPECT_TRUE(r.passed()) << "4 light samples vs 1: " << r.summary();
   }

@@ -45,7 +45,7 @@ class Gpu : public testing::Test {
     co.plantedBias = 1.0f;
     ImageStats gpu = render(compile_scene(scene, go));
     Progress quiet("", 0, false);
-    ImageStats cpu = render_cpu(compile_scene(scene, co), 0, quiet);
+    ImageStats cpu = render_cpu(compile_scene(scene, reference_options(co)), 0, quiet);
     return compare_images(gpu, cpu);
   }
 
@@ -64,7 +64,7 @@ class Gpu : public testing::Test {
     b.plantedBias = 1.0f;
     ImageStats gpu = render(compile_scene(scene, a));
     Progress quiet("", 0, false);
-    ImageStats cpu = render_cpu(compile_scene(scene, b), 0, quiet);
+    ImageStats cpu = render_cpu(compile_scene(scene, reference_options(b)), 0, quiet);
     return compare_images(gpu, cpu);
   }
 
@@ -286,7 +286,7 @@ TEST_F(Gpu, EveryKernelVariantAgreesWithTheCpuReference) {
   // a 4096-spp comparison showed no bias (+0.15% +- 0.27%).
   o.seed = 7;
   Progress quiet("", 0, false);
-  ImageStats cpu = render_cpu(compile_scene(scene, o), 0, quiet);
+  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
   o.seed = 8;
   CompiledScene cs = compile_scene(scene, o);
   for (const KernelVariant& v : kernel_variants()) {
@@ -428,7 +428,7 @@ TEST_F(Gpu, AdaptiveSamplingMatchesTheCpuReference) {
   EXPECT_GE(double(sameCount), 0.9 * double(gpu.pixels()));
   EXPECT_LT(gpuTotal, 0.9 * 256.0 * double(gpu.pixels())) << "adaptive sampling saved nothing";
   o.seed = 6;
-  ImageStats cpu = render_cpu(compile_scene(scene, o), 0, quiet);
+  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
   CompareResult r = compare_images(gpu, cpu);
   EXPECT_TRUE(r.passed()) << r.summary();
 }
@@ -445,7 +445,7 @@ TEST_F(Gpu, SeveralLightSamplesPerVertexMatchTheCpuReference) {
   ImageStats gpu = render(compile_scene(scene, o));
   o.seed = 2;
   Progress quiet("", 0, false);
-  ImageStats cpu = render_cpu(compile_scene(scene, o), 0, quiet);
+  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
   CompareResult r = compare_images(gpu, cpu);
   EXPECT_TRUE(r.passed()) << r.summary();
 }

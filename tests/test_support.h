@@ -219,7 +219,7 @@ std::vector<float> brute_force_closest(const Scene& scene, const std::vector<sha
 
 inline ImageStats render_reference(const std::string& scenePath, RenderOptions options, int spp = -1) {
   options.spp = spp;
-  CompiledScene cs = compile_scene(load_scene(scenePath), options);
+  CompiledScene cs = compile_scene(load_scene(scenePath), reference_options(options));
   Progress quiet("", 0, false);
   return render_cpu(cs, 0, quiet);
 }

@@ -103,7 +103,7 @@ int run_bench(const BenchOptions& o) {
     RenderOptions ref;
     ref.spp = o.checkSpp;
     ref.seed = 1;
-    ImageStats reference = render_cpu(compile_scene(small, ref), 0, quiet);
+    ImageStats reference = render_cpu(compile_scene(small, reference_options(ref)), 0, quiet);
 
     for (const KernelVariant* v : variants) {
       VariantResult vr;

@@ -10,6 +10,11 @@
 
 namespace wp {
 
+RenderOptions reference_options(RenderOptions options) {
+  options.bvhLayout = BvhLayout::Binary;
+  return options;
+}
+
 ImageStats render_cpu(const CompiledScene& cs, int threads, Progress& progress) {
   using namespace shader;
   SceneView view = cs.view();  // read-only; shared by all threads

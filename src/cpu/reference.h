@@ -10,6 +10,15 @@
 namespace wp {
 
 // threads <= 0: all cores. Throws RenderError if any traversal hit its step cap.
+// Any BVH layout renders the same image; compile with reference_options for
+// the one that is fastest here.
 ImageStats render_cpu(const CompiledScene& scene, int threads, Progress& progress);
+
+// `options` with the CPU reference's BVH layout: the binary tree, which a CPU
+// walks about twice as fast as the wide one (built for lavapipe, where every
+// iteration visits a node and tests a primitive and all eight children are
+// tested at once). Checking the kernels' wide tree against it also crosses two
+// different trees.
+RenderOptions reference_options(RenderOptions options);
 
 }  // namespace wp

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "cpu/reference.h"
 #include "util/error.h"
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
@@ -65,7 +66,8 @@ const std::vector<KernelVariant>& kernel_variants() {
 }
 
 RenderOptions variant_options(RenderOptions options, const std::string& renderer) {
-  if (renderer != "cpu") options.bvhLayout = kernel_variant(renderer).bvhLayout;
+  if (renderer == "cpu") return reference_options(options);
+  options.bvhLayout = kernel_variant(renderer).bvhLayout;
   return options;
 }
 

@@ -46,7 +46,7 @@ const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.
 const KernelVariant& kernel_variant(const std::string& name);
 // `options` with the compile-time choices of `renderer`: a kernel variant's
-// name, or "cpu" for the CPU reference (which keeps the default layout).
+// name, or "cpu" for the CPU reference (reference_options).
 RenderOptions variant_options(RenderOptions options, const std::string& renderer);
 
 class WavefrontRenderer {
