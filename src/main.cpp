@@ -8,7 +8,7 @@
 //   wavepath compare --images A.exr B.exr [--report DIR]
 //   wavepath bench [--scenes LIST] [--variants LIST] [--spp N] [--repeats N] [--out results.json] [--csv results.csv]
 //   wavepath devices
-//   wavepath info SCENE.json
+//   wavepath info SCENE.json [--max-leaf-size N] [--variant NAME|cpu]
 //
 // Exit status: 0 success (compare: the images agree), 1 compare: they differ
 // (bench: a variant disagreed with the CPU reference and was not timed),
@@ -291,12 +291,13 @@ int run_convergence(const ConvergenceArgs& c) {
 }
 
 // What the renderer would build for a scene: sizes, BVH quality and memory.
-int run_info(const std::string& scenePath, int maxLeafSize) {
+int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant) {
+  RenderOptions options = variant_options(RenderOptions{}, variant);  // an unknown variant fails before any work
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(scenePath);
   double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (maxLeafSize > 0) scene.accelerator.maxLeafSize = maxLeafSize;
-  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  CompiledScene cs = compile_scene(scene, options);
   size_t gpuBytes = cs.gpu_bytes();
   size_t prims = scene.triangles.size() + scene.spheres.size();
   std::printf("scene        %s\n", scenePath.c_str());
@@ -304,8 +305,10 @@ int run_info(const std::string& scenePath, int maxLeafSize) {
               scene.spheres.size(), scene.materials.size(), cs.params.counts.x);
   std::printf("image        %dx%d, %d spp, %u max bounces\n", cs.width, cs.height, cs.spp, cs.params.image.z);
   std::printf("load         %.3f s (parsing and OBJ)\n", loadSeconds);
-  std::printf("BVH          %zu nodes, depth %d, SAH cost %.2f, built in %.3f s (%.2f Mprims/s)\n", cs.nodes.size(),
-              cs.bvhDepth, cs.bvhSahCost, cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
+  bool wide = cs.bvhLayout == BvhLayout::Wide;
+  std::printf("BVH          %s, %zu nodes, depth %d, SAH cost %.2f (binary tree), built in %.3f s (%.2f Mprims/s)\n",
+              wide ? "8-wide compressed" : "binary", wide ? cs.wideNodes.size() : cs.nodes.size(), cs.bvhDepth, cs.bvhSahCost,
+              cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
   std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
               prims ? double(gpuBytes) / double(prims) : 0.0);
   return 0;
@@ -423,6 +426,8 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
   info->add_option("scene", infoScene, "scene file (darts JSON)")->required();
   info->add_option("--max-leaf-size", infoLeaf, "override the scene's BVH leaf size")->check(CLI::Range(1, BVH_MAX_LEAF_SIZE));
+  std::string infoVariant = "gpu";
+  info->add_option("--variant", infoVariant, "the kernel variant (or cpu) whose BVH layout to build; default gpu");
   bool devValidation = false;
   CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices and the limits that matter to wavepath");
   devices->add_flag("--validation", devValidation, "enable Vulkan validation");
@@ -455,7 +460,7 @@ int main(int argc, char** argv) {
         for (const KernelVariant& v : kernel_variants()) bench.variants.push_back(v.name);
       return bench.raycast ? run_raycast_bench(bench) : run_bench(bench);
     }
-    if (*info) return run_info(infoScene, infoLeaf);
+    if (*info) return run_info(infoScene, infoLeaf, infoVariant);
     if (*convergence) return run_convergence(conv);
   } catch (const InputError& e) {
     std::fprintf(stderr, "wavepath: error: %s\n", e.what());

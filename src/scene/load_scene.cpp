@@ -437,12 +437,17 @@ class SceneLoader {
 
   void load_mesh(const JsonCursor& j, const glm::mat4& xform) {
     std::string rel = j["filename"].string();
-    ObjMesh mesh;
-    try {
-      mesh = load_obj(resolve(rel));
-    } catch (const InputError& e) {
-      throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + j.path() + ")");
+    // A mesh placed many times (a grid of dragons) is parsed once.
+    std::string path = resolve(rel);
+    auto cached = meshes_.find(path);
+    if (cached == meshes_.end()) {
+      try {
+        cached = meshes_.emplace(path, load_obj(path)).first;
+      } catch (const InputError& e) {
+        throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + j.path() + ")");
+      }
     }
+    const ObjMesh& mesh = cached->second;
     bool override = j.has("material");
     uint32_t fixed = override ? material_of(j) : 0;
     std::string prefix = j.has("material prefix") ? j["material prefix"].string() : "";
@@ -503,6 +508,7 @@ class SceneLoader {
   std::string file_;
   nlohmann::json doc_;
   Scene scene_;
+  std::map<std::string, ObjMesh> meshes_;  // parsed OBJ files by path
   std::map<std::string, uint32_t> named_;
   std::vector<int> leaves_;  // per material: the lobes it flattens to (blends: the sum of their children's)
 };
