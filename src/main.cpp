@@ -323,9 +323,11 @@ int run_devices(bool validation) {
   for (const GpuDeviceInfo& d : devices) {
     std::printf("%u: %s\n   type %s, driver %s, Vulkan %s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
                 d.apiVersion.c_str(), d.suitable ? "" : " (unsuitable: needs Vulkan 1.1 and a compute queue)");
-    std::printf("   max storage buffer %llu MiB, max workgroups %u, max invocations %u, subgroup %u, device-local memory %llu MiB\n",
-                (unsigned long long)(d.maxStorageBufferRange >> 20), d.maxComputeWorkGroupCount,
-                d.maxComputeWorkGroupInvocations, d.subgroupSize, (unsigned long long)(d.deviceLocalMemory >> 20));
+    std::printf("   max texel buffer %llu M texels (scene data), max storage buffer %llu MiB (work buffers), max workgroups %u,\n"
+                "   max invocations %u, subgroup %u, device-local memory %llu MiB\n",
+                (unsigned long long)(d.maxTexelBufferElements >> 20), (unsigned long long)(d.maxStorageBufferRange >> 20),
+                d.maxComputeWorkGroupCount, d.maxComputeWorkGroupInvocations, d.subgroupSize,
+                (unsigned long long)(d.deviceLocalMemory >> 20));
   }
   return 0;
 }
