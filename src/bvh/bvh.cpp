@@ -1,13 +1,20 @@
 #include "bvh/bvh.h"
 
-#include <tbb/parallel_reduce.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <functional>
+#include <cstring>
+#include <memory>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#define WP_BVH_SSE 1
+#endif
 
 namespace wp {
 
@@ -18,42 +25,165 @@ constexpr uint32_t kParallelThreshold = 1u << 14;  // subtrees / ranges below th
 constexpr float kTraversalCost = 1.0f;
 constexpr float kIntersectCost = 1.0f;
 
-struct RangeBounds {
-  Aabb bounds;
-  Aabb centroids;
-  void join(const RangeBounds& o) {
-    bounds.grow(o.bounds);
-    centroids.grow(o.centroids);
+// Four floats with the few operations the builder needs: SSE on x86-64, plain
+// arrays elsewhere. Lane 3 is unused.
+#ifdef WP_BVH_SSE
+struct F4 {
+  __m128 v;
+  static F4 load(const float* p) { return {_mm_loadu_ps(p)}; }
+  static F4 splat(float x) { return {_mm_set1_ps(x)}; }
+  void store(float* p) const { _mm_storeu_ps(p, v); }
+  friend F4 min(F4 a, F4 b) { return {_mm_min_ps(a.v, b.v)}; }
+  friend F4 max(F4 a, F4 b) { return {_mm_max_ps(a.v, b.v)}; }
+  friend F4 operator+(F4 a, F4 b) { return {_mm_add_ps(a.v, b.v)}; }
+  friend F4 operator-(F4 a, F4 b) { return {_mm_sub_ps(a.v, b.v)}; }
+  friend F4 operator*(F4 a, F4 b) { return {_mm_mul_ps(a.v, b.v)}; }
+  // Bin indices: x clamped below to 0 (NaN too), truncated.
+  void bins(int out[4]) const {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(_mm_max_ps(v, _mm_setzero_ps())));
+  }
+};
+#else
+struct F4 {
+  float v[4];
+  static F4 load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+  static F4 splat(float x) { return {{x, x, x, x}}; }
+  void store(float* p) const { std::memcpy(p, v, sizeof(v)); }
+  template <typename Op>
+  static F4 each(F4 a, F4 b, Op op) { return {{op(a.v[0], b.v[0]), op(a.v[1], b.v[1]), op(a.v[2], b.v[2]), op(a.v[3], b.v[3])}}; }
+  friend F4 min(F4 a, F4 b) { return each(a, b, [](float x, float y) { return std::min(x, y); }); }
+  friend F4 max(F4 a, F4 b) { return each(a, b, [](float x, float y) { return std::max(x, y); }); }
+  friend F4 operator+(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x + y; }); }
+  friend F4 operator-(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x - y; }); }
+  friend F4 operator*(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x * y; }); }
+  void bins(int out[4]) const {
+    for (int k = 0; k < 4; ++k) out[k] = int(v[k] > 0.0f ? v[k] : 0.0f);
+  }
+};
+#endif
+
+// A primitive's bounds and id, 32 bytes; the builder partitions an array of
+// these in place, so every pass over a node's primitives reads memory in order.
+struct alignas(16) PrimRef {
+  float lo[3];
+  uint32_t id;
+  float hi[3];
+  uint32_t pad;
+  F4 lo4() const { return F4::load(lo); }
+  F4 hi4() const { return F4::load(hi); }
+  F4 centroid2() const { return lo4() + hi4(); }  // twice the centroid: binning only needs its order
+};
+
+// Bounds as two F4, empty when lo > hi.
+struct Box4 {
+  F4 lo = F4::splat(3.0e38f);
+  F4 hi = F4::splat(-3.0e38f);
+  void grow(F4 l, F4 h) {
+    lo = min(lo, l);
+    hi = max(hi, h);
+  }
+  void grow(const Box4& b) { grow(b.lo, b.hi); }
+  Aabb aabb() const {
+    float l[4], h[4];
+    lo.store(l);
+    hi.store(h);
+    Aabb a;
+    a.lo = glm::vec3(l[0], l[1], l[2]);
+    a.hi = glm::vec3(h[0], h[1], h[2]);
+    return a;
+  }
+  float half_area() const {
+    float d[4];
+    (hi - lo).store(d);
+    return d[0] > 0.0f ? d[0] * d[1] + d[1] * d[2] + d[2] * d[0] : 0.0f;  // empty: lo > hi
   }
 };
 
+// A node to build: its primitives [begin, end) with their bounds and the
+// bounds of their centroids (doubled, as PrimRef::centroid2).
+struct Task {
+  uint32_t node, begin, end;
+  int depth;
+  Box4 bounds, centroids;
+};
+
+// Per axis and bin: bounds and count of the primitives whose centroid falls
+// in it. Only the first `used` bins of each axis are initialized and read: a
+// node of a few primitives gets as few bins, so small nodes (most of the tree)
+// cost little besides their primitives.
 struct Bins {
-  Aabb bounds[3][kBins];
-  uint32_t count[3][kBins] = {};
+  int used;
+  Box4 box[3][kBins];
+  uint32_t count[3][kBins];
+  explicit Bins(int n = kBins) : used(n) {
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < used; ++b) {
+        box[a][b] = Box4();
+        count[a][b] = 0;
+      }
+  }
   void join(const Bins& o) {
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < kBins; ++b) {
-        bounds[a][b].grow(o.bounds[a][b]);
+      for (int b = 0; b < used; ++b) {
+        box[a][b].grow(o.box[a][b]);
         count[a][b] += o.count[a][b];
       }
   }
 };
 
+// Bins for a node of `count` primitives: one per primitive up to kBins.
+int bins_for(uint32_t count) {
+  return int(std::clamp<uint32_t>(count, 4, kBins));
+}
+
+// How a node's centroids map to bins: bin = (centroid2 - origin) * scale,
+// clamped to the last bin.
+struct Binning {
+  F4 origin, scale, last;
+  float scaleOf[3];
+  Binning(const Box4& centroids, int bins) {
+    origin = centroids.lo;
+    last = F4::splat(float(bins - 1));
+    float lo[4], hi[4], s[4] = {0, 0, 0, 0};
+    centroids.lo.store(lo);
+    centroids.hi.store(hi);
+    for (int a = 0; a < 3; ++a) {
+      float extent = hi[a] - lo[a];
+      // Slightly under bins / extent so the largest centroid lands in the last bin.
+      s[a] = extent > 0.0f ? float(bins) * (1.0f - 1e-6f) / extent : 0.0f;
+      scaleOf[a] = s[a];
+    }
+    scale = F4::load(s);
+  }
+  void of(const PrimRef& r, int out[4]) const { min((r.centroid2() - origin) * scale, last).bins(out); }
+  // Lane `a` of of(): the same operations in the same order, so the same bin.
+  int on_axis(const PrimRef& r, int a, float o, float lastBin) const {
+    float t = ((r.lo[a] + r.hi[a]) - o) * scaleOf[a];
+    t = t < lastBin ? t : lastBin;
+    return int(t > 0.0f ? t : 0.0f);
+  }
+};
+
 class Builder {
  public:
-  Builder(const BvhInput& in, const AcceleratorSettings& s) : in_(in), settings_(s) {
+  Builder(const BvhInput& in, const AcceleratorSettings& s) : settings_(s) {
     size_t n = in.bounds.size();
-    centroids_.resize(n);
-    for (size_t i = 0; i < n; ++i) centroids_[i] = 0.5f * (in.bounds[i].lo + in.bounds[i].hi);
-    // A binary tree over n primitives has at most 2n - 1 nodes.
-    nodes_.resize(std::max<size_t>(1, 2 * n));
-    order_.resize(n);
-    for (size_t i = 0; i < n; ++i) order_[i] = uint32_t(i);
+    refs_.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const Aabb& b = in.bounds[i];
+        refs_[i] = PrimRef{{b.lo.x, b.lo.y, b.lo.z}, uint32_t(i), {b.hi.x, b.hi.y, b.hi.z}, 0u};
+      }
+    });
+    // A binary tree over n primitives has at most 2n - 1 nodes. Left
+    // uninitialized: every node is written before it is read, and only the
+    // pages of nodes the tree uses are ever touched.
+    nodes_.reset(new shader::BvhNode[std::max<size_t>(1, 2 * n)]);
   }
 
   Bvh build() {
     Bvh bvh;
-    if (order_.empty()) {
+    if (refs_.empty()) {
       // An empty scene: an interior root with an empty box, which every ray
       // misses before any child is read.
       shader::BvhNode root{};
@@ -62,174 +192,247 @@ class Builder {
       bvh.nodes.push_back(root);
       return bvh;
     }
+    Task root{0, 0, uint32_t(refs_.size()), 0, {}, {}};
+    bounds_of(root);
     nodeCount_ = 1;
     tbb::task_group tasks;
-    build_node(0, 0, uint32_t(order_.size()), 0, tasks);
+    build_node(root, tasks);
     tasks.wait();
-    nodes_.resize(nodeCount_.load());
-    bvh.nodes = std::move(nodes_);
-    bvh.order = std::move(order_);
+    bvh.nodes.assign(nodes_.get(), nodes_.get() + nodeCount_.load());
+    bvh.order.resize(refs_.size());
+    tbb::parallel_for(size_t(0), refs_.size(), [&](size_t i) { bvh.order[i] = refs_[i].id; });
     bvh.depth = maxDepth_.load();
     return bvh;
   }
 
  private:
-  RangeBounds range_bounds(uint32_t begin, uint32_t end) const {
-    auto body = [&](const tbb::blocked_range<uint32_t>& r, RangeBounds acc) {
+  // Bounds and centroid bounds of a task's primitives, in parallel when large.
+  void bounds_of(Task& t) const {
+    struct Acc {
+      Box4 b, c;
+      void join(const Acc& o) {
+        b.grow(o.b);
+        c.grow(o.c);
+      }
+    };
+    auto body = [&](const tbb::blocked_range<uint32_t>& r, Acc acc) {
       for (uint32_t i = r.begin(); i < r.end(); ++i) {
-        uint32_t p = order_[i];
-        acc.bounds.grow(in_.bounds[p]);
-        acc.centroids.grow(centroids_[p]);
+        const PrimRef& p = refs_[i];
+        F4 c = p.centroid2();
+        acc.b.grow(p.lo4(), p.hi4());
+        acc.c.grow(c, c);
       }
       return acc;
     };
-    if (end - begin < kParallelThreshold) return body(tbb::blocked_range<uint32_t>(begin, end), RangeBounds{});
-    return tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 4096), RangeBounds{}, body,
-                                [](RangeBounds a, const RangeBounds& b) {
-                                  a.join(b);
-                                  return a;
-                                });
+    Acc acc = t.end - t.begin < kParallelThreshold
+                  ? body(tbb::blocked_range<uint32_t>(t.begin, t.end), Acc{})
+                  : tbb::parallel_reduce(tbb::blocked_range<uint32_t>(t.begin, t.end, 1 << 13), Acc{}, body,
+                                         [](Acc a, const Acc& b) {
+                                           a.join(b);
+                                           return a;
+                                         });
+    t.bounds = acc.b;
+    t.centroids = acc.c;
   }
 
-  static int bin_of(float c, float lo, float scale) {
-    return std::min(kBins - 1, std::max(0, int((c - lo) * scale)));
-  }
-
-  Bins bin(uint32_t begin, uint32_t end, const Aabb& cb) const {
-    glm::vec3 extent = cb.hi - cb.lo;
-    glm::vec3 scale;
-    for (int a = 0; a < 3; ++a) scale[a] = extent[a] > 0.0f ? float(kBins) / extent[a] : 0.0f;
-    auto body = [&](const tbb::blocked_range<uint32_t>& r, Bins acc) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i) {
-        uint32_t p = order_[i];
-        for (int a = 0; a < 3; ++a) {
-          int b = bin_of(centroids_[p][a], cb.lo[a], scale[a]);
-          acc.bounds[a][b].grow(in_.bounds[p]);
-          acc.count[a][b]++;
-        }
+  void bin_range(uint32_t begin, uint32_t end, const Binning& binning, Bins& acc) const {
+    for (uint32_t i = begin; i < end; ++i) {
+      const PrimRef& p = refs_[i];
+      int b[4];
+      binning.of(p, b);
+      F4 lo = p.lo4(), hi = p.hi4();
+      for (int a = 0; a < 3; ++a) {
+        acc.box[a][b[a]].grow(lo, hi);
+        acc.count[a][b[a]]++;
       }
-      return acc;
-    };
-    if (end - begin < kParallelThreshold) return body(tbb::blocked_range<uint32_t>(begin, end), Bins{});
-    return tbb::parallel_reduce(tbb::blocked_range<uint32_t>(begin, end, 4096), Bins{}, body, [](Bins a, const Bins& b) {
-      a.join(b);
-      return a;
-    });
+    }
   }
 
-  // Partitions [begin, end) so that the first part satisfies `left`; returns the split.
-  uint32_t partition(uint32_t begin, uint32_t end, const std::function<bool(uint32_t)>& left) {
-    auto mid = std::partition(order_.begin() + begin, order_.begin() + end, left);
-    return uint32_t(mid - order_.begin());
+  void bin(const Task& t, const Binning& binning, Bins& bins) const {
+    if (t.end - t.begin < kParallelThreshold) return bin_range(t.begin, t.end, binning, bins);
+    bins = tbb::parallel_reduce(
+        tbb::blocked_range<uint32_t>(t.begin, t.end, 1 << 13), Bins(bins.used),
+        [&](const tbb::blocked_range<uint32_t>& r, Bins acc) {
+          bin_range(r.begin(), r.end(), binning, acc);
+          return acc;
+        },
+        [](Bins a, const Bins& b) {
+          a.join(b);
+          return a;
+        });
   }
 
-  uint32_t median_split(uint32_t begin, uint32_t end, int axis) {
-    uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
+  // Partitions the task's primitives so that those satisfying `left` come
+  // first, filling in both halves' centroid bounds; returns the split.
+  template <typename Left>
+  uint32_t partition(const Task& t, Left left, Box4& leftCentroids, Box4& rightCentroids) {
+    PrimRef* refs = refs_.data();  // locals, so the loop keeps them in registers
+    F4 lLo = leftCentroids.lo, lHi = leftCentroids.hi, rLo = rightCentroids.lo, rHi = rightCentroids.hi;
+    uint32_t i = t.begin, j = t.end;
+    while (true) {
+      while (i < j && left(refs[i])) {
+        F4 c = refs[i].centroid2();
+        lLo = min(lLo, c);
+        lHi = max(lHi, c);
+        ++i;
+      }
+      while (i < j && !left(refs[j - 1])) {
+        F4 c = refs[j - 1].centroid2();
+        rLo = min(rLo, c);
+        rHi = max(rHi, c);
+        --j;
+      }
+      if (i >= j) break;
+      std::swap(refs[i], refs[j - 1]);
+    }
+    leftCentroids = Box4{lLo, lHi};
+    rightCentroids = Box4{rLo, rHi};
+    return i;
+  }
+
+  // The median split on `axis` (nth_element on centroids), with both halves'
+  // bounds computed afterwards.
+  uint32_t median_split(Task& t, Task& l, Task& r, int axis) {
+    uint32_t mid = t.begin + (t.end - t.begin) / 2;
+    std::nth_element(refs_.begin() + t.begin, refs_.begin() + mid, refs_.begin() + t.end,
+                     [axis](const PrimRef& a, const PrimRef& b) { return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis]; });
+    l.begin = t.begin;
+    l.end = r.begin = mid;
+    r.end = t.end;
+    bounds_of(l);
+    bounds_of(r);
     return mid;
   }
 
-  void make_leaf(uint32_t nodeIndex, uint32_t begin, uint32_t end, int depth) {
-    shader::BvhNode& n = nodes_[nodeIndex];
-    n.leftFirst = begin;
-    n.count = end - begin;
+  void make_leaf(const Task& t) {
+    shader::BvhNode& n = nodes_[t.node];
+    n.leftFirst = t.begin;
+    n.count = t.end - t.begin;
     int d = maxDepth_.load();
-    while (depth > d && !maxDepth_.compare_exchange_weak(d, depth)) {
+    while (t.depth > d && !maxDepth_.compare_exchange_weak(d, t.depth)) {
     }
   }
 
-  void set_interior(uint32_t nodeIndex, uint32_t left) {
-    nodes_[nodeIndex].leftFirst = left;
-    nodes_[nodeIndex].count = 0;
-  }
+  void build_node(Task t, tbb::task_group& tasks) {
+    Aabb box = t.bounds.aabb();
+    nodes_[t.node].bmin = box.lo;
+    nodes_[t.node].bmax = box.hi;
+    const uint32_t count = t.end - t.begin;
+    const uint32_t maxLeaf = uint32_t(settings_.maxLeafSize);
+    if (count == 1) return make_leaf(t);
 
-  void build_node(uint32_t nodeIndex, uint32_t begin, uint32_t end, int depth, tbb::task_group& tasks) {
-    RangeBounds rb = range_bounds(begin, end);
-    nodes_[nodeIndex].bmin = rb.bounds.lo;
-    nodes_[nodeIndex].bmax = rb.bounds.hi;
-    uint32_t count = end - begin;
-    uint32_t maxLeaf = uint32_t(settings_.maxLeafSize);
-    if (count == 1) return make_leaf(nodeIndex, begin, end, depth);
-
-    glm::vec3 extent = rb.centroids.hi - rb.centroids.lo;
+    Aabb cb = t.centroids.aabb();
+    glm::vec3 extent = cb.hi - cb.lo;
     int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
-    uint32_t mid = begin;
-    bool degenerate = extent[axis] <= 0.0f;
+    Task l{0, 0, 0, t.depth + 1, {}, {}}, r = l;
     // Near the depth limit only halving splits are allowed: 32 of them separate
     // any number of primitives a 32-bit index can hold, so the tree (and the
     // kernels' traversal stack) never exceeds BVH_MAX_DEPTH.
-    bool forceMedian = depth >= BVH_MAX_DEPTH - 33;
-    if (degenerate) {
-      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
-      mid = begin + count / 2;  // identical centroids: any halving will do
+    bool forceMedian = t.depth >= BVH_MAX_DEPTH - 33;
+    if (extent[axis] <= 0.0f) {
+      // Identical centroids: any halving will do.
+      if (count <= maxLeaf) return make_leaf(t);
+      median_split(t, l, r, axis);
     } else if (forceMedian || settings_.split == SplitMethod::Equal) {
-      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
-      mid = median_split(begin, end, axis);
+      if (count <= maxLeaf) return make_leaf(t);
+      median_split(t, l, r, axis);
     } else if (settings_.split == SplitMethod::Middle) {
-      if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
-      float m = 0.5f * (rb.centroids.lo[axis] + rb.centroids.hi[axis]);
-      mid = partition(begin, end, [&](uint32_t p) { return centroids_[p][axis] < m; });
-      if (mid == begin || mid == end) mid = median_split(begin, end, axis);
-    } else {
-      Bins bins = bin(begin, end, rb.centroids);
-      float best = WP_INF;
-      int bestAxis = -1;
-      int bestBin = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (extent[a] <= 0.0f) continue;
-        // Sweep from the right to get suffix areas, then from the left.
-        float rightCost[kBins];
-        Aabb acc;
-        uint32_t cnt = 0;
-        for (int b = kBins - 1; b > 0; --b) {
-          acc.grow(bins.bounds[a][b]);
-          cnt += bins.count[a][b];
-          rightCost[b] = acc.half_area() * float(cnt);
-        }
-        acc = Aabb();
-        cnt = 0;
-        for (int b = 0; b < kBins - 1; ++b) {
-          acc.grow(bins.bounds[a][b]);
-          cnt += bins.count[a][b];
-          float cost = acc.half_area() * float(cnt) + rightCost[b + 1];
-          if (cnt > 0 && cnt < count && cost < best) {
-            best = cost;
-            bestAxis = a;
-            bestBin = b;
-          }
-        }
-      }
-      float parentArea = rb.bounds.half_area();
-      float splitCost = kTraversalCost + kIntersectCost * best / std::max(parentArea, 1e-30f);
-      float leafCost = kIntersectCost * float(count);
-      if (bestAxis < 0 || (splitCost >= leafCost && count <= maxLeaf)) {
-        if (count <= maxLeaf) return make_leaf(nodeIndex, begin, end, depth);
-        mid = median_split(begin, end, axis);
+      if (count <= maxLeaf) return make_leaf(t);
+      float m = 0.5f * (cb.lo[axis] + cb.hi[axis]);  // the middle of the (doubled) centroids
+      l.begin = t.begin;
+      r.end = t.end;
+      l.end = r.begin = partition(t, [&](const PrimRef& p) { return p.lo[axis] + p.hi[axis] < m; }, l.centroids, r.centroids);
+      if (l.end == t.begin || l.end == t.end) {
+        median_split(t, l, r, axis);
       } else {
-        float lo = rb.centroids.lo[bestAxis];
-        float scale = float(kBins) / extent[bestAxis];
-        mid = partition(begin, end, [&](uint32_t p) { return bin_of(centroids_[p][bestAxis], lo, scale) <= bestBin; });
-        if (mid == begin || mid == end) mid = median_split(begin, end, bestAxis);
+        bounds_of(l);
+        bounds_of(r);
       }
+    } else if (!sah_split(t, l, r)) {
+      return make_leaf(t);
     }
 
     uint32_t left = nodeCount_.fetch_add(2);
-    set_interior(nodeIndex, left);
+    nodes_[t.node].leftFirst = left;
+    nodes_[t.node].count = 0;
+    l.node = left;
+    r.node = left + 1;
     if (count >= kParallelThreshold) {
-      tasks.run([=, &tasks] { build_node(left, begin, mid, depth + 1, tasks); });
-      build_node(left + 1, mid, end, depth + 1, tasks);
+      tasks.run([this, l, &tasks] { build_node(l, tasks); });
+      build_node(r, tasks);
     } else {
-      build_node(left, begin, mid, depth + 1, tasks);
-      build_node(left + 1, mid, end, depth + 1, tasks);
+      build_node(l, tasks);
+      build_node(r, tasks);
     }
   }
 
-  const BvhInput& in_;
+  // Binned SAH over all three axes. Fills the children and returns true, or
+  // returns false when a leaf is cheaper (and allowed).
+  bool sah_split(Task& t, Task& l, Task& r) {
+    const uint32_t count = t.end - t.begin;
+    const uint32_t maxLeaf = uint32_t(settings_.maxLeafSize);
+    const int nb = bins_for(count);
+    Binning binning(t.centroids, nb);
+    Bins bins(nb);
+    bin(t, binning, bins);
+    float best = WP_INF;
+    int bestAxis = -1, bestBin = 0;
+    Box4 bestLeft, bestRight;
+    for (int a = 0; a < 3; ++a) {
+      if (binning.scaleOf[a] <= 0.0f) continue;
+      // Sweep from the right for suffix bounds, then from the left.
+      Box4 right[kBins];
+      float rightCost[kBins];
+      Box4 acc;
+      uint32_t n = 0;
+      for (int b = nb - 1; b > 0; --b) {
+        acc.grow(bins.box[a][b]);
+        n += bins.count[a][b];
+        right[b] = acc;
+        rightCost[b] = acc.half_area() * float(n);
+      }
+      acc = Box4();
+      n = 0;
+      for (int b = 0; b < nb - 1; ++b) {
+        acc.grow(bins.box[a][b]);
+        n += bins.count[a][b];
+        float cost = acc.half_area() * float(n) + rightCost[b + 1];
+        if (n > 0 && n < count && cost < best) {
+          best = cost;
+          bestAxis = a;
+          bestBin = b;
+          bestLeft = acc;
+          bestRight = right[b + 1];
+        }
+      }
+    }
+    float splitCost = kTraversalCost + kIntersectCost * best / std::max(t.bounds.half_area(), 1e-30f);
+    float leafCost = kIntersectCost * float(count);
+    if (bestAxis < 0 || (splitCost >= leafCost && count <= maxLeaf)) {
+      if (count <= maxLeaf) return false;
+      Aabb cb = t.centroids.aabb();
+      glm::vec3 extent = cb.hi - cb.lo;
+      median_split(t, l, r, extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2));
+      return true;
+    }
+    l.begin = t.begin;
+    r.end = t.end;
+    // The very computation that binned them, so each child's primitives are
+    // exactly its bins' (whose bounds it takes).
+    float o[4];
+    binning.origin.store(o);
+    const float origin = o[bestAxis], lastBin = float(nb - 1);
+    l.end = r.begin = partition(
+        t, [&](const PrimRef& p) { return binning.on_axis(p, bestAxis, origin, lastBin) <= bestBin; }, l.centroids,
+        r.centroids);
+    l.bounds = bestLeft;
+    r.bounds = bestRight;
+    return true;
+  }
+
   AcceleratorSettings settings_;
-  std::vector<glm::vec3> centroids_;
-  std::vector<shader::BvhNode> nodes_;
-  std::vector<uint32_t> order_;
+  std::vector<PrimRef> refs_;
+  std::unique_ptr<shader::BvhNode[]> nodes_;
   std::atomic<uint32_t> nodeCount_{0};
   std::atomic<int> maxDepth_{0};
 };
