@@ -8,6 +8,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
   uint path = queues[pc.queueIn * pc.capacity + i];
+  if (!kCompaction && (paths[path].flags & PATH_DEAD) != 0u) return;  // shade skips it too
   Hit h;
   if (trace_ray(paths[path].origin, paths[path].dir, WP_INF, false, h) != TRACE_OK) {
     atomicAdd(counters[COUNTER_TRUNCATED], 1u);

@@ -7,14 +7,22 @@
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
+  uint count = counters[COUNTER_QUEUE0 + pc.queueIn];
+  if (i >= count) return;
   uint path = queues[pc.queueIn * pc.capacity + i];
+  uint queueOut = 1u - pc.queueIn;
+  if (!kCompaction) {
+    // Every path keeps its slot for the next bounce, dead or alive.
+    queues[queueOut * pc.capacity + i] = path;
+    if (i == 0u) counters[COUNTER_QUEUE0 + queueOut] = count;
+  }
   PathState p = paths[path];
+  if (!kCompaction && (p.flags & PATH_DEAD) != 0u) return;
   ShadowRays srs;
   bool alive = path_shade(p, hits[path], srs);
+  if (!kCompaction && !alive) p.flags |= PATH_DEAD;
   paths[path] = p;
-  if (alive) {
-    uint queueOut = 1u - pc.queueIn;
+  if (kCompaction && alive) {
     uint slot = atomicAdd(counters[COUNTER_QUEUE0 + queueOut], 1u);
     queues[queueOut * pc.capacity + slot] = path;
   }

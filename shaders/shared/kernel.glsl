@@ -25,6 +25,11 @@ layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
 #define BVH_LAYOUT_OF_SCENE kBvhLayout
 #define SCENE_HAS(feature) ((kSceneFeatures & (feature)) != 0u)
 #define TRAVERSAL_STACK_SIZE kStackSize
+// Path compaction (constant 6): shade appends only the paths still alive to
+// the next bounce's queue, so each bounce dispatches only live paths. Without
+// it (variant gpu-nocompact, to measure what compaction is worth) every path
+// keeps its queue slot and finished ones are marked PATH_DEAD and skipped.
+layout(constant_id = 6) const bool kCompaction = true;
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"

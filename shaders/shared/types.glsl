@@ -60,6 +60,7 @@
 // PathState.flags bits (above the 16-bit bounce depth).
 #define PATH_DEPTH_MASK 0xffffu
 #define PATH_SPECULAR 0x10000u  // previous bounce was a delta lobe (or the camera)
+#define PATH_DEAD 0x20000u      // finished; only set by kernels that run without path compaction
 
 // SceneParams.flags bits.
 #define SCENE_FLAG_NO_NEE 1u      // BSDF sampling only (darts "path tracer mats")

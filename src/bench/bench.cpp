@@ -155,14 +155,14 @@ int run_bench(const BenchOptions& o) {
   for (const SceneResult& sr : results) {
     std::printf("\n%s: %zu primitives, %dx%d, %d spp, %d bounces\n", sr.scene.c_str(), sr.primitives, sr.width, sr.height,
                 sr.spp, sr.maxBounces);
-    std::printf("  %-10s %-6s %9s %17s %9s %9s %9s %9s %6s\n", "variant", "check", "time s", "Msamples/s", "extend s", "shade s",
+    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %6s\n", "variant", "check", "time s", "Msamples/s", "extend s", "shade s",
                 "connect s", "BVH s", "B/prim");
     for (const VariantResult& v : sr.variants) {
       if (!v.checked) {
-        std::printf("  %-10s %-6s (disagrees with the CPU reference: not timed)\n", v.variant.c_str(), "FAIL");
+        std::printf("  %-14s %-6s (disagrees with the CPU reference: not timed)\n", v.variant.c_str(), "FAIL");
         continue;
       }
-      std::printf("  %-10s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %6.1f\n", v.variant.c_str(), "pass",
+      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %6.1f\n", v.variant.c_str(), "pass",
                   v.seconds.median, v.samplesPerSecond.median * 1e-6, v.samplesPerSecond.min * 1e-6,
                   v.samplesPerSecond.max * 1e-6, v.stageSeconds[2].median, v.stageSeconds[3].median, v.stageSeconds[4].median,
                   v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
@@ -310,7 +310,7 @@ int run_raycast_bench(const BenchOptions& o) {
                 scene.triangles.size() + scene.spheres.size(), sets.primary.size(), sets.bounce.size(), cs.bvhBuildSeconds,
                 embree ? (", Embree build " + std::to_string(embree->build_seconds()) + " s").c_str() : "");
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
-    std::printf("  %-8s %-10s %12s %14s %8s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio");
+    std::printf("  %-8s %-14s %12s %14s %8s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio");
     for (const auto& [setName, rays] : {std::pair<const char*, const std::vector<shader::ShadowRay>*>{"primary", &sets.primary},
                                         {"bounce", &sets.bounce}}) {
       if (rays->empty()) continue;
@@ -341,7 +341,7 @@ int run_raycast_bench(const BenchOptions& o) {
         if (truncated > 0 || double(bad) > 1e-4 * double(rays->size())) {
           allChecked = false;
           row["check_passed"] = false;
-          std::printf("  %-8s %-10s disagrees with the CPU traversal on %zu rays: not timed\n", setName, v->name.c_str(), bad);
+          std::printf("  %-8s %-14s disagrees with the CPU traversal on %zu rays: not timed\n", setName, v->name.c_str(), bad);
           results.push_back(row);
           continue;
         }
@@ -358,9 +358,9 @@ int run_raycast_bench(const BenchOptions& o) {
           row["embree_mrays_per_second"] = embreeRate * 1e-6;
           row["ratio_to_embree"] = rate / embreeRate;
           row["embree_mismatches"] = embreeMismatch;
-          std::printf("  %-8s %-10s %12.2f %14.2f %8.3f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6, rate / embreeRate);
+          std::printf("  %-8s %-14s %12.2f %14.2f %8.3f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6, rate / embreeRate);
         } else {
-          std::printf("  %-8s %-10s %12.2f %14s %8s\n", setName, v->name.c_str(), rate * 1e-6, "-", "-");
+          std::printf("  %-8s %-14s %12.2f %14s %8s\n", setName, v->name.c_str(), rate * 1e-6, "-", "-");
         }
         results.push_back(row);
       }

@@ -51,9 +51,13 @@ void stage_barrier(vk::CommandBuffer cb) {
 
 const std::vector<KernelVariant>& kernel_variants() {
   static const std::vector<KernelVariant> variants = [] {
+    WavefrontSettings noCompaction;
+    noCompaction.compaction = false;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
-        {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary}};
+        {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
+        {"gpu-nocompact", "wavefront kernels without path compaction: every bounce runs over every path", noCompaction,
+         BvhLayout::Wide}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
       s.workgroupSize = size;
@@ -248,13 +252,15 @@ struct WavefrontRenderer::Impl {
   vk::raii::Pipeline make_pipeline(Kernel k) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
-    // integrator, 2 light samples per vertex, 3 the BVH layout, 4 whether the
-    // scene has spheres (a bool: a 32-bit 0 or 1), 5 the traversal stack size.
+    // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
+    // feature mask, 5 the traversal stack size, 6 path compaction (a bool: a
+    // 32-bit 0 or 1).
     const shader::uvec4& accel = scene.params.accel;
-    const uint32_t values[6] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x, accel.y, accel.z};
-    vk::SpecializationMapEntry entries[6];
-    for (uint32_t i = 0; i < 6; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
-    vk::SpecializationInfo spec(6, entries, sizeof(values), values);
+    const uint32_t values[7] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
+                                accel.y, accel.z, settings.compaction ? 1u : 0u};
+    vk::SpecializationMapEntry entries[7];
+    for (uint32_t i = 0; i < 7; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
+    vk::SpecializationInfo spec(7, entries, sizeof(values), values);
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
   }

@@ -29,6 +29,7 @@ struct StageTimes {
 
 struct WavefrontSettings {
   uint32_t workgroupSize = WORKGROUP_SIZE;  // invocations per workgroup of every kernel
+  bool compaction = true;                   // later bounces dispatch only live paths (kernel.glsl)
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
 };
