@@ -50,13 +50,13 @@ def plot_render(results, out_dir):
     plt.close(fig)
 
     # Per-stage time of each (scene, variant), stacked.
-    stages = ["generate", "prepare", "extend", "shade", "connect", "accumulate"]
+    stages = ["generate", "prepare", "extend", "shade", "connect", "accumulate", "megakernel"]
     labels, data = [], []
     for s in scenes:
         for v in s["variants"]:
             if v["check_passed"]:
                 labels.append(short(s["scene"]) + "\n" + v["variant"])
-                data.append([v["stage_seconds"][st]["median"] for st in stages])
+                data.append([v["stage_seconds"].get(st, {"median": 0.0})["median"] for st in stages])
     if data:
         data = np.array(data)
         fig, ax = plt.subplots(figsize=(max(6, 1.2 * len(labels)), 4.5))

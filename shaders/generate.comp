@@ -9,8 +9,7 @@ void main() {
   if (i == 0u) counters[COUNTER_QUEUE0] = pc.pathCount;
   if (i >= pc.pathCount) return;
   PathState p;
-  uint pixel = pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + i] : pc.waveStart + i;
-  path_begin(p, pixel, pc.sampleIndex);
+  path_begin(p, wave_pixel(i), pc.sampleIndex);
   paths[i] = p;
   queues[i] = i;
 }

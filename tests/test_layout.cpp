@@ -77,7 +77,7 @@ std::vector<Expected> expected_layouts() {
 
 TEST(Layout, EveryKernelAgreesWithTheHostOnEveryStruct) {
   std::map<std::string, int> checked;
-  for (const char* kernel : {"generate", "prepare", "extend", "shade", "connect", "connect_multi", "accumulate", "raycast", "texprobe"}) {
+  for (const char* kernel : {"generate", "prepare", "extend", "shade", "connect", "connect_multi", "accumulate", "megakernel", "raycast", "texprobe"}) {
     SpirvLayouts spv(std::string(WAVEPATH_SPV_DIR) + "/" + kernel + ".spv");
     for (const Expected& e : expected_layouts()) {
       for (const auto& [id, name] : spv.names) {

@@ -43,3 +43,25 @@ layout(constant_id = 6) const bool kCompaction = true;
 // kernel variant sets it), so one SPIR-V module serves every size.
 layout(local_size_x_id = 0) in;
 layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
+
+// Adds a finished path's radiance (and its square) to its pixel's sums; a
+// non-finite sample is counted and dropped, never allowed to poison a pixel.
+// A wave holds each pixel at most once, so no atomics are needed.
+void accumulate_path(PathState p) {
+  if (!radiance_is_finite(p.radiance)) {
+    atomicAdd(counters[COUNTER_NONFINITE], 1u);
+    return;
+  }
+  vec3 l = p.radiance;
+  PixelAccum a = accum[p.pixel];
+  a.sum += vec4(l, 1.0f);
+  float y = illuminance(l);
+  a.sumSq += vec4(l * l, y * y);  // w: for adaptive sampling
+  accum[p.pixel] = a;
+}
+
+// The pixel of path i of a wave: consecutive pixels, or those of the adaptive
+// sampler's list.
+uint wave_pixel(uint i) {
+  return pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + i] : pc.waveStart + i;
+}

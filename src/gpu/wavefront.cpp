@@ -13,6 +13,7 @@
 #include "connect_multi.spv.h"
 #include "extend.spv.h"
 #include "generate.spv.h"
+#include "megakernel.spv.h"
 #include "prepare.spv.h"
 #include "raycast.spv.h"
 #include "texprobe.spv.h"
@@ -53,10 +54,14 @@ const std::vector<KernelVariant>& kernel_variants() {
   static const std::vector<KernelVariant> variants = [] {
     WavefrontSettings noCompaction;
     noCompaction.compaction = false;
+    WavefrontSettings megakernel;
+    megakernel.megakernel = true;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
         {"gpu-nocompact", "wavefront kernels without path compaction: every bounce runs over every path", noCompaction,
+         BvhLayout::Wide},
+        {"gpu-mega", "one kernel per path (camera ray to pixel), its rays sharing lavapipe's loop budget", megakernel,
          BvhLayout::Wide}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
@@ -99,7 +104,7 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, shade{nullptr}, connect{nullptr},
-      accumulate{nullptr}, raycast{nullptr}, texprobe{nullptr};
+      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, texprobe{nullptr};
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
   // stage whose dispatch ended at timestamp i + 1.
@@ -110,7 +115,7 @@ struct WavefrontRenderer::Impl {
   double timestampPeriodNs = 1.0;
   StageTimes times;
 
-  enum Stage { kGenerate, kPrepare, kExtend, kShade, kConnect, kAccumulate };
+  enum Stage { kGenerate, kPrepare, kExtend, kShade, kConnect, kAccumulate, kMegakernel };
 
   Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
     const uint64_t maxRange = ctx.info().maxStorageBufferRange;
@@ -215,7 +220,9 @@ struct WavefrontRenderer::Impl {
     for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
     buffers[BINDING_SCENE] = std::make_unique<Buffer>(ctx, sizeof(shader::SceneParams),
                                                       vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
-    ctx.upload(*buffers[BINDING_SCENE], &scene.params, sizeof(shader::SceneParams));
+    shader::SceneParams params = scene.params;
+    params.counts.z = traversal_step_cap();
+    ctx.upload(*buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
     add_texels(BINDING_NODES, scene.nodes, "BVH nodes");
     add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
     add_texels(BINDING_TRIANGLES, scene.triangles, "primitives");
@@ -244,6 +251,26 @@ struct WavefrontRenderer::Impl {
     readAccum = std::make_unique<Buffer>(ctx, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
     readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
   }
+
+  // Lavapipe ends all loops of an invocation after 65,535 iterations in all,
+  // silently. The wavefront kernels trace one ray per invocation, so each ray
+  // may take the scene's whole cap. The megakernel traces every ray of a path
+  // in one invocation: up to max bounces + 1 closest-hit rays and light
+  // samples x max bounces shadow rays, and the bounce loop's own iterations.
+  uint32_t traversal_step_cap() const {
+    const uint32_t cap = scene.params.counts.z;
+    if (!settings.megakernel) return cap;
+    const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
+    const uint64_t budget = 60000, traversals = bounces + 1 + bounces * lightSamples;
+    const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;
+    if (perRay < kMegakernelMinimumCap) {
+      throw RenderError("the megakernel variant fits " + std::to_string(bounces) + " bounces into lavapipe's loop budget only with " +
+                        std::to_string(perRay) + " traversal steps per ray (at least " + std::to_string(kMegakernelMinimumCap) +
+                        " needed); use fewer bounces or the wavefront kernels");
+    }
+    return uint32_t(std::min<uint64_t>(cap, perRay));
+  }
+  static constexpr uint64_t kMegakernelMinimumCap = 256;
 
   uint32_t groups_for(uint32_t n) const {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
@@ -308,6 +335,7 @@ struct WavefrontRenderer::Impl {
       connect = make_pipeline(kernel(connect_spv));
     }
     accumulate = make_pipeline(kernel(accumulate_spv));
+    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv));
     raycast = make_pipeline(kernel(raycast_spv));
     texprobe = make_pipeline(kernel(texprobe_spv));
   }
@@ -336,6 +364,7 @@ struct WavefrontRenderer::Impl {
     push.sampleIndex = sampleIndex;
     push.capacity = capacity;
     push.phase = listed ? GENERATE_FROM_LIST : GENERATE_CONSECUTIVE;
+    if (settings.megakernel) return dispatch(cb, megakernel, push, groups_for(pathCount), kMegakernel);
     dispatch(cb, generate, push, groups_for(pathCount), kGenerate);
     // Bounce b extends the rays of paths with b scattering events behind them;
     // path_shade ends every path at max bounces, so there are max + 1 passes.
@@ -380,8 +409,11 @@ struct WavefrontRenderer::Impl {
     }
     progress.finish();
     if (truncated > 0) {
-      throw RenderError(std::to_string(truncated) + " rays needed more than " + std::to_string(scene.params.counts.z) +
-                        " BVH traversal steps; the image would be wrong, so none was written");
+      throw RenderError(std::to_string(truncated) + " rays needed more than " + std::to_string(traversal_step_cap()) +
+                        " BVH traversal steps; the image would be wrong, so none was written" +
+                        (settings.megakernel ? " (the megakernel shares lavapipe's loop budget among a path's rays: "
+                                               "use the wavefront kernels)"
+                                             : ""));
     }
     return image;
   }
@@ -395,7 +427,7 @@ struct WavefrontRenderer::Impl {
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
     uint32_t perSubmit = 1;
     const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
-    const uint32_t dispatchesPerWave = 2 + 5 * (scene.params.image.z + 1);
+    const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + 5 * (scene.params.image.z + 1);
     for (uint32_t sample = first; sample < end;) {
       uint32_t n = std::min(perSubmit, end - sample);
       cb.reset();
