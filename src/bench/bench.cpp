@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -105,15 +106,24 @@ int run_bench(const BenchOptions& o) {
     ref.seed = 1;
     ImageStats reference = render_cpu(compile_scene(small, reference_options(ref)), 0, quiet);
 
+    // Check every variant first; keep a renderer (scene uploaded, pipelines
+    // built, warmed up) for each that agrees.
+    struct Timed {
+      size_t result;  // index into sr.variants
+      std::unique_ptr<CompiledScene> scene;
+      std::unique_ptr<WavefrontRenderer> renderer;
+      std::vector<double> seconds, rates, stages[StageTimes::kStages];
+    };
+    std::vector<Timed> timedVariants;
     for (const KernelVariant* v : variants) {
       VariantResult vr;
       vr.variant = v->name;
-      CompiledScene cs = compile_scene(scene, variant_options(timed, v->name));
-      vr.bvh = bvh_figures(cs, sr.primitives);
-      sr.width = cs.width;
-      sr.height = cs.height;
-      sr.spp = cs.spp;
-      sr.maxBounces = int(cs.params.image.z);
+      auto cs = std::make_unique<CompiledScene>(compile_scene(scene, variant_options(timed, v->name)));
+      vr.bvh = bvh_figures(*cs, sr.primitives);
+      sr.width = cs->width;
+      sr.height = cs->height;
+      sr.spp = cs->spp;
+      sr.maxBounces = int(cs->params.image.z);
       RenderOptions check = ref;
       check.seed = 2;
       check.plantedBias = o.plantedBias;
@@ -123,28 +133,34 @@ int run_bench(const BenchOptions& o) {
         vr.checked = c.passed();
         vr.check = c.summary();
       }
+      sr.variants.push_back(vr);
       if (!vr.checked) {
         allChecked = false;
         std::fprintf(stderr, "wavepath: %s on %s disagrees with the CPU reference; not timed:\n  %s\n", v->name.c_str(),
                      sr.scene.c_str(), vr.check.c_str());
-        sr.variants.push_back(vr);
         continue;
       }
-      WavefrontRenderer renderer(ctx, cs, v->settings);
-      renderer.render(quiet);  // warm-up: pipeline JIT, caches
-      std::vector<double> seconds, rates, stages[StageTimes::kStages];
-      for (int r = 0; r < o.repeats; ++r) {
+      auto renderer = std::make_unique<WavefrontRenderer>(ctx, *cs, v->settings);
+      renderer->render(quiet);  // warm-up: pipeline JIT, caches
+      timedVariants.push_back(Timed{sr.variants.size() - 1, std::move(cs), std::move(renderer), {}, {}, {}});
+    }
+    // Timed renders, the variants interleaved within each repeat, so that a
+    // change in the machine's speed during the run affects all of them alike.
+    for (int r = 0; r < o.repeats; ++r) {
+      for (Timed& t : timedVariants) {
         auto t0 = std::chrono::steady_clock::now();
-        renderer.render(quiet);
-        double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        seconds.push_back(s);
-        rates.push_back(double(cs.width) * cs.height * cs.spp / s);
-        for (int k = 0; k < StageTimes::kStages; ++k) stages[k].push_back(renderer.stage_times().seconds[k]);
+        t.renderer->render(quiet);
+        double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        t.seconds.push_back(sec);
+        t.rates.push_back(double(t.scene->width) * t.scene->height * t.scene->spp / sec);
+        for (int k = 0; k < StageTimes::kStages; ++k) t.stages[k].push_back(t.renderer->stage_times().seconds[k]);
       }
-      vr.seconds = spread(seconds);
-      vr.samplesPerSecond = spread(rates);
-      for (int k = 0; k < StageTimes::kStages; ++k) vr.stageSeconds[k] = spread(stages[k]);
-      sr.variants.push_back(vr);
+    }
+    for (Timed& t : timedVariants) {
+      VariantResult& vr = sr.variants[t.result];
+      vr.seconds = spread(t.seconds);
+      vr.samplesPerSecond = spread(t.rates);
+      for (int k = 0; k < StageTimes::kStages; ++k) vr.stageSeconds[k] = spread(t.stages[k]);
     }
     results.push_back(sr);
   }
@@ -315,22 +331,20 @@ int run_raycast_bench(const BenchOptions& o) {
                                         {"bounce", &sets.bounce}}) {
       if (rays->empty()) continue;
       std::vector<float> reference = rays == &sets.primary ? sets.primaryHits : cpu_hits(view, *rays);
-      double embreeRate = 0.0;
-      size_t embreeMismatch = 0;
-      if (embree) {
-        std::vector<float> et;
-        embree->trace(*rays, &et);  // warm-up
-        std::vector<double> secs;
-        for (int r = 0; r < o.repeats; ++r) secs.push_back(embree->trace(*rays, &et));
-        embreeRate = double(rays->size()) / spread(secs).median;
-        embreeMismatch = mismatches(et, reference);
-      }
+      // Check each variant's hits (the first cast is also its warm-up); keep
+      // a renderer for each that agrees.
+      struct Timed {
+        size_t variant;
+        std::unique_ptr<WavefrontRenderer> renderer;
+        nlohmann::json row;
+        std::vector<double> seconds;
+      };
+      std::vector<Timed> timedVariants;
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         const KernelVariant* v = variants[vi];
-        WavefrontRenderer renderer(ctx, variantScenes[vi], v->settings);
+        auto renderer = std::make_unique<WavefrontRenderer>(ctx, variantScenes[vi], v->settings);
         uint64_t truncated = 0;
-        double kernel = 0.0;
-        std::vector<shader::Hit> hits = renderer.cast_rays(*rays, &truncated, &kernel);  // also the warm-up
+        std::vector<shader::Hit> hits = renderer->cast_rays(*rays, &truncated);
         std::vector<float> t(hits.size(), WP_INF);
         for (size_t i = 0; i < hits.size(); ++i)
           if (hits[i].prim != WP_INVALID) t[i] = hits[i].t;
@@ -345,19 +359,33 @@ int run_raycast_bench(const BenchOptions& o) {
           results.push_back(row);
           continue;
         }
-        std::vector<double> secs;
-        for (int r = 0; r < o.repeats; ++r) {
-          renderer.cast_rays(*rays, nullptr, &kernel);
-          secs.push_back(kernel);
+        timedVariants.push_back(Timed{vi, std::move(renderer), row, {}});
+      }
+      // Embree and the variants interleaved within each repeat, so that a
+      // change in the machine's speed during the run affects all of them alike.
+      std::vector<double> embreeSeconds;
+      std::vector<float> embreeHits;
+      if (embree) embree->trace(*rays, &embreeHits);  // warm-up
+      for (int r = 0; r < o.repeats; ++r) {
+        if (embree) embreeSeconds.push_back(embree->trace(*rays, &embreeHits));
+        for (Timed& t : timedVariants) {
+          double kernel = 0.0;
+          t.renderer->cast_rays(*rays, nullptr, &kernel);
+          t.seconds.push_back(kernel);
         }
-        double rate = double(rays->size()) / std::max(spread(secs).median, 1e-12);
+      }
+      const double embreeRate = embree ? double(rays->size()) / spread(embreeSeconds).median : 0.0;
+      for (Timed& t : timedVariants) {
+        const KernelVariant* v = variants[t.variant];
+        double rate = double(rays->size()) / std::max(spread(t.seconds).median, 1e-12);
+        nlohmann::json& row = t.row;
         row["check_passed"] = true;
-        row["kernel_seconds"] = to_json(spread(secs));
+        row["kernel_seconds"] = to_json(spread(t.seconds));
         row["mrays_per_second"] = rate * 1e-6;
         if (embree) {
           row["embree_mrays_per_second"] = embreeRate * 1e-6;
           row["ratio_to_embree"] = rate / embreeRate;
-          row["embree_mismatches"] = embreeMismatch;
+          row["embree_mismatches"] = mismatches(embreeHits, reference);
           std::printf("  %-8s %-14s %12.2f %14.2f %8.3f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6, rate / embreeRate);
         } else {
           std::printf("  %-8s %-14s %12.2f %14s %8s\n", setName, v->name.c_str(), rate * 1e-6, "-", "-");
