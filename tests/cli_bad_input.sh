@@ -61,6 +61,9 @@ expect_error "too many light samples" 2 "light-samples" -- "$wavepath" render "$
 expect_error "-H against another integrator" 2 "-H|contradict" -- "$wavepath" render "$data/furnace.json" -o "$out" -H --integrator "path tracer nee"
 expect_error "adaptive batch not whole" 2 "--adaptive|batch" -- "$wavepath" render "$data/furnace.json" -o "$out" --adaptive 2.5 0.05
 expect_error "environment map missing" 2 "no-such-sky.hdr|no such file|--env" -- "$wavepath" render "$data/furnace.json" -o "$out" -e "$data/no-such-sky.hdr"
+expect_error "unknown variant for info" 2 "nope" -- "$wavepath" info "$data/furnace.json" --variant nope
+expect_error "megakernel with more bounces than its loop budget allows" 3 "megakernel" -- \
+  "$wavepath" render "$data/furnace.json" -o "$out" --variant gpu-mega -m 500
 
 # Adaptive sampling writes CS184's sample-rate image beside the render.
 rm -f "$work"/out*
@@ -78,5 +81,14 @@ for mode in gpu cpu; do
 done
 "$wavepath" devices | grep -q "type "
 check "devices lists at least one device" $?
+"$wavepath" info "$data/furnace.json" --variant gpu-bvh2 | grep -q "^BVH  *binary"
+check "info --variant gpu-bvh2 builds the binary tree" $?
+
+# The scaling scenes' generator: usage without arguments, scenes that load.
+scale="$(dirname "$0")/../scripts/make-scale-scenes.py"
+"$scale" >/dev/null 2>&1
+check "make-scale-scenes.py without an output folder: exit non-zero" $([ $? -ne 0 ]; echo $?)
+"$scale" "$work/scale" 2 >/dev/null && "$wavepath" info "$work/scale/dragons-2.json" | grep -q "^primitives *200004 triangles"
+check "make-scale-scenes.py writes a grid of dragons that loads" $?
 
 finish
