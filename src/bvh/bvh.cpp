@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <tuple>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -453,7 +454,77 @@ double sah_cost(const std::vector<shader::BvhNode>& nodes) {
   return cost;
 }
 
+Aabb node_box(const shader::BvhNode& n) {
+  Aabb b;
+  b.lo = n.bmin;
+  b.hi = n.bmax;
+  return b;
+}
+
+Aabb union_of(const Aabb& a, const Aabb& b) {
+  Aabb u = a;
+  u.grow(b);
+  return u;
+}
+
+// One rotation pass over the subtree at `node` (depth `depth`), children
+// first; height[i] is the height of the subtree in slot i (a leaf: 0), kept
+// current as subtrees move. Counts the rotations made.
+void rotate_subtree(std::vector<shader::BvhNode>& nodes, std::vector<int>& height, uint32_t node, int depth,
+                    uint64_t& rotations) {
+  if (nodes[node].count != 0) {
+    height[node] = 0;
+    return;
+  }
+  const uint32_t l = nodes[node].leftFirst, r = l + 1;
+  rotate_subtree(nodes, height, l, depth + 1, rotations);
+  rotate_subtree(nodes, height, r, depth + 1, rotations);
+  // Candidates: swap child `a` with a child `g` of its sibling `b`; b's box
+  // becomes the union of `a` and g's sibling `keep`.
+  struct Candidate {
+    uint32_t a, b, g, keep;
+    float gain;
+  } best{0, 0, 0, 0, 0.0f};
+  for (auto [a, b] : {std::pair<uint32_t, uint32_t>{l, r}, {r, l}}) {
+    const shader::BvhNode& sib = nodes[b];
+    if (sib.count != 0) continue;
+    // `a` moves one level down: its subtree must still fit under BVH_MAX_DEPTH.
+    if (depth + 2 + height[a] > BVH_MAX_DEPTH) continue;
+    float before = node_box(sib).half_area();
+    for (uint32_t g : {sib.leftFirst, sib.leftFirst + 1}) {
+      uint32_t keep = g == sib.leftFirst ? sib.leftFirst + 1 : sib.leftFirst;
+      float gain = before - union_of(node_box(nodes[a]), node_box(nodes[keep])).half_area();
+      if (gain > best.gain) best = Candidate{a, b, g, keep, gain};
+    }
+  }
+  // Tiny gains are rounding; they would make passes swap back and forth.
+  if (best.gain > 1e-6f * node_box(nodes[node]).half_area()) {
+    std::swap(nodes[best.a], nodes[best.g]);
+    std::swap(height[best.a], height[best.g]);
+    Aabb box = union_of(node_box(nodes[best.g]), node_box(nodes[best.keep]));
+    nodes[best.b].bmin = box.lo;
+    nodes[best.b].bmax = box.hi;
+    height[best.b] = 1 + std::max(height[best.g], height[best.keep]);
+    ++rotations;
+  }
+  height[node] = 1 + std::max(height[l], height[r]);
+}
+
 }  // namespace
+
+void rotate_bvh(Bvh& bvh, int maxPasses) {
+  if (bvh.order.empty()) return;
+  auto start = std::chrono::steady_clock::now();
+  std::vector<int> height(bvh.nodes.size(), 0);
+  for (int pass = 0; pass < maxPasses; ++pass) {
+    uint64_t rotations = 0;
+    rotate_subtree(bvh.nodes, height, 0, 0, rotations);
+    if (rotations == 0) break;
+  }
+  bvh.depth = height[0];
+  bvh.sahCost = sah_cost(bvh.nodes);
+  bvh.buildSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 Bvh build_bvh(const BvhInput& input, const AcceleratorSettings& settings) {
   auto start = std::chrono::steady_clock::now();

@@ -62,7 +62,9 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu-nocompact", "wavefront kernels without path compaction: every bounce runs over every path", noCompaction,
          BvhLayout::Wide},
         {"gpu-mega", "one kernel per path (camera ray to pixel), its rays sharing lavapipe's loop budget", megakernel,
-         BvhLayout::Wide}};
+         BvhLayout::Wide},
+        {"gpu-rotate", "wavefront kernels, wide BVH from a binned-SAH tree improved by tree rotations", WavefrontSettings{},
+         BvhLayout::Wide, true}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
       s.workgroupSize = size;
@@ -76,7 +78,9 @@ const std::vector<KernelVariant>& kernel_variants() {
 
 RenderOptions variant_options(RenderOptions options, const std::string& renderer) {
   if (renderer == "cpu") return reference_options(options);
-  options.bvhLayout = kernel_variant(renderer).bvhLayout;
+  const KernelVariant& v = kernel_variant(renderer);
+  options.bvhLayout = v.bvhLayout;
+  options.bvhRotations = v.bvhRotations;
   return options;
 }
 

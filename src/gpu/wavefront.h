@@ -43,6 +43,7 @@ struct KernelVariant {
   std::string description;
   WavefrontSettings settings;
   BvhLayout bvhLayout = BvhLayout::Wide;
+  bool bvhRotations = false;  // the BVH improved by tree rotations
 };
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.

@@ -213,6 +213,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   const bool wide = options.bvhLayout == BvhLayout::Wide;
   if (wide) accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);  // a wide node's slot holds at most that
   Bvh bvh = build_bvh(input, accel);
+  if (options.bvhRotations) rotate_bvh(bvh);
   if (bvh.depth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
   out.bvhLayout = options.bvhLayout;
   out.bvhSahCost = bvh.sahCost;

@@ -36,6 +36,7 @@ struct RenderOptions {
   AdaptiveSampling adaptive;  // off unless batch > 0
   int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
   BvhLayout bvhLayout = BvhLayout::Wide;
+  bool bvhRotations = false;  // improve the binned-SAH tree with tree rotations (rotate_bvh) before use
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
