@@ -36,6 +36,6 @@ for scene in cornell-box cornell-dragon; do
     [ -s "$out/$who" ] || continue
     m=$(median <"$out/$who")
     printf '%-15s %-8s median %7.2f s  %6.3f Msamples/s  (runs: %s)\n' "$scene" "$who" "$m" \
-      "$(echo "$samples / $m / 1000000" | bc -l)" "$(tr '\n' ' ' <"$out/$who")"
+      "$(awk -v s="$samples" -v m="$m" 'BEGIN { print s / m / 1e6 }')" "$(tr '\n' ' ' <"$out/$who")"
   done
 done

@@ -23,6 +23,6 @@ for scene in $(ls "$scenes"/dragons-*.json | sort -t- -k2 -n); do
   bytes=$(echo "$info" | sed -n 's/.*MiB (\([0-9.]*\) bytes per primitive.*/\1/p')
   gpu=$("$build/wavepath" render "$scene" -r 256 256 --spp 4 --max-bounces 8 --stage-times -q -o "$scenes/out.png" 2>&1 |
     sed -n 's/^total *\([0-9.]*\).*/\1/p')
-  per=$(echo "$gpu / (256 * 256 * 4 / 1000000)" | bc -l)
+  per=$(awk -v g="$gpu" 'BEGIN { print g / (256 * 256 * 4 / 1e6) }')
   printf '%-12s %12s %8s %9s %10s %9s %14.2f\n' "$(basename "$scene" .json)" "$tris" "$load" "$build_s" "$rate" "$bytes" "$per"
 done
