@@ -165,6 +165,10 @@ struct Binning {
   }
 };
 
+int largest_axis(glm::vec3 extent) {
+  return extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+}
+
 class Builder {
  public:
   Builder(const BvhInput& in, const AcceleratorSettings& s) : settings_(s) {
@@ -324,7 +328,7 @@ class Builder {
 
     Aabb cb = t.centroids.aabb();
     glm::vec3 extent = cb.hi - cb.lo;
-    int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    int axis = largest_axis(extent);
     Task l{0, 0, 0, t.depth + 1, {}, {}}, r = l;
     // Near the depth limit only halving splits are allowed: 32 of them separate
     // any number of primitives a 32-bit index can hold, so the tree (and the
@@ -412,8 +416,7 @@ class Builder {
     if (bestAxis < 0 || (splitCost >= leafCost && count <= maxLeaf)) {
       if (count <= maxLeaf) return false;
       Aabb cb = t.centroids.aabb();
-      glm::vec3 extent = cb.hi - cb.lo;
-      median_split(t, l, r, extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2));
+      median_split(t, l, r, largest_axis(cb.hi - cb.lo));
       return true;
     }
     l.begin = t.begin;
