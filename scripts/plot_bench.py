@@ -50,7 +50,7 @@ def plot_render(results, out_dir):
     plt.close(fig)
 
     # Per-stage time of each (scene, variant), stacked.
-    stages = ["generate", "prepare", "extend", "shade", "connect", "accumulate", "megakernel"]
+    stages = ["generate", "prepare", "extend", "sort", "shade", "connect", "accumulate", "megakernel"]
     labels, data = [], []
     for s in scenes:
         for v in s["variants"]:

@@ -1,6 +1,7 @@
 #version 460
 // Stage 2: closest hit for every queued path. One ray per invocation, so the
-// traversal's bounded step count is the invocation's whole loop budget.
+// traversal's bounded step count is the invocation's whole loop budget. When
+// sorting by material, also counts each hit's sort key.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
@@ -8,11 +9,19 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
   uint path = queues[pc.queueIn * pc.capacity + i];
-  if (!kCompaction && (paths[path].flags & PATH_DEAD) != 0u) return;  // shade skips it too
   Hit h;
-  if (trace_ray(paths[path].origin, paths[path].dir, WP_INF, false, h) != TRACE_OK) {
-    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-    h.prim = WP_INVALID;
+  h.prim = WP_INVALID;
+  // Without compaction, shade skips dead paths too.
+  if (kCompaction || (paths[path].flags & PATH_DEAD) == 0u) {
+    if (trace_ray(paths[path].origin, paths[path].dir, WP_INF, false, h) != TRACE_OK) {
+      atomicAdd(counters[COUNTER_TRUNCATED], 1u);
+      h.prim = WP_INVALID;
+    }
+    hits[path] = h;
   }
-  hits[path] = h;
+  if (kSortByMaterial) {
+    uint key = sort_key(h);
+    sortKeys[i] = key;
+    atomicAdd(sortBins[key], 1u);
+  }
 }

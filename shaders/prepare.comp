@@ -1,6 +1,7 @@
 #version 460
 // Sizes the next indirect dispatch from a queue counter, and resets the queues
-// the next stage appends to. Runs as a single invocation.
+// the next stage appends to; when sorting by material, also resets the key
+// counts and turns them into offsets. Runs as a single invocation.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
@@ -18,6 +19,17 @@ void main() {
     indirect[base + 2u] = 1u;
     counters[COUNTER_QUEUE0 + (1u - pc.queueIn)] = 0u;
     counters[COUNTER_SHADOW] = 0u;
+    if (kSortByMaterial) {
+      for (uint k = 0u; k < SORT_KEYS; ++k) sortBins[k] = 0u;
+    }
+  } else if (pc.phase == PREPARE_SORT) {
+    // Key counts to exclusive prefix sums: where each key's paths start.
+    uint start = 0u;
+    for (uint k = 0u; k < SORT_KEYS; ++k) {
+      uint n = sortBins[k];
+      sortBins[k] = start;
+      start += n;
+    }
   } else {
     uint base = INDIRECT_CONNECT * 3u;
     indirect[base] = groups_for(counters[COUNTER_SHADOW]);

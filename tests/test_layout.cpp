@@ -71,13 +71,13 @@ std::vector<Expected> expected_layouts() {
       {"PixelAccum", sizeof(PixelAccum), {FIELD(PixelAccum, sum), FIELD(PixelAccum, sumSq)}},
       {"KernelPush", sizeof(KernelPush),
        {FIELD(KernelPush, waveStart), FIELD(KernelPush, pathCount), FIELD(KernelPush, sampleIndex), FIELD(KernelPush, queueIn),
-        FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, pad0), FIELD(KernelPush, pad1)}},
+        FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, shadeQueue), FIELD(KernelPush, pad1)}},
   };
 }
 
 TEST(Layout, EveryKernelAgreesWithTheHostOnEveryStruct) {
   std::map<std::string, int> checked;
-  for (const char* kernel : {"generate", "prepare", "extend", "shade", "connect", "connect_multi", "accumulate", "megakernel", "raycast", "texprobe"}) {
+  for (const char* kernel : {"generate", "prepare", "extend", "sort", "shade", "connect", "connect_multi", "accumulate", "megakernel", "raycast", "texprobe"}) {
     SpirvLayouts spv(std::string(WAVEPATH_SPV_DIR) + "/" + kernel + ".spv");
     for (const Expected& e : expected_layouts()) {
       for (const auto& [id, name] : spv.names) {

@@ -24,14 +24,16 @@
 #define BINDING_ENVIRONMENT_CDF 17
 #define BINDING_PIXEL_LIST 18
 #define BINDING_WIDE_NODES 19
-#define BINDING_COUNT 20
+#define BINDING_SORT 20
+#define BINDING_COUNT 21
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
 #define WORKGROUP_SIZE 64
 
 // Push constants of every kernel. Queues live in one buffer: queue q occupies
-// [q * capacity, (q + 1) * capacity).
+// [q * capacity, (q + 1) * capacity); queues 0 and 1 alternate between
+// bounces, queue 2 (QUEUE_SORTED) holds a bounce's paths sorted by material.
 struct KernelPush {
   uint waveStart;   // first pixel of this wave
   uint pathCount;   // paths in this wave
@@ -39,12 +41,13 @@ struct KernelPush {
   uint queueIn;     // 0 or 1: the queue of paths to extend / shade
   uint capacity;    // path slots per queue
   uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
-  uint pad0;
+  uint shadeQueue;  // the queue region shade reads: queueIn, or QUEUE_SORTED
   uint pad1;
 };
 
 #define PREPARE_EXTEND 0u
 #define PREPARE_CONNECT 1u
+#define PREPARE_SORT 2u
 // Generate kernel: path i renders pixel waveStart + i, or (adaptive sampling)
 // pixel pixelList[waveStart + i].
 #define GENERATE_CONSECUTIVE 0u
@@ -82,6 +85,13 @@ layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { Sha
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };
+// Sorting by material (kSortByMaterial): per key, the paths that have it, then
+// (after PREPARE_SORT) where its paths start in QUEUE_SORTED; and the key of
+// each queue position.
+layout(std430, set = 0, binding = BINDING_SORT) buffer SortBuffer {
+  uint sortBins[SORT_KEYS];
+  uint sortKeys[];
+};
 // The pixels still sampled under adaptive sampling.
 layout(std430, set = 0, binding = BINDING_PIXEL_LIST) readonly buffer PixelListBuffer { uint pixelList[]; };
 layout(push_constant) uniform PushBlock { KernelPush pc; };

@@ -30,6 +30,10 @@ layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
 // it (variant gpu-nocompact, to measure what compaction is worth) every path
 // keeps its queue slot and finished ones are marked PATH_DEAD and skipped.
 layout(constant_id = 6) const bool kCompaction = true;
+// Sorting paths by material between extend and shade (constant 7, variant
+// gpu-sort): extend counts the keys, prepare turns counts into offsets, the
+// sort kernel scatters the queue into QUEUE_SORTED, and shade reads that.
+layout(constant_id = 7) const bool kSortByMaterial = false;
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"
@@ -64,4 +68,10 @@ void accumulate_path(PathState p) {
 // sampler's list.
 uint wave_pixel(uint i) {
   return pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + i] : pc.waveStart + i;
+}
+
+// The bucket a path is sorted into by the material its ray hit (gpu-sort).
+uint sort_key(Hit h) {
+  uint m = hit_material(h);
+  return m == WP_INVALID ? SORT_KEY_MISS : m % SORT_KEY_MISS;
 }

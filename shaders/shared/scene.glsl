@@ -490,6 +490,15 @@ SurfaceHit surface_at(vec3 o, vec3 d, Hit h) {
   return triangle_surface(h.prim, h.u, h.v);
 }
 
+// The material at a ray's hit, or WP_INVALID where it hit nothing. Only the
+// texel holding the material is fetched; the loaders stay the one definition
+// of where it lies.
+uint hit_material(Hit h) {
+  if (h.prim == WP_INVALID) return WP_INVALID;
+  if (SCENE_HAS(FEATURE_SPHERES) && (h.prim & HIT_SPHERE_BIT) != 0u) return load_sphere(h.prim & ~HIT_SPHERE_BIT).material;
+  return load_triangle(h.prim).material;
+}
+
 float triangle_area(Triangle tri) {
   return 0.5f * length(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
 }

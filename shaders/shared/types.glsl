@@ -79,6 +79,17 @@
 #define INDIRECT_EXTEND 0u
 #define INDIRECT_CONNECT 1u
 
+// Sorting paths by material (variant gpu-sort): between extend and shade the
+// queue is reordered so that paths whose rays hit the same material are
+// neighbours, and so run the same shading code in the same subgroup. Keys are
+// material indices folded into SORT_KEYS - 1 buckets; the last bucket holds
+// the rays that hit nothing.
+#define SORT_KEYS 256u
+#define SORT_KEY_MISS (SORT_KEYS - 1u)
+// The queue region (a third one, after queues 0 and 1) that holds the sorted
+// order shade reads.
+#define QUEUE_SORTED 2u
+
 // Binary BVH node, 32 bytes. Interior node: count == 0, children at
 // leftFirst and leftFirst + 1 (siblings are adjacent so one index suffices).
 // Leaf: `count` primitives starting at leftFirst in the primitive array.

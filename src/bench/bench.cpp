@@ -171,17 +171,18 @@ int run_bench(const BenchOptions& o) {
   for (const SceneResult& sr : results) {
     std::printf("\n%s: %zu primitives, %dx%d, %d spp, %d bounces\n", sr.scene.c_str(), sr.primitives, sr.width, sr.height,
                 sr.spp, sr.maxBounces);
-    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %6s\n", "variant", "check", "time s", "Msamples/s", "extend s", "shade s",
-                "connect s", "BVH s", "B/prim");
+    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %9s %6s\n", "variant", "check", "time s", "Msamples/s", "extend s", "sort s",
+                "shade s", "connect s", "BVH s", "B/prim");
     for (const VariantResult& v : sr.variants) {
       if (!v.checked) {
         std::printf("  %-14s %-6s (disagrees with the CPU reference: not timed)\n", v.variant.c_str(), "FAIL");
         continue;
       }
-      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %6.1f\n", v.variant.c_str(), "pass",
+      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %9.3f %6.1f\n", v.variant.c_str(), "pass",
                   v.seconds.median, v.samplesPerSecond.median * 1e-6, v.samplesPerSecond.min * 1e-6,
-                  v.samplesPerSecond.max * 1e-6, v.stageSeconds[2].median, v.stageSeconds[3].median, v.stageSeconds[4].median,
-                  v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
+                  v.samplesPerSecond.max * 1e-6, v.stageSeconds[StageTimes::kExtend].median,
+                  v.stageSeconds[StageTimes::kSort].median, v.stageSeconds[StageTimes::kShade].median,
+                  v.stageSeconds[StageTimes::kConnect].median, v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
     }
   }
 

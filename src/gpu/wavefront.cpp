@@ -18,6 +18,7 @@
 #include "raycast.spv.h"
 #include "texprobe.spv.h"
 #include "shade.spv.h"
+#include "sort.spv.h"
 
 namespace wp {
 
@@ -56,6 +57,8 @@ const std::vector<KernelVariant>& kernel_variants() {
     noCompaction.compaction = false;
     WavefrontSettings megakernel;
     megakernel.megakernel = true;
+    WavefrontSettings sorted;
+    sorted.sortByMaterial = true;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
@@ -64,7 +67,9 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu-mega", "one kernel per path (camera ray to pixel), its rays sharing lavapipe's loop budget", megakernel,
          BvhLayout::Wide},
         {"gpu-rotate", "wavefront kernels, wide BVH from a binned-SAH tree improved by tree rotations", WavefrontSettings{},
-         BvhLayout::Wide, true}};
+         BvhLayout::Wide, true},
+        {"gpu-sort", "wavefront kernels, paths sorted by the material their ray hit before shading", sorted,
+         BvhLayout::Wide}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
       s.workgroupSize = size;
@@ -107,7 +112,7 @@ struct WavefrontRenderer::Impl {
   vk::raii::PipelineLayout pipelineLayout{nullptr};
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
-  vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, shade{nullptr}, connect{nullptr},
+  vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, texprobe{nullptr};
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
@@ -119,7 +124,7 @@ struct WavefrontRenderer::Impl {
   double timestampPeriodNs = 1.0;
   StageTimes times;
 
-  enum Stage { kGenerate, kPrepare, kExtend, kShade, kConnect, kAccumulate, kMegakernel };
+  using Stage = StageTimes::Stage;
 
   Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
     const uint64_t maxRange = ctx.info().maxStorageBufferRange;
@@ -241,7 +246,8 @@ struct WavefrontRenderer::Impl {
     add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
     add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
     add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
-    add_work(BINDING_QUEUES, uint64_t(capacity) * 2 * sizeof(uint32_t));
+    add_work(BINDING_QUEUES, uint64_t(capacity) * (QUEUE_SORTED + 1) * sizeof(uint32_t));
+    add_work(BINDING_SORT, (SORT_KEYS + uint64_t(capacity)) * sizeof(uint32_t));
     add_work(BINDING_SHADOW_RAYS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, 6 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
@@ -284,14 +290,15 @@ struct WavefrontRenderer::Impl {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
-    // feature mask, 5 the traversal stack size, 6 path compaction (a bool: a
-    // 32-bit 0 or 1).
+    // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
+    // by material (bools: a 32-bit 0 or 1).
     const shader::uvec4& accel = scene.params.accel;
-    const uint32_t values[7] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
-                                accel.y, accel.z, settings.compaction ? 1u : 0u};
-    vk::SpecializationMapEntry entries[7];
-    for (uint32_t i = 0; i < 7; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
-    vk::SpecializationInfo spec(7, entries, sizeof(values), values);
+    constexpr uint32_t kConstants = 8;
+    const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
+                                         accel.y, accel.z, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u};
+    vk::SpecializationMapEntry entries[kConstants];
+    for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
+    vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
   }
@@ -328,6 +335,7 @@ struct WavefrontRenderer::Impl {
     generate = make_pipeline(kernel(generate_spv));
     prepare = make_pipeline(kernel(prepare_spv));
     extend = make_pipeline(kernel(extend_spv));
+    if (settings.sortByMaterial) sort = make_pipeline(kernel(sort_spv));
     shade = make_pipeline(kernel(shade_spv));
     if (scene.params.mode.w > 1u) {
       if (!ctx.info().floatAtomicAdd) {
@@ -368,22 +376,29 @@ struct WavefrontRenderer::Impl {
     push.sampleIndex = sampleIndex;
     push.capacity = capacity;
     push.phase = listed ? GENERATE_FROM_LIST : GENERATE_CONSECUTIVE;
-    if (settings.megakernel) return dispatch(cb, megakernel, push, groups_for(pathCount), kMegakernel);
-    dispatch(cb, generate, push, groups_for(pathCount), kGenerate);
+    if (settings.megakernel) return dispatch(cb, megakernel, push, groups_for(pathCount), StageTimes::kMegakernel);
+    dispatch(cb, generate, push, groups_for(pathCount), StageTimes::kGenerate);
     // Bounce b extends the rays of paths with b scattering events behind them;
     // path_shade ends every path at max bounces, so there are max + 1 passes.
     const uint32_t passes = scene.params.image.z + 1;
     for (uint32_t bounce = 0; bounce < passes; ++bounce) {
       push.queueIn = bounce & 1u;
       push.phase = PREPARE_EXTEND;
-      dispatch(cb, prepare, push, 1, kPrepare);
-      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND, kExtend);
-      dispatch_indirect(cb, shade, push, INDIRECT_EXTEND, kShade);
+      dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
+      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND, StageTimes::kExtend);
+      push.shadeQueue = push.queueIn;
+      if (settings.sortByMaterial) {
+        push.phase = PREPARE_SORT;
+        dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
+        dispatch_indirect(cb, sort, push, INDIRECT_EXTEND, StageTimes::kSort);
+        push.shadeQueue = QUEUE_SORTED;
+      }
+      dispatch_indirect(cb, shade, push, INDIRECT_EXTEND, StageTimes::kShade);
       push.phase = PREPARE_CONNECT;
-      dispatch(cb, prepare, push, 1, kPrepare);
-      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, kConnect);
+      dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
+      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
     }
-    dispatch(cb, accumulate, push, groups_for(pathCount), kAccumulate);
+    dispatch(cb, accumulate, push, groups_for(pathCount), StageTimes::kAccumulate);
   }
 
   // Renders every pixel at scene.spp samples; with adaptive sampling, in
@@ -431,7 +446,8 @@ struct WavefrontRenderer::Impl {
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
     uint32_t perSubmit = 1;
     const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
-    const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + 5 * (scene.params.image.z + 1);
+    const uint32_t dispatchesPerBounce = settings.sortByMaterial ? 7 : 5;
+    const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * (scene.params.image.z + 1);
     for (uint32_t sample = first; sample < end;) {
       uint32_t n = std::min(perSubmit, end - sample);
       cb.reset();
@@ -497,7 +513,7 @@ struct WavefrontRenderer::Impl {
           cb.resetQueryPool(*queries, 0, 2);
           cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
         }
-        dispatch(cb, kernel, push, groups_for(n), kExtend);
+        dispatch(cb, kernel, push, groups_for(n), StageTimes::kExtend);
         if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));

@@ -16,8 +16,8 @@ namespace wp {
 // GPU time per pipeline stage, from Vulkan timestamp queries written after
 // every dispatch of a render.
 struct StageTimes {
-  static constexpr int kStages = 7;
-  static constexpr const char* kNames[kStages] = {"generate", "prepare", "extend", "shade", "connect", "accumulate", "megakernel"};
+  enum Stage { kGenerate, kPrepare, kExtend, kSort, kShade, kConnect, kAccumulate, kMegakernel, kStages };
+  static constexpr const char* kNames[kStages] = {"generate", "prepare", "extend", "sort", "shade", "connect", "accumulate", "megakernel"};
   double seconds[kStages] = {};
   uint64_t dispatches[kStages] = {};
   double total() const {
@@ -31,6 +31,7 @@ struct WavefrontSettings {
   uint32_t workgroupSize = WORKGROUP_SIZE;  // invocations per workgroup of every kernel
   bool compaction = true;                   // later bounces dispatch only live paths (kernel.glsl)
   bool megakernel = false;                  // one kernel per path instead of the wavefront stages
+  bool sortByMaterial = false;              // shade runs over paths sorted by the material they hit
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
 };
