@@ -8,9 +8,15 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <tuple>
+#include <type_traits>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -39,6 +45,11 @@ struct F4 {
   friend F4 operator+(F4 a, F4 b) { return {_mm_add_ps(a.v, b.v)}; }
   friend F4 operator-(F4 a, F4 b) { return {_mm_sub_ps(a.v, b.v)}; }
   friend F4 operator*(F4 a, F4 b) { return {_mm_mul_ps(a.v, b.v)}; }
+  // a where m, else b.
+  static F4 select(bool m, F4 a, F4 b) {
+    const __m128 mask = _mm_castsi128_ps(_mm_set1_epi32(-int(m)));
+    return {_mm_or_ps(_mm_and_ps(mask, a.v), _mm_andnot_ps(mask, b.v))};
+  }
   // Bin indices: x clamped below to 0 (NaN too), truncated.
   void bins(int out[4]) const {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_cvttps_epi32(_mm_max_ps(v, _mm_setzero_ps())));
@@ -57,6 +68,7 @@ struct F4 {
   friend F4 operator+(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x + y; }); }
   friend F4 operator-(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x - y; }); }
   friend F4 operator*(F4 a, F4 b) { return each(a, b, [](float x, float y) { return x * y; }); }
+  static F4 select(bool m, F4 a, F4 b) { return m ? a : b; }
   void bins(int out[4]) const {
     for (int k = 0; k < 4; ++k) out[k] = int(v[k] > 0.0f ? v[k] : 0.0f);
   }
@@ -100,13 +112,6 @@ struct Box4 {
   }
 };
 
-// A node to build: its primitives [begin, end) with their bounds and the
-// bounds of their centroids (doubled, as PrimRef::centroid2).
-struct Task {
-  uint32_t node, begin, end;
-  int depth;
-  Box4 bounds, centroids;
-};
 
 // Per axis and bin: bounds and count of the primitives whose centroid falls
 // in it. Only the first `used` bins of each axis are initialized and read: a
@@ -169,26 +174,69 @@ int largest_axis(glm::vec3 extent) {
   return extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
 }
 
+// An uninitialized array for the builder's large working sets. On Linux it is
+// backed by transparent huge pages where the kernel allows them: the first
+// touch of each 4 KiB page was 15 % of a build on the benchmark VM.
+template <typename T>
+class WorkArray {
+ public:
+  explicit WorkArray(size_t n) {
+    static_assert(std::is_trivially_destructible_v<T>);
+    constexpr size_t kHuge = size_t(2) << 20;
+    size_t bytes = std::max<size_t>(1, n) * sizeof(T);
+    bytes = (bytes + kHuge - 1) / kHuge * kHuge;
+    data_ = static_cast<T*>(std::aligned_alloc(kHuge, bytes));
+    if (!data_) throw std::bad_alloc();
+#ifdef __linux__
+    madvise(data_, bytes, MADV_HUGEPAGE);
+#endif
+  }
+  ~WorkArray() { std::free(data_); }
+  WorkArray(const WorkArray&) = delete;
+  WorkArray& operator=(const WorkArray&) = delete;
+  T* get() const { return data_; }
+  T& operator[](size_t i) const { return data_[i]; }
+
+ private:
+  T* data_ = nullptr;
+};
+
+// A node to build: its primitives [begin, end) in reference array `buf` (0
+// or 1, see Builder), with their bounds and the bounds of their centroids
+// (doubled, as PrimRef::centroid2).
+struct Task {
+  uint32_t node, begin, end;
+  int depth;
+  int buf;
+  Box4 bounds, centroids;
+};
+
+// Top-down binned SAH. The primitive references live in two arrays: a node's
+// split copies its references from its array into the other one (left
+// children from the front, right ones from the back), so each partition is a
+// branch-free stream, and a large node's partition runs in parallel by
+// chunks. Leaves write their primitive ids straight into the tree's order.
 class Builder {
  public:
-  Builder(const BvhInput& in, const AcceleratorSettings& s) : settings_(s) {
-    size_t n = in.bounds.size();
-    refs_.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
+  Builder(const BvhInput& in, const AcceleratorSettings& s)
+      : settings_(s),
+        n_(in.bounds.size()),
+        refs0_(n_),
+        refs1_(n_),
+        nodes_(2 * n_ + (3 + 2 * n_ / kParallelThreshold) * kNodeBlock) {
+    refs_[0] = refs0_.get();
+    refs_[1] = refs1_.get();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n_, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
         const Aabb& b = in.bounds[i];
-        refs_[i] = PrimRef{{b.lo.x, b.lo.y, b.lo.z}, uint32_t(i), {b.hi.x, b.hi.y, b.hi.z}, 0u};
+        refs_[0][i] = PrimRef{{b.lo.x, b.lo.y, b.lo.z}, uint32_t(i), {b.hi.x, b.hi.y, b.hi.z}, 0u};
       }
     });
-    // A binary tree over n primitives has at most 2n - 1 nodes. Left
-    // uninitialized: every node is written before it is read, and only the
-    // pages of nodes the tree uses are ever touched.
-    nodes_.reset(new shader::BvhNode[std::max<size_t>(1, 2 * n)]);
   }
 
   Bvh build() {
     Bvh bvh;
-    if (refs_.empty()) {
+    if (n_ == 0) {
       // An empty scene: an interior root with an empty box, which every ray
       // misses before any child is read.
       shader::BvhNode root{};
@@ -197,20 +245,71 @@ class Builder {
       bvh.nodes.push_back(root);
       return bvh;
     }
-    Task root{0, 0, uint32_t(refs_.size()), 0, {}, {}};
+    bvh.order.resize(n_);
+    order_ = bvh.order.data();
+    Task root{0, 0, uint32_t(n_), 0, 0, {}, {}};
     bounds_of(root);
     nodeCount_ = 1;
     tbb::task_group tasks;
-    build_node(root, tasks);
+    NodeBlock block;
+    build_node(root, tasks, block);
     tasks.wait();
-    bvh.nodes.assign(nodes_.get(), nodes_.get() + nodeCount_.load());
-    bvh.order.resize(refs_.size());
-    tbb::parallel_for(size_t(0), refs_.size(), [&](size_t i) { bvh.order[i] = refs_[i].id; });
-    bvh.depth = maxDepth_.load();
+    compact_nodes(bvh);
     return bvh;
   }
 
  private:
+  static constexpr uint32_t kChunk = 1u << 13;  // primitives per chunk of a parallel pass
+
+  // Node slots are handed out in blocks, one block at a time to each chain of
+  // build_node calls (the root's, and each spawned task's), so threads do not
+  // contend for a shared counter at every node. Every chain leaves at most
+  // one partly used block: nodes_ has room for 2n nodes and one block more
+  // per chain. The unused slots are dropped by compact_nodes.
+  static constexpr uint32_t kNodeBlock = 256;
+  struct NodeBlock {
+    uint32_t next = 0, end = 0;
+  };
+  // Two adjacent node slots, for a node's children.
+  uint32_t allocate_pair(NodeBlock& block) {
+    if (block.next == block.end) {
+      block.next = nodeCount_.fetch_add(kNodeBlock, std::memory_order_relaxed);
+      block.end = block.next + kNodeBlock;
+    }
+    uint32_t at = block.next;
+    block.next += 2;
+    return at;
+  }
+
+  // The tree's nodes in depth-first order (siblings still adjacent), without
+  // the unused slots; also measures its depth.
+  void compact_nodes(Bvh& bvh) const {
+    bvh.nodes.reserve(std::min<size_t>(nodeCount_.load(), 2 * n_));
+    bvh.nodes.push_back(nodes_[0]);
+    struct Visit {
+      uint32_t from, to;
+      int depth;
+    };
+    std::vector<Visit> stack{{0, 0, 0}};
+    int depth = 0;
+    while (!stack.empty()) {
+      Visit v = stack.back();
+      stack.pop_back();
+      const shader::BvhNode& n = nodes_[v.from];
+      if (n.count != 0) {
+        depth = std::max(depth, v.depth);
+        continue;
+      }
+      const uint32_t at = uint32_t(bvh.nodes.size());
+      bvh.nodes.push_back(nodes_[n.leftFirst]);
+      bvh.nodes.push_back(nodes_[n.leftFirst + 1]);
+      bvh.nodes[v.to].leftFirst = at;
+      stack.push_back({n.leftFirst + 1, at + 1, v.depth + 1});
+      stack.push_back({n.leftFirst, at, v.depth + 1});
+    }
+    bvh.depth = depth;
+  }
+
   // Bounds and centroid bounds of a task's primitives, in parallel when large.
   void bounds_of(Task& t) const {
     struct Acc {
@@ -220,18 +319,18 @@ class Builder {
         c.grow(o.c);
       }
     };
-    auto body = [&](const tbb::blocked_range<uint32_t>& r, Acc acc) {
+    const PrimRef* refs = refs_[t.buf];
+    auto body = [refs](const tbb::blocked_range<uint32_t>& r, Acc acc) {
       for (uint32_t i = r.begin(); i < r.end(); ++i) {
-        const PrimRef& p = refs_[i];
-        F4 c = p.centroid2();
-        acc.b.grow(p.lo4(), p.hi4());
+        F4 c = refs[i].centroid2();
+        acc.b.grow(refs[i].lo4(), refs[i].hi4());
         acc.c.grow(c, c);
       }
       return acc;
     };
     Acc acc = t.end - t.begin < kParallelThreshold
                   ? body(tbb::blocked_range<uint32_t>(t.begin, t.end), Acc{})
-                  : tbb::parallel_reduce(tbb::blocked_range<uint32_t>(t.begin, t.end, 1 << 13), Acc{}, body,
+                  : tbb::parallel_reduce(tbb::blocked_range<uint32_t>(t.begin, t.end, kChunk), Acc{}, body,
                                          [](Acc a, const Acc& b) {
                                            a.join(b);
                                            return a;
@@ -240,9 +339,9 @@ class Builder {
     t.centroids = acc.c;
   }
 
-  void bin_range(uint32_t begin, uint32_t end, const Binning& binning, Bins& acc) const {
+  static void bin_range(const PrimRef* refs, uint32_t begin, uint32_t end, const Binning& binning, Bins& acc) {
     for (uint32_t i = begin; i < end; ++i) {
-      const PrimRef& p = refs_[i];
+      const PrimRef& p = refs[i];
       int b[4];
       binning.of(p, b);
       F4 lo = p.lo4(), hi = p.hi4();
@@ -253,72 +352,107 @@ class Builder {
     }
   }
 
-  void bin(const Task& t, const Binning& binning, Bins& bins) const {
-    if (t.end - t.begin < kParallelThreshold) return bin_range(t.begin, t.end, binning, bins);
-    bins = tbb::parallel_reduce(
-        tbb::blocked_range<uint32_t>(t.begin, t.end, 1 << 13), Bins(bins.used),
-        [&](const tbb::blocked_range<uint32_t>& r, Bins acc) {
-          bin_range(r.begin(), r.end(), binning, acc);
-          return acc;
-        },
-        [](Bins a, const Bins& b) {
-          a.join(b);
-          return a;
-        });
-  }
-
-  // Partitions the task's primitives so that those satisfying `left` come
-  // first, filling in both halves' centroid bounds; returns the split.
+  // Copies src[begin, end) into dst: those satisfying `left` upwards from
+  // `leftAt`, the others downwards from `rightEnd`, without branches on the
+  // outcome (half of them would be mispredicted); grows both sides' centroid
+  // bounds. Returns how many went left.
   template <typename Left>
-  uint32_t partition(const Task& t, Left left, Box4& leftCentroids, Box4& rightCentroids) {
-    PrimRef* refs = refs_.data();  // locals, so the loop keeps them in registers
+  static uint32_t partition_range(const PrimRef* src, PrimRef* dst, uint32_t begin, uint32_t end, uint32_t leftAt,
+                                  uint32_t rightEnd, Left left, Box4& leftCentroids, Box4& rightCentroids) {
     F4 lLo = leftCentroids.lo, lHi = leftCentroids.hi, rLo = rightCentroids.lo, rHi = rightCentroids.hi;
-    uint32_t i = t.begin, j = t.end;
-    while (true) {
-      while (i < j && left(refs[i])) {
-        F4 c = refs[i].centroid2();
-        lLo = min(lLo, c);
-        lHi = max(lHi, c);
-        ++i;
-      }
-      while (i < j && !left(refs[j - 1])) {
-        F4 c = refs[j - 1].centroid2();
-        rLo = min(rLo, c);
-        rHi = max(rHi, c);
-        --j;
-      }
-      if (i >= j) break;
-      std::swap(refs[i], refs[j - 1]);
+    const F4 big = F4::splat(3.0e38f), small = F4::splat(-3.0e38f);
+    uint32_t l = leftAt, r = rightEnd;
+    for (uint32_t i = begin; i < end; ++i) {
+      const PrimRef& p = src[i];
+      const bool isLeft = left(p);
+      dst[isLeft ? l : r - 1] = p;
+      l += isLeft;
+      r -= !isLeft;
+      F4 c = p.centroid2();
+      lLo = min(lLo, F4::select(isLeft, c, big));
+      lHi = max(lHi, F4::select(isLeft, c, small));
+      rLo = min(rLo, F4::select(isLeft, big, c));
+      rHi = max(rHi, F4::select(isLeft, small, c));
     }
     leftCentroids = Box4{lLo, lHi};
     rightCentroids = Box4{rLo, rHi};
-    return i;
+    return l - leftAt;
   }
 
-  // The median split on `axis` (nth_element on centroids), with both halves'
-  // bounds computed afterwards.
-  uint32_t median_split(Task& t, Task& l, Task& r, int axis) {
+  // Splits task t's primitives by `left` into the other array: fills in the
+  // children's ranges, arrays and centroid bounds. Large tasks run by chunks
+  // in parallel; `leftOfChunk`, when given, already holds how many of each
+  // chunk's primitives go left.
+  template <typename Left>
+  void split_by(const Task& t, Task& l, Task& r, Left left, std::vector<uint32_t>* leftOfChunk = nullptr) {
+    const PrimRef* src = refs_[t.buf];
+    PrimRef* dst = refs_[t.buf ^ 1];
+    l.buf = r.buf = t.buf ^ 1;
+    l.begin = t.begin;
+    r.end = t.end;
+    const uint32_t count = t.end - t.begin;
+    if (count < kParallelThreshold) {
+      l.end = r.begin = t.begin + partition_range(src, dst, t.begin, t.end, t.begin, t.end, left, l.centroids, r.centroids);
+      return;
+    }
+    const uint32_t chunks = (count + kChunk - 1) / kChunk;
+    std::vector<uint32_t> counted;
+    if (!leftOfChunk) {
+      counted.resize(chunks);
+      tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
+        uint32_t b = t.begin + c * kChunk, e = std::min(t.end, b + kChunk), n = 0;
+        for (uint32_t i = b; i < e; ++i) n += left(src[i]);
+        counted[c] = n;
+      });
+      leftOfChunk = &counted;
+    }
+    // Chunk c's left primitives go after those of the chunks before it; its
+    // right ones below those of the chunks before it.
+    std::vector<uint32_t> leftAt(chunks), rightEnd(chunks);
+    uint32_t lsum = 0, rsum = 0;
+    for (uint32_t c = 0; c < chunks; ++c) {
+      uint32_t n = std::min(kChunk, t.end - (t.begin + c * kChunk));
+      leftAt[c] = t.begin + lsum;
+      rightEnd[c] = t.end - rsum;
+      lsum += (*leftOfChunk)[c];
+      rsum += n - (*leftOfChunk)[c];
+    }
+    std::vector<Box4> lc(chunks), rc(chunks);
+    tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
+      uint32_t b = t.begin + c * kChunk, e = std::min(t.end, b + kChunk);
+      partition_range(src, dst, b, e, leftAt[c], rightEnd[c], left, lc[c], rc[c]);
+    });
+    for (uint32_t c = 0; c < chunks; ++c) {
+      l.centroids.grow(lc[c]);
+      r.centroids.grow(rc[c]);
+    }
+    l.end = r.begin = t.begin + lsum;
+  }
+
+  // The median split on `axis` (nth_element on centroids, in the task's own
+  // array), with both halves' bounds computed afterwards.
+  void median_split(const Task& t, Task& l, Task& r, int axis) {
+    PrimRef* refs = refs_[t.buf];
     uint32_t mid = t.begin + (t.end - t.begin) / 2;
-    std::nth_element(refs_.begin() + t.begin, refs_.begin() + mid, refs_.begin() + t.end,
+    std::nth_element(refs + t.begin, refs + mid, refs + t.end,
                      [axis](const PrimRef& a, const PrimRef& b) { return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis]; });
+    l.buf = r.buf = t.buf;
     l.begin = t.begin;
     l.end = r.begin = mid;
     r.end = t.end;
     bounds_of(l);
     bounds_of(r);
-    return mid;
   }
 
   void make_leaf(const Task& t) {
     shader::BvhNode& n = nodes_[t.node];
     n.leftFirst = t.begin;
     n.count = t.end - t.begin;
-    int d = maxDepth_.load();
-    while (t.depth > d && !maxDepth_.compare_exchange_weak(d, t.depth)) {
-    }
+    const PrimRef* refs = refs_[t.buf];
+    for (uint32_t i = t.begin; i < t.end; ++i) order_[i] = refs[i].id;
   }
 
-  void build_node(Task t, tbb::task_group& tasks) {
+  void build_node(Task t, tbb::task_group& tasks, NodeBlock& block) {
     Aabb box = t.bounds.aabb();
     nodes_[t.node].bmin = box.lo;
     nodes_[t.node].bmax = box.hi;
@@ -329,7 +463,7 @@ class Builder {
     Aabb cb = t.centroids.aabb();
     glm::vec3 extent = cb.hi - cb.lo;
     int axis = largest_axis(extent);
-    Task l{0, 0, 0, t.depth + 1, {}, {}}, r = l;
+    Task l{0, 0, 0, t.depth + 1, t.buf, {}, {}}, r = l;
     // Near the depth limit only halving splits are allowed: 32 of them separate
     // any number of primitives a 32-bit index can hold, so the tree (and the
     // kernels' traversal stack) never exceeds BVH_MAX_DEPTH.
@@ -344,11 +478,11 @@ class Builder {
     } else if (settings_.split == SplitMethod::Middle) {
       if (count <= maxLeaf) return make_leaf(t);
       float m = 0.5f * (cb.lo[axis] + cb.hi[axis]);  // the middle of the (doubled) centroids
-      l.begin = t.begin;
-      r.end = t.end;
-      l.end = r.begin = partition(t, [&](const PrimRef& p) { return p.lo[axis] + p.hi[axis] < m; }, l.centroids, r.centroids);
+      split_by(t, l, r, [axis, m](const PrimRef& p) { return p.lo[axis] + p.hi[axis] < m; });
       if (l.end == t.begin || l.end == t.end) {
-        median_split(t, l, r, axis);
+        Task moved = t;  // the references are in the other array now
+        moved.buf ^= 1;
+        median_split(moved, l, r, axis);
       } else {
         bounds_of(l);
         bounds_of(r);
@@ -357,18 +491,20 @@ class Builder {
       return make_leaf(t);
     }
 
-    uint32_t left = nodeCount_.fetch_add(2);
+    uint32_t left = allocate_pair(block);
     nodes_[t.node].leftFirst = left;
     nodes_[t.node].count = 0;
     l.node = left;
     r.node = left + 1;
     if (count >= kParallelThreshold) {
-      tasks.run([this, l, &tasks] { build_node(l, tasks); });
-      build_node(r, tasks);
+      tasks.run([this, l, &tasks] {
+        NodeBlock own;
+        build_node(l, tasks, own);
+      });
     } else {
-      build_node(l, tasks);
-      build_node(r, tasks);
+      build_node(l, tasks, block);
     }
+    build_node(r, tasks, block);
   }
 
   // Binned SAH over all three axes. Fills the children and returns true, or
@@ -377,9 +513,22 @@ class Builder {
     const uint32_t count = t.end - t.begin;
     const uint32_t maxLeaf = uint32_t(settings_.maxLeafSize);
     const int nb = bins_for(count);
+    const PrimRef* src = refs_[t.buf];
     Binning binning(t.centroids, nb);
     Bins bins(nb);
-    bin(t, binning, bins);
+    // A large node is binned by chunks in parallel; each chunk's bins are kept,
+    // so its count of primitives going left is known without another pass.
+    std::vector<Bins> chunkBins;
+    if (count < kParallelThreshold) {
+      bin_range(src, t.begin, t.end, binning, bins);
+    } else {
+      chunkBins.assign((count + kChunk - 1) / kChunk, Bins(nb));
+      tbb::parallel_for(size_t(0), chunkBins.size(), [&](size_t c) {
+        uint32_t b = t.begin + uint32_t(c) * kChunk;
+        bin_range(src, b, std::min(t.end, b + kChunk), binning, chunkBins[c]);
+      });
+      for (const Bins& c : chunkBins) bins.join(c);
+    }
     float best = WP_INF;
     int bestAxis = -1, bestBin = 0;
     Box4 bestLeft, bestRight;
@@ -419,26 +568,29 @@ class Builder {
       median_split(t, l, r, largest_axis(cb.hi - cb.lo));
       return true;
     }
-    l.begin = t.begin;
-    r.end = t.end;
+    std::vector<uint32_t> leftOfChunk(chunkBins.size());
+    for (size_t c = 0; c < chunkBins.size(); ++c)
+      for (int b = 0; b <= bestBin; ++b) leftOfChunk[c] += chunkBins[c].count[bestAxis][b];
     // The very computation that binned them, so each child's primitives are
     // exactly its bins' (whose bounds it takes).
     float o[4];
     binning.origin.store(o);
     const float origin = o[bestAxis], lastBin = float(nb - 1);
-    l.end = r.begin = partition(
-        t, [&](const PrimRef& p) { return binning.on_axis(p, bestAxis, origin, lastBin) <= bestBin; }, l.centroids,
-        r.centroids);
+    split_by(
+        t, l, r, [&](const PrimRef& p) { return binning.on_axis(p, bestAxis, origin, lastBin) <= bestBin; },
+        chunkBins.empty() ? nullptr : &leftOfChunk);
     l.bounds = bestLeft;
     r.bounds = bestRight;
     return true;
   }
 
   AcceleratorSettings settings_;
-  std::vector<PrimRef> refs_;
-  std::unique_ptr<shader::BvhNode[]> nodes_;
+  size_t n_;
+  WorkArray<PrimRef> refs0_, refs1_;
+  PrimRef* refs_[2];
+  WorkArray<shader::BvhNode> nodes_;
+  uint32_t* order_ = nullptr;
   std::atomic<uint32_t> nodeCount_{0};
-  std::atomic<int> maxDepth_{0};
 };
 
 double sah_cost(const std::vector<shader::BvhNode>& nodes) {
