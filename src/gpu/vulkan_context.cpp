@@ -216,9 +216,18 @@ void VulkanContext::upload(const Buffer& dst, const void* data, size_t bytes) co
     std::memcpy(dst.mapped(), data, bytes);
     return;
   }
-  Buffer staging(*this, bytes, vk::BufferUsageFlagBits::eTransferSrc, true);
-  std::memcpy(staging.mapped(), data, bytes);
-  run_now([&](vk::CommandBuffer cb) { cb.copyBuffer(staging.handle(), dst.handle(), vk::BufferCopy(0, 0, bytes)); });
+  upload_staged(dst, data, bytes);
+}
+
+void VulkanContext::upload_staged(const Buffer& dst, const void* data, size_t bytes, size_t chunkBytes) const {
+  if (bytes == 0) return;
+  const size_t stagingBytes = std::min(bytes, std::max<size_t>(chunkBytes, 1));
+  Buffer staging(*this, stagingBytes, vk::BufferUsageFlagBits::eTransferSrc, true);
+  for (size_t at = 0; at < bytes; at += stagingBytes) {
+    const size_t n = std::min(stagingBytes, bytes - at);
+    std::memcpy(staging.mapped(), static_cast<const char*>(data) + at, n);
+    run_now([&](vk::CommandBuffer cb) { cb.copyBuffer(staging.handle(), dst.handle(), vk::BufferCopy(0, at, n)); });
+  }
 }
 
 Buffer::Buffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage, bool hostVisible)

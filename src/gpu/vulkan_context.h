@@ -62,8 +62,14 @@ class VulkanContext {
   uint32_t queue_family() const { return queueFamily_; }
   uint64_t validation_messages() const { return validationMessages_->load(); }
 
-  // Copies host data into a device buffer (through a staging buffer if needed).
+  // Copies host data into a device buffer: directly when it is mapped (as all
+  // of lavapipe's memory is), else with upload_staged.
   void upload(const Buffer& dst, const void* data, size_t bytes) const;
+  // Copies host data into a device buffer through a staging buffer of at
+  // most `chunkBytes`, one chunk at a time, so that a large scene never needs
+  // a second, staged copy of a whole array (10M triangles: 458 MiB).
+  static constexpr size_t kUploadChunkBytes = size_t(64) << 20;
+  void upload_staged(const Buffer& dst, const void* data, size_t bytes, size_t chunkBytes = kUploadChunkBytes) const;
   // Records into a one-shot command buffer, submits and waits.
   void run_now(const std::function<void(vk::CommandBuffer)>& record) const;
   uint32_t memory_type(uint32_t typeBits, vk::MemoryPropertyFlags want) const;
