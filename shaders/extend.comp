@@ -18,6 +18,7 @@ void main() {
       h.prim = WP_INVALID;
     }
     hits[path] = h;
+    if (!kCompaction) count_rays(COUNTER_CLOSEST_RAYS, 1u);  // prepare counts them with compaction
   }
   if (kSortByMaterial) {
     uint key = sort_key(h);

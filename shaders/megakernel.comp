@@ -13,9 +13,11 @@ void main() {
   if (i >= pc.pathCount) return;
   PathState p;
   path_begin(p, wave_pixel(i), pc.sampleIndex);
+  uint closestCount = 0u, shadowCount = 0u;  // rays this path traced
   // path_shade ends every path at max bounces: at most max + 1 passes.
   for (uint pass = 0u; pass <= scene.image.z; ++pass) {
     Hit h;
+    ++closestCount;
     if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
       atomicAdd(counters[COUNTER_TRUNCATED], 1u);
       break;
@@ -26,6 +28,7 @@ void main() {
       ShadowRay sr = srs.ray[j];
       if (sr.tmax <= 0.0f) continue;
       Hit blocker;
+      ++shadowCount;
       if (trace_ray(sr.origin, sr.dir, sr.tmax, true, blocker) != TRACE_OK) {
         atomicAdd(counters[COUNTER_TRUNCATED], 1u);
       } else if (blocker.prim == WP_INVALID) {
@@ -34,5 +37,7 @@ void main() {
     }
     if (!alive) break;
   }
+  count_rays(COUNTER_CLOSEST_RAYS, closestCount);
+  count_rays(COUNTER_SHADOW_RAYS, shadowCount);
   accumulate_path(p);
 }

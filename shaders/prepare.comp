@@ -14,7 +14,11 @@ void main() {
   if (gl_GlobalInvocationID.x != 0u) return;
   if (pc.phase == PREPARE_EXTEND) {
     uint base = INDIRECT_EXTEND * 3u;
-    indirect[base] = groups_for(counters[COUNTER_QUEUE0 + pc.queueIn]);
+    uint queued = counters[COUNTER_QUEUE0 + pc.queueIn];
+    indirect[base] = groups_for(queued);
+    // With compaction every queued path casts its ray; without, extend counts
+    // the ones it traces (finished paths keep their slots).
+    if (kCompaction) count_rays(COUNTER_CLOSEST_RAYS, queued);
     indirect[base + 1u] = 1u;
     indirect[base + 2u] = 1u;
     counters[COUNTER_QUEUE0 + (1u - pc.queueIn)] = 0u;
@@ -33,6 +37,7 @@ void main() {
   } else {
     uint base = INDIRECT_CONNECT * 3u;
     indirect[base] = groups_for(counters[COUNTER_SHADOW]);
+    count_rays(COUNTER_SHADOW_RAYS, counters[COUNTER_SHADOW]);
     indirect[base + 1u] = 1u;
     indirect[base + 2u] = 1u;
   }

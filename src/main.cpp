@@ -192,6 +192,9 @@ int run_render(const RenderArgs& a) {
                   (unsigned long long)times.dispatches[s]);
     }
     std::printf("%-11s %10.3f\n", "total", gpu);
+    std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
+                (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
+                (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
   }
   return 0;
 }

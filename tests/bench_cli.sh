@@ -13,6 +13,8 @@ check "bench exits 0 when every variant passes its check" $?
 check "the table shows both variants timed" $(grep -cE '^  gpu(-wg32)? +pass' "$work/out" | grep -qx 2; echo $?)
 check "JSON has both variants with timings" $([ "$(grep -c '"check_passed": true' "$work/r.json")" -eq 2 ] &&
   grep -q '"samples_per_second"' "$work/r.json" && grep -q '"extend"' "$work/r.json"; echo $?)
+check "JSON counts the rays traced and their rates" $(grep -q '"closest_hit_rays": [1-9]' "$work/r.json" &&
+  grep -q '"shadow_rays": [0-9]' "$work/r.json" && grep -q '"closest_hit_mrays_per_second": {' "$work/r.json"; echo $?)
 check "CSV has a header and a row per variant" $([ "$(wc -l <"$work/r.csv")" -eq 3 ]; echo $?)
 
 # A planted bias makes every variant disagree: none may be timed.

@@ -396,6 +396,34 @@ TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
   EXPECT_EQ(plain.stage_times().dispatches[StageTimes::kSort], 0u);
 }
 
+// Rays traced: every variant traces the same paths, so the same rays,
+// however it counts them (the queue sizes in prepare with compaction, per ray
+// in extend without, per path in the megakernel). Every path casts its camera
+// ray and at most one more per bounce; a shadow ray needs a vertex.
+TEST_F(Gpu, EveryVariantCountsTheSameRays) {
+  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
+  scene.camera.width = scene.camera.height = 32;
+  RenderOptions o;
+  o.spp = 4;
+  o.maxBounces = 3;
+  CompiledScene cs = compile_scene(scene, o);
+  const uint64_t paths = 32 * 32 * 4;
+  Progress quiet("", 0, false);
+  WavefrontRenderer plain(*ctx_, cs);
+  plain.render(quiet);
+  const StageTimes& base = plain.stage_times();
+  EXPECT_GT(base.closestHitRays, paths);
+  EXPECT_LE(base.closestHitRays, paths * uint64_t(o.maxBounces + 1));
+  EXPECT_GT(base.shadowRays, 0u);
+  EXPECT_LE(base.shadowRays, base.closestHitRays);
+  for (const char* name : {"gpu-nocompact", "gpu-mega", "gpu-sort"}) {
+    WavefrontRenderer r(*ctx_, cs, kernel_variant(name).settings);
+    r.render(quiet);
+    EXPECT_EQ(r.stage_times().closestHitRays, base.closestHitRays) << name;
+    EXPECT_EQ(r.stage_times().shadowRays, base.shadowRays) << name;
+  }
+}
+
 // No races: each pixel's samples depend only on (pixel, sample, seed).
 TEST_F(Gpu, SameSeedSameImageOtherSeedOtherImage) {
   Scene scene = load_scene(source_path("scenes/cornell-box.json"));

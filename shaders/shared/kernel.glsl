@@ -64,6 +64,14 @@ void accumulate_path(PathState p) {
   accum[p.pixel] = a;
 }
 
+// Adds n to the 64-bit ray count at counters[slot] (low word) and
+// counters[slot + 1] (high word): the one add that wraps the low word sees
+// its old value within n of the top, and carries.
+void count_rays(uint slot, uint n) {
+  uint old = atomicAdd(counters[slot], n);
+  if (old > 0xffffffffu - n) atomicAdd(counters[slot + 1u], 1u);
+}
+
 // The pixel of path i of a wave: consecutive pixels, or those of the adaptive
 // sampler's list.
 uint wave_pixel(uint i) {

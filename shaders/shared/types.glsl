@@ -73,7 +73,11 @@
 #define COUNTER_SHADOW 2u
 #define COUNTER_TRUNCATED 3u
 #define COUNTER_NONFINITE 4u
-#define COUNTER_COUNT 8u
+// Rays traced, as 64-bit counts: the low word in this slot, the high word in
+// the next (see count_rays in kernel.glsl).
+#define COUNTER_CLOSEST_RAYS 5u
+#define COUNTER_SHADOW_RAYS 7u
+#define COUNTER_COUNT 12u
 
 // Dispatch-indirect argument slots (3 uints each) in the indirect buffer.
 #define INDIRECT_EXTEND 0u

@@ -46,6 +46,12 @@ Scene with_resolution(Scene scene, const BenchOptions& o) {
   return scene;
 }
 
+std::string format_number(double x, int decimals) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, x);
+  return buf;
+}
+
 nlohmann::json to_json(const Spread& s) {
   return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
 }
@@ -69,6 +75,8 @@ struct VariantResult {
   Spread seconds;
   Spread samplesPerSecond;
   Spread stageSeconds[StageTimes::kStages];
+  uint64_t closestHitRays = 0, shadowRays = 0;  // per render
+  Spread closestHitRaysPerSecond, shadowRaysPerSecond;  // in extend / connect; 0 for the megakernel
 };
 
 struct SceneResult {
@@ -112,7 +120,7 @@ int run_bench(const BenchOptions& o) {
       size_t result;  // index into sr.variants
       std::unique_ptr<CompiledScene> scene;
       std::unique_ptr<WavefrontRenderer> renderer;
-      std::vector<double> seconds, rates, stages[StageTimes::kStages];
+      std::vector<double> seconds, rates, stages[StageTimes::kStages], closestRates, shadowRates;
     };
     std::vector<Timed> timedVariants;
     for (const KernelVariant* v : variants) {
@@ -142,7 +150,7 @@ int run_bench(const BenchOptions& o) {
       }
       auto renderer = std::make_unique<WavefrontRenderer>(ctx, *cs, v->settings);
       renderer->render(quiet);  // warm-up: pipeline JIT, caches
-      timedVariants.push_back(Timed{sr.variants.size() - 1, std::move(cs), std::move(renderer), {}, {}, {}});
+      timedVariants.push_back(Timed{sr.variants.size() - 1, std::move(cs), std::move(renderer), {}, {}, {}, {}, {}});
     }
     // Timed renders, the variants interleaved within each repeat, so that a
     // change in the machine's speed during the run affects all of them alike.
@@ -153,7 +161,12 @@ int run_bench(const BenchOptions& o) {
         double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         t.seconds.push_back(sec);
         t.rates.push_back(double(t.scene->width) * t.scene->height * t.scene->spp / sec);
-        for (int k = 0; k < StageTimes::kStages; ++k) t.stages[k].push_back(t.renderer->stage_times().seconds[k]);
+        const StageTimes& st = t.renderer->stage_times();
+        for (int k = 0; k < StageTimes::kStages; ++k) t.stages[k].push_back(st.seconds[k]);
+        t.closestRates.push_back(st.closest_hit_rays_per_second());
+        t.shadowRates.push_back(st.shadow_rays_per_second());
+        sr.variants[t.result].closestHitRays = st.closestHitRays;
+        sr.variants[t.result].shadowRays = st.shadowRays;
       }
     }
     for (Timed& t : timedVariants) {
@@ -161,6 +174,8 @@ int run_bench(const BenchOptions& o) {
       vr.seconds = spread(t.seconds);
       vr.samplesPerSecond = spread(t.rates);
       for (int k = 0; k < StageTimes::kStages; ++k) vr.stageSeconds[k] = spread(t.stages[k]);
+      vr.closestHitRaysPerSecond = spread(t.closestRates);
+      vr.shadowRaysPerSecond = spread(t.shadowRates);
     }
     results.push_back(sr);
   }
@@ -171,18 +186,21 @@ int run_bench(const BenchOptions& o) {
   for (const SceneResult& sr : results) {
     std::printf("\n%s: %zu primitives, %dx%d, %d spp, %d bounces\n", sr.scene.c_str(), sr.primitives, sr.width, sr.height,
                 sr.spp, sr.maxBounces);
-    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %9s %6s\n", "variant", "check", "time s", "Msamples/s", "extend s", "sort s",
-                "shade s", "connect s", "BVH s", "B/prim");
+    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %10s %10s %9s %6s\n", "variant", "check", "time s", "Msamples/s",
+                "extend s", "sort s", "shade s", "connect s", "CH Mrays/s", "SH Mrays/s", "BVH s", "B/prim");
     for (const VariantResult& v : sr.variants) {
       if (!v.checked) {
         std::printf("  %-14s %-6s (disagrees with the CPU reference: not timed)\n", v.variant.c_str(), "FAIL");
         continue;
       }
-      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %9.3f %6.1f\n", v.variant.c_str(), "pass",
+      // Ray rates need the stage that traced them: "-" for the megakernel.
+      auto rate = [](const Spread& s) { return s.median > 0.0 ? format_number(s.median * 1e-6, 2) : std::string("-"); };
+      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %10s %10s %9.3f %6.1f\n", v.variant.c_str(), "pass",
                   v.seconds.median, v.samplesPerSecond.median * 1e-6, v.samplesPerSecond.min * 1e-6,
                   v.samplesPerSecond.max * 1e-6, v.stageSeconds[StageTimes::kExtend].median,
                   v.stageSeconds[StageTimes::kSort].median, v.stageSeconds[StageTimes::kShade].median,
-                  v.stageSeconds[StageTimes::kConnect].median, v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
+                  v.stageSeconds[StageTimes::kConnect].median, rate(v.closestHitRaysPerSecond).c_str(),
+                  rate(v.shadowRaysPerSecond).c_str(), v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
     }
   }
 
@@ -205,6 +223,14 @@ int run_bench(const BenchOptions& o) {
           jv["seconds"] = to_json(v.seconds);
           jv["samples_per_second"] = to_json(v.samplesPerSecond);
           for (int k = 0; k < StageTimes::kStages; ++k) jv["stage_seconds"][StageTimes::kNames[k]] = to_json(v.stageSeconds[k]);
+          jv["closest_hit_rays"] = v.closestHitRays;
+          jv["shadow_rays"] = v.shadowRays;
+          // Per second of the tracing stage's GPU time; null for the megakernel.
+          auto rate = [](const Spread& s) {
+            return s.median > 0.0 ? to_json(Spread{s.median * 1e-6, s.min * 1e-6, s.max * 1e-6}) : nlohmann::json();
+          };
+          jv["closest_hit_mrays_per_second"] = rate(v.closestHitRaysPerSecond);
+          jv["shadow_mrays_per_second"] = rate(v.shadowRaysPerSecond);
         }
         js["variants"].push_back(jv);
       }
@@ -218,12 +244,15 @@ int run_bench(const BenchOptions& o) {
     std::ofstream out(o.csvPath);
     out << "scene,variant,check_passed,seconds_median,seconds_min,seconds_max,samples_per_second_median";
     for (const char* name : StageTimes::kNames) out << "," << name << "_seconds_median";
+    out << ",closest_hit_rays,shadow_rays,closest_hit_mrays_per_second_median,shadow_mrays_per_second_median";
     out << ",bvh_build_seconds,sah_cost,gpu_bytes_per_primitive\n";
     for (const SceneResult& sr : results) {
       for (const VariantResult& v : sr.variants) {
         out << sr.scene << "," << v.variant << "," << (v.checked ? 1 : 0) << "," << v.seconds.median << "," << v.seconds.min
             << "," << v.seconds.max << "," << v.samplesPerSecond.median;
         for (const Spread& s : v.stageSeconds) out << "," << s.median;
+        out << "," << v.closestHitRays << "," << v.shadowRays << "," << v.closestHitRaysPerSecond.median * 1e-6 << ","
+            << v.shadowRaysPerSecond.median * 1e-6;
         out << "," << v.bvh.buildSeconds << "," << v.bvh.sahCost << "," << v.bvh.bytesPerPrimitive << "\n";
       }
     }

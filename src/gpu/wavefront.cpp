@@ -535,7 +535,8 @@ struct WavefrontRenderer::Impl {
     return hits;
   }
 
-  // Adds one submission's float accumulators into the double-precision image.
+  // Adds one submission's float accumulators into the double-precision image,
+  // and its counters into the totals.
   void fold(ImageStats& image, uint64_t& truncated) {
     const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
     for (size_t p = 0; p < image.pixels(); ++p) {
@@ -549,6 +550,9 @@ struct WavefrontRenderer::Impl {
     const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
     truncated += counters[COUNTER_TRUNCATED];
     image.nonFinite += counters[COUNTER_NONFINITE];
+    auto count64 = [counters](uint32_t slot) { return uint64_t(counters[slot]) | uint64_t(counters[slot + 1]) << 32; };
+    times.closestHitRays += count64(COUNTER_CLOSEST_RAYS);
+    times.shadowRays += count64(COUNTER_SHADOW_RAYS);
   }
 };
 

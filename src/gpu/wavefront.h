@@ -14,12 +14,18 @@
 namespace wp {
 
 // GPU time per pipeline stage, from Vulkan timestamp queries written after
-// every dispatch of a render.
+// every dispatch of a render, and the rays the render traced.
 struct StageTimes {
   enum Stage { kGenerate, kPrepare, kExtend, kSort, kShade, kConnect, kAccumulate, kMegakernel, kStages };
   static constexpr const char* kNames[kStages] = {"generate", "prepare", "extend", "sort", "shade", "connect", "accumulate", "megakernel"};
   double seconds[kStages] = {};
   uint64_t dispatches[kStages] = {};
+  uint64_t closestHitRays = 0;  // extension rays (camera rays included)
+  uint64_t shadowRays = 0;      // next-event estimation's any-hit rays
+  // Rays per second of GPU time in the stage that traced them; 0 where that
+  // stage did not run (the megakernel traces every ray in one kernel).
+  double closest_hit_rays_per_second() const { return seconds[kExtend] > 0.0 ? double(closestHitRays) / seconds[kExtend] : 0.0; }
+  double shadow_rays_per_second() const { return seconds[kConnect] > 0.0 ? double(shadowRays) / seconds[kConnect] : 0.0; }
   double total() const {
     double t = 0.0;
     for (double s : seconds) t += s;
