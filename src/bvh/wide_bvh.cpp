@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <tuple>
+
+#include <tbb/task_group.h>
 
 #include "util/error.h"
 
@@ -142,25 +145,85 @@ Aabb wide_child_box(const WideNode& node, int slot) {
   return b;
 }
 
-WideBvh collapse_to_wide(const Bvh& binary) {
-  WideBvh out;
-  out.nodes.resize(1);
-  out.depth = 1;
-  if (binary.order.empty()) return out;  // a root without children: every ray misses
-  out.order.reserve(binary.order.size());
-  // Depth first, with an explicit stack: (wide node to fill, binary node it
-  // stands for, its depth). A node's interior children are allocated together,
-  // so they are consecutive as the layout requires.
-  std::vector<std::tuple<uint32_t, uint32_t, int>> todo{{0u, 0u, 1}};
-  while (!todo.empty()) {
-    auto [wideIndex, binaryIndex, depth] = todo.back();
-    todo.pop_back();
-    out.depth = std::max(out.depth, depth);
+namespace {
+
+// Collapses in two parallel passes over the wide tree: the first measures
+// each wide subtree (nodes, primitives, height), so that the second can give
+// every subtree its own block of nodes and of primitive order and write the
+// subtrees independently. A node's interior children are consecutive (the
+// layout requires it); each one's descendants follow in a block of their own.
+class Collapser {
+ public:
+  explicit Collapser(const Bvh& binary)
+      : binary_(binary),
+        wideCount_(new uint32_t[binary.nodes.size()]),
+        primCount_(new uint32_t[binary.nodes.size()]) {}
+
+  WideBvh run() {
+    WideBvh out;
+    out.depth = measure(0, 0);
+    out.nodes.resize(wideCount_[0]);
+    out.order.resize(primCount_[0]);
+    out_ = &out;
+    emit(0, 0, 1, 0, 0);
+    return out;
+  }
+
+ private:
+  // Wide levels whose subtrees are handled as separate tasks: up to 8^4.
+  static constexpr int kParallelDepth = 4;
+
+  // Runs f(i) for each interior child i, as tasks near the root.
+  template <typename F>
+  static void for_children(int depth, const std::vector<int>& interior, F f) {
+    if (depth >= kParallelDepth) {
+      for (int i : interior) f(i);
+      return;
+    }
+    tbb::task_group tasks;
+    for (int i : interior) tasks.run([&f, i] { f(i); });
+    tasks.wait();
+  }
+
+  // Sizes of the wide subtree rooted at the wide node that stands for binary
+  // node b; returns its height in wide nodes.
+  int measure(uint32_t b, int depth) {
     uint32_t kids[8];
-    int n = collapse_children(binary.nodes, binaryIndex, kids);
+    const int n = collapse_children(binary_.nodes, b, kids);
+    std::vector<int> interior;
+    uint32_t wide = 1, prims = 0;
+    for (int i = 0; i < n; ++i) {
+      const BvhNode& c = binary_.nodes[kids[i]];
+      if (!is_leaf(c)) {
+        interior.push_back(i);
+      } else if (c.count > WIDE_MAX_LEAF_SIZE) {
+        throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
+      } else {
+        prims += c.count;
+      }
+    }
+    int heights[8] = {};
+    for_children(depth, interior, [&](int i) { heights[i] = measure(kids[i], depth + 1); });
+    int height = 1;
+    for (int i : interior) {
+      wide += wideCount_[kids[i]];
+      prims += primCount_[kids[i]];
+      height = std::max(height, 1 + heights[i]);
+    }
+    wideCount_[b] = wide;
+    primCount_[b] = prims;
+    return height;
+  }
+
+  // Writes the wide node `wideIndex` for binary node b: its interior children
+  // go to nodes [childBase, ...), its leaf children's primitives to order
+  // [primBase, ...); then the children's subtrees, each in its own block.
+  void emit(uint32_t wideIndex, uint32_t b, uint32_t childBase, uint32_t primBase, int depth) {
+    uint32_t kids[8];
+    const int n = collapse_children(binary_.nodes, b, kids);
     Aabb boxes[8], all;
     for (int i = 0; i < n; ++i) {
-      boxes[i] = box_of(binary.nodes[kids[i]]);
+      boxes[i] = box_of(binary_.nodes[kids[i]]);
       all.grow(boxes[i]);
     }
     int slotOf[8];
@@ -175,9 +238,10 @@ WideBvh collapse_to_wide(const Bvh& binary) {
       cells[a] = cell_exponent(all.lo[a], all.hi[a]);
       set_byte(node.exyzImask, a, cells[a]);
     }
-    node.childBase = uint32_t(out.nodes.size());
-    node.primBase = uint32_t(out.order.size());
-    uint32_t imask = 0, interior = 0, offset = 0;
+    node.childBase = childBase;
+    node.primBase = primBase;
+    std::vector<int> interior;  // children in the order of their node indices
+    uint32_t imask = 0, offset = 0;
     for (int s = 0; s < 8; ++s) {
       int i = childInSlot[s];
       if (i < 0) continue;  // empty slot: meta 0, no bits
@@ -186,27 +250,53 @@ WideBvh collapse_to_wide(const Bvh& binary) {
         set_byte(plane_words(node, a, false)[s / 4], s % 4, qlo);
         set_byte(plane_words(node, a, true)[s / 4], s % 4, qhi);
       }
-      const BvhNode& child = binary.nodes[kids[i]];
+      const BvhNode& child = binary_.nodes[kids[i]];
       uint32_t meta;
       if (!is_leaf(child)) {
         imask |= 1u << s;
         meta = (1u << 5) | (24u + uint32_t(s));
-        todo.emplace_back(node.childBase + interior, kids[i], depth + 1);
-        ++interior;
+        interior.push_back(i);
       } else {
-        uint32_t count = child.count;
-        if (count > WIDE_MAX_LEAF_SIZE) throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
-        meta = (((1u << count) - 1u) << 5) | offset;
-        out.order.insert(out.order.end(), binary.order.begin() + child.leftFirst, binary.order.begin() + child.leftFirst + count);
-        offset += count;
+        meta = (((1u << child.count) - 1u) << 5) | offset;
+        std::copy(binary_.order.begin() + child.leftFirst, binary_.order.begin() + child.leftFirst + child.count,
+                  out_->order.begin() + primBase + offset);
+        offset += child.count;
       }
       set_byte(s < 4 ? node.meta0123 : node.meta4567, s % 4, meta);
     }
     set_byte(node.exyzImask, 3, imask);
-    out.nodes.resize(out.nodes.size() + interior);
-    out.nodes[wideIndex] = node;
+    out_->nodes[wideIndex] = node;
+
+    // Each interior child's node index, and where its descendants and its
+    // primitives go.
+    uint32_t indexOf[8], nodeAt[8], primAt[8];
+    uint32_t nextNode = childBase + uint32_t(interior.size()), nextPrim = primBase + offset;
+    for (size_t k = 0; k < interior.size(); ++k) {
+      const int i = interior[k];
+      indexOf[i] = childBase + uint32_t(k);
+      nodeAt[i] = nextNode;
+      primAt[i] = nextPrim;
+      nextNode += wideCount_[kids[i]] - 1;
+      nextPrim += primCount_[kids[i]];
+    }
+    for_children(depth, interior, [&](int i) { emit(indexOf[i], kids[i], nodeAt[i], primAt[i], depth + 1); });
   }
-  return out;
+
+  const Bvh& binary_;
+  std::unique_ptr<uint32_t[]> wideCount_, primCount_;  // per binary node that becomes a wide node
+  WideBvh* out_ = nullptr;
+};
+
+}  // namespace
+
+WideBvh collapse_to_wide(const Bvh& binary) {
+  if (binary.order.empty()) {
+    WideBvh out;  // a root without children: every ray misses
+    out.nodes.resize(1);
+    out.depth = 1;
+    return out;
+  }
+  return Collapser(binary).run();
 }
 
 }  // namespace wp
