@@ -186,8 +186,8 @@ int run_bench(const BenchOptions& o) {
   for (const SceneResult& sr : results) {
     std::printf("\n%s: %zu primitives, %dx%d, %d spp, %d bounces\n", sr.scene.c_str(), sr.primitives, sr.width, sr.height,
                 sr.spp, sr.maxBounces);
-    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %10s %10s %9s %6s\n", "variant", "check", "time s", "Msamples/s",
-                "extend s", "sort s", "shade s", "connect s", "CH Mrays/s", "SH Mrays/s", "BVH s", "B/prim");
+    std::printf("  %-14s %-6s %9s %17s %9s %9s %9s %9s %10s %10s %9s %7s %6s\n", "variant", "check", "time s", "Msamples/s",
+                "extend s", "sort s", "shade s", "connect s", "CH Mrays/s", "SH Mrays/s", "BVH s", "SAH", "B/prim");
     for (const VariantResult& v : sr.variants) {
       if (!v.checked) {
         std::printf("  %-14s %-6s (disagrees with the CPU reference: not timed)\n", v.variant.c_str(), "FAIL");
@@ -195,12 +195,12 @@ int run_bench(const BenchOptions& o) {
       }
       // Ray rates need the stage that traced them: "-" for the megakernel.
       auto rate = [](const Spread& s) { return s.median > 0.0 ? format_number(s.median * 1e-6, 2) : std::string("-"); };
-      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %10s %10s %9.3f %6.1f\n", v.variant.c_str(), "pass",
+      std::printf("  %-14s %-6s %9.3f %6.3f (%.3f-%.3f) %9.3f %9.3f %9.3f %9.3f %10s %10s %9.3f %7.2f %6.1f\n", v.variant.c_str(), "pass",
                   v.seconds.median, v.samplesPerSecond.median * 1e-6, v.samplesPerSecond.min * 1e-6,
                   v.samplesPerSecond.max * 1e-6, v.stageSeconds[StageTimes::kExtend].median,
                   v.stageSeconds[StageTimes::kSort].median, v.stageSeconds[StageTimes::kShade].median,
                   v.stageSeconds[StageTimes::kConnect].median, rate(v.closestHitRaysPerSecond).c_str(),
-                  rate(v.shadowRaysPerSecond).c_str(), v.bvh.buildSeconds, v.bvh.bytesPerPrimitive);
+                  rate(v.shadowRaysPerSecond).c_str(), v.bvh.buildSeconds, v.bvh.sahCost, v.bvh.bytesPerPrimitive);
     }
   }
 
