@@ -2,6 +2,8 @@
 // hit that testing every primitive gives, and the tree must be well formed.
 #include "test_support.h"
 
+#include <random>
+
 #include "bvh/bvh.h"
 #include "bvh/wide_bvh.h"
 
@@ -220,6 +222,50 @@ TEST(Bvh, SahBeatsMidpointSplitsOnCost) {
   double costSah = compile_scene(sah, RenderOptions{}).bvhSahCost;
   double costMid = compile_scene(mid, RenderOptions{}).bvhSahCost;
   EXPECT_LT(costSah, costMid);
+}
+
+// The builder's own invariants, straight on bounds: the leaf order is a
+// permutation of the primitives, every leaf holds at most maxLeafSize
+// (identical centroids aside, which only halving separates), boxes nest.
+// Large inputs take the parallel paths (chunked binning and partition, tasks
+// per subtree); small nodes the exact sweep; and centroids one float step
+// apart put a midpoint split on the edge of its range.
+TEST(Bvh, EverySplitMethodPlacesEveryPrimitiveOnce) {
+  std::vector<BvhInput> inputs(3);
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < 40000; ++i) {
+    glm::vec3 c(u(rng), u(rng), u(rng)), e(0.01f * u(rng), 0.01f * u(rng), 0.01f * u(rng));
+    inputs[0].bounds.push_back(Aabb{c - e, c + e});
+  }
+  const float x0 = 1.0f, x1 = std::nextafter(1.0f, 2.0f);
+  for (int i = 0; i < 40000; ++i) {
+    float x = i % 2 ? x1 : x0;
+    inputs[1].bounds.push_back(Aabb{glm::vec3(x, 0, 0), glm::vec3(x, 1, 1)});
+  }
+  for (int i = 0; i < 20; ++i) inputs[2].bounds.push_back(Aabb{glm::vec3(float(i)), glm::vec3(float(i) + 0.5f)});
+  for (const BvhInput& in : inputs) {
+    for (SplitMethod split : {SplitMethod::Sah, SplitMethod::Middle, SplitMethod::Equal}) {
+      for (int maxLeaf : {1, 3, 4}) {
+        Bvh bvh = build_bvh(in, AcceleratorSettings{maxLeaf, split});
+        ASSERT_EQ(bvh.order.size(), in.bounds.size());
+        std::vector<int> seen(in.bounds.size(), 0);
+        for (uint32_t id : bvh.order) seen.at(id)++;
+        for (int n : seen) ASSERT_EQ(n, 1);
+        ASSERT_LE(bvh.depth, BVH_MAX_DEPTH);
+        for (const BvhNode& n : bvh.nodes) {
+          Aabb box{n.bmin, n.bmax};
+          if (n.count == 0) {
+            ASSERT_LT(n.leftFirst + 1, bvh.nodes.size());
+            for (uint32_t c : {n.leftFirst, n.leftFirst + 1}) ASSERT_TRUE(contains(box, Aabb{bvh.nodes[c].bmin, bvh.nodes[c].bmax}));
+            continue;
+          }
+          ASSERT_LE(n.count, uint32_t(maxLeaf));
+          for (uint32_t k = n.leftFirst; k < n.leftFirst + n.count; ++k) ASSERT_TRUE(contains(box, in.bounds[bvh.order[k]]));
+        }
+      }
+    }
+  }
 }
 
 TEST(Bvh, DegenerateInputsBuild) {
