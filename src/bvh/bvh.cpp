@@ -112,7 +112,6 @@ struct Box4 {
   }
 };
 
-
 // Per axis and bin: bounds and count of the primitives whose centroid falls
 // in it. Only the first `used` bins of each axis are initialized and read: a
 // node of a few primitives gets as few bins, so small nodes (most of the tree)
@@ -223,7 +222,7 @@ class Builder {
         n_(in.bounds.size()),
         refs0_(n_),
         refs1_(n_),
-        nodes_(2 * n_ + (3 + 2 * n_ / kParallelThreshold) * kNodeBlock) {
+        nodes_(2 * n_ + max_chains(n_) * kNodeBlock) {
     refs_[0] = refs0_.get();
     refs_[1] = refs1_.get();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n_, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
@@ -266,7 +265,11 @@ class Builder {
   // contend for a shared counter at every node. Every chain leaves at most
   // one partly used block: nodes_ has room for 2n nodes and one block more
   // per chain. The unused slots are dropped by compact_nodes.
-  static constexpr uint32_t kNodeBlock = 256;
+  static constexpr uint32_t kNodeBlock = 32;
+  // Chains: the root's, and one per node of at least kParallelThreshold
+  // primitives that is split. Such nodes at one depth are disjoint, so there
+  // are at most n / kParallelThreshold per depth, and BVH_MAX_DEPTH depths.
+  static size_t max_chains(size_t n) { return 1 + size_t(BVH_MAX_DEPTH + 1) * (n / kParallelThreshold + 1); }
   struct NodeBlock {
     uint32_t next = 0, end = 0;
   };
