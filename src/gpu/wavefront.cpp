@@ -246,8 +246,11 @@ struct WavefrontRenderer::Impl {
     add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
     add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
     add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
-    add_work(BINDING_QUEUES, uint64_t(capacity) * (QUEUE_SORTED + 1) * sizeof(uint32_t));
-    add_work(BINDING_SORT, (SORT_KEYS + uint64_t(capacity)) * sizeof(uint32_t));
+    // Queues 0 and 1, and with sorting by material the sorted queue and the
+    // key of every queue position.
+    const bool sorting = settings.sortByMaterial;
+    add_work(BINDING_QUEUES, uint64_t(capacity) * (sorting ? QUEUE_SORTED + 1 : 2) * sizeof(uint32_t));
+    add_work(BINDING_SORT, (SORT_KEYS + (sorting ? uint64_t(capacity) : 0)) * sizeof(uint32_t));
     add_work(BINDING_SHADOW_RAYS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, 6 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
