@@ -113,9 +113,7 @@ TEST(Bvh, TreeIsWellFormed) {
       continue;
     }
     EXPECT_LE(n.count, 4u);
-    Aabb box;
-    box.lo = n.bmin;
-    box.hi = n.bmax;
+    Aabb box = node_box(n);
     for (uint32_t i = n.leftFirst; i < n.leftFirst + n.count; ++i) {
       seen.at(i)++;
       EXPECT_TRUE(contains(box, record_bounds(cs, i))) << "record " << i;
@@ -254,10 +252,10 @@ TEST(Bvh, EverySplitMethodPlacesEveryPrimitiveOnce) {
         for (int n : seen) ASSERT_EQ(n, 1);
         ASSERT_LE(bvh.depth, BVH_MAX_DEPTH);
         for (const BvhNode& n : bvh.nodes) {
-          Aabb box{n.bmin, n.bmax};
+          Aabb box = node_box(n);
           if (n.count == 0) {
             ASSERT_LT(n.leftFirst + 1, bvh.nodes.size());
-            for (uint32_t c : {n.leftFirst, n.leftFirst + 1}) ASSERT_TRUE(contains(box, Aabb{bvh.nodes[c].bmin, bvh.nodes[c].bmax}));
+            for (uint32_t c : {n.leftFirst, n.leftFirst + 1}) ASSERT_TRUE(contains(box, node_box(bvh.nodes[c])));
             continue;
           }
           ASSERT_LE(n.count, uint32_t(maxLeaf));

@@ -30,6 +30,13 @@ class Gpu : public testing::Test {
     return render(compile_scene(load_scene(scenePath), o));
   }
 
+  // The Cornell box at size x size.
+  static Scene cornell_box(int size) {
+    Scene scene = load_scene(source_path("scenes/cornell-box.json"));
+    scene.camera.width = scene.camera.height = size;
+    return scene;
+  }
+
   // Renders `scenePath` at size x size on the GPU (with `gpuBias` planted) and
   // on the CPU with an independent seed, and compares them statistically.
   static CompareResult gpu_vs_cpu(const std::string& scenePath, int size, int spp, float gpuBias,
@@ -53,8 +60,7 @@ class Gpu : public testing::Test {
   // The Cornell box at 128x128, 64 spp: the GPU (with `bias` planted in
   // `region`) against the CPU with another seed.
   static CompareResult cornell_128(float bias, glm::uvec4 region, uint32_t seed) {
-    Scene scene = load_scene(source_path("scenes/cornell-box.json"));
-    scene.camera.width = scene.camera.height = 128;
+    Scene scene = cornell_box(128);
     RenderOptions a;
     a.spp = 64;
     a.seed = seed;
@@ -310,8 +316,7 @@ TEST_F(Gpu, CompareAgreesWithoutBiasAtLeast19TimesIn20) {
 // Every kernel variant must agree with the CPU reference before it is trusted
 // (and before the benchmark may time it).
 TEST_F(Gpu, EveryKernelVariantAgreesWithTheCpuReference) {
-  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
-  scene.camera.width = scene.camera.height = 48;
+  Scene scene = cornell_box(48);
   RenderOptions o;
   o.spp = 128;
   // Seeds 5 / 6 fell into the comparison's false-positive rate (one tile at
@@ -401,8 +406,7 @@ TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
 // in extend without, per path in the megakernel). Every path casts its camera
 // ray and at most one more per bounce; a shadow ray needs a vertex.
 TEST_F(Gpu, EveryVariantCountsTheSameRays) {
-  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
-  scene.camera.width = scene.camera.height = 32;
+  Scene scene = cornell_box(32);
   RenderOptions o;
   o.spp = 4;
   o.maxBounces = 3;
@@ -426,8 +430,7 @@ TEST_F(Gpu, EveryVariantCountsTheSameRays) {
 
 // No races: each pixel's samples depend only on (pixel, sample, seed).
 TEST_F(Gpu, SameSeedSameImageOtherSeedOtherImage) {
-  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
-  scene.camera.width = scene.camera.height = 32;
+  Scene scene = cornell_box(32);
   RenderOptions o;
   o.spp = 8;
   ImageStats a = render(compile_scene(scene, o)), b = render(compile_scene(scene, o));

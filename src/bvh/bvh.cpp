@@ -259,6 +259,12 @@ class Builder {
 
  private:
   static constexpr uint32_t kChunk = 1u << 13;  // primitives per chunk of a parallel pass
+  static uint32_t chunks_of(const Task& t) { return (t.end - t.begin + kChunk - 1) / kChunk; }
+  // The primitives [begin, end) of task t's chunk c.
+  static std::pair<uint32_t, uint32_t> chunk(const Task& t, uint32_t c) {
+    const uint32_t begin = t.begin + c * kChunk;
+    return {begin, std::min(t.end, begin + kChunk)};
+  }
 
   // Node slots are handed out in blocks, one block at a time to each chain of
   // build_node calls (the root's, and each spawned task's), so threads do not
@@ -398,12 +404,13 @@ class Builder {
       l.end = r.begin = t.begin + partition_range(src, dst, t.begin, t.end, t.begin, t.end, left, l.centroids, r.centroids);
       return;
     }
-    const uint32_t chunks = (count + kChunk - 1) / kChunk;
+    const uint32_t chunks = chunks_of(t);
     std::vector<uint32_t> counted;
     if (!leftOfChunk) {
       counted.resize(chunks);
       tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
-        uint32_t b = t.begin + c * kChunk, e = std::min(t.end, b + kChunk), n = 0;
+        auto [b, e] = chunk(t, c);
+        uint32_t n = 0;
         for (uint32_t i = b; i < e; ++i) n += left(src[i]);
         counted[c] = n;
       });
@@ -414,7 +421,8 @@ class Builder {
     std::vector<uint32_t> leftAt(chunks), rightEnd(chunks);
     uint32_t lsum = 0, rsum = 0;
     for (uint32_t c = 0; c < chunks; ++c) {
-      uint32_t n = std::min(kChunk, t.end - (t.begin + c * kChunk));
+      auto [b, e] = chunk(t, c);
+      const uint32_t n = e - b;
       leftAt[c] = t.begin + lsum;
       rightEnd[c] = t.end - rsum;
       lsum += (*leftOfChunk)[c];
@@ -422,7 +430,7 @@ class Builder {
     }
     std::vector<Box4> lc(chunks), rc(chunks);
     tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
-      uint32_t b = t.begin + c * kChunk, e = std::min(t.end, b + kChunk);
+      auto [b, e] = chunk(t, c);
       partition_range(src, dst, b, e, leftAt[c], rightEnd[c], left, lc[c], rc[c]);
     });
     for (uint32_t c = 0; c < chunks; ++c) {
@@ -510,6 +518,15 @@ class Builder {
     build_node(r, tasks, block);
   }
 
+  // Whether task t should be a leaf rather than split at `splitArea` (the
+  // children's areas weighted by their primitive counts): a leaf must be
+  // allowed (at most maxLeafSize primitives) and no dearer than the split.
+  bool leaf_is_better(const Task& t, float splitArea) const {
+    const uint32_t count = t.end - t.begin;
+    const float splitCost = kTraversalCost + kIntersectCost * splitArea / std::max(t.bounds.half_area(), 1e-30f);
+    return count <= uint32_t(settings_.maxLeafSize) && splitCost >= kIntersectCost * float(count);
+  }
+
   // Nodes of at most kSweepMax primitives, most of the tree's nodes, take the
   // exact SAH split instead of binning: per axis, the primitives sorted by
   // centroid and every split of that order swept. Binning such a node cost
@@ -558,8 +575,7 @@ class Builder {
         }
       }
     }
-    const float splitCost = kTraversalCost + kIntersectCost * best / std::max(t.bounds.half_area(), 1e-30f);
-    if (splitCost >= kIntersectCost * float(count) && count <= uint32_t(settings_.maxLeafSize)) return false;
+    if (leaf_is_better(t, best)) return false;
     // The children, in sorted order, into the other array.
     PrimRef* dst = refs_[t.buf ^ 1] + t.begin;
     for (uint32_t i = 0; i < count; ++i) {
@@ -591,10 +607,10 @@ class Builder {
     if (count < kParallelThreshold) {
       bin_range(src, t.begin, t.end, binning, bins);
     } else {
-      chunkBins.assign((count + kChunk - 1) / kChunk, Bins(nb));
-      tbb::parallel_for(size_t(0), chunkBins.size(), [&](size_t c) {
-        uint32_t b = t.begin + uint32_t(c) * kChunk;
-        bin_range(src, b, std::min(t.end, b + kChunk), binning, chunkBins[c]);
+      chunkBins.assign(chunks_of(t), Bins(nb));
+      tbb::parallel_for(uint32_t(0), chunks_of(t), [&](uint32_t c) {
+        auto [b, e] = chunk(t, c);
+        bin_range(src, b, e, binning, chunkBins[c]);
       });
       for (const Bins& c : chunkBins) bins.join(c);
     }
@@ -629,9 +645,7 @@ class Builder {
         }
       }
     }
-    float splitCost = kTraversalCost + kIntersectCost * best / std::max(t.bounds.half_area(), 1e-30f);
-    float leafCost = kIntersectCost * float(count);
-    if (bestAxis < 0 || (splitCost >= leafCost && count <= maxLeaf)) {
+    if (bestAxis < 0 || leaf_is_better(t, best)) {
       if (count <= maxLeaf) return false;
       Aabb cb = t.centroids.aabb();
       median_split(t, l, r, largest_axis(cb.hi - cb.lo));
@@ -663,26 +677,13 @@ class Builder {
 };
 
 double sah_cost(const std::vector<shader::BvhNode>& nodes) {
-  Aabb root;
-  root.lo = nodes[0].bmin;
-  root.hi = nodes[0].bmax;
-  double rootArea = std::max(double(root.half_area()), 1e-30);
+  double rootArea = std::max(double(node_box(nodes[0]).half_area()), 1e-30);
   double cost = 0.0;
   for (const shader::BvhNode& n : nodes) {
-    Aabb b;
-    b.lo = n.bmin;
-    b.hi = n.bmax;
-    double rel = b.half_area() / rootArea;
+    double rel = node_box(n).half_area() / rootArea;
     cost += n.count == 0 ? kTraversalCost * rel : kIntersectCost * rel * double(n.count);
   }
   return cost;
-}
-
-Aabb node_box(const shader::BvhNode& n) {
-  Aabb b;
-  b.lo = n.bmin;
-  b.hi = n.bmax;
-  return b;
 }
 
 Aabb union_of(const Aabb& a, const Aabb& b) {

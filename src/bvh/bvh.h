@@ -50,6 +50,14 @@ struct Bvh {
 
 Bvh build_bvh(const BvhInput& input, const AcceleratorSettings& settings);
 
+// A node's box.
+inline Aabb node_box(const shader::BvhNode& n) {
+  Aabb b;
+  b.lo = n.bmin;
+  b.hi = n.bmax;
+  return b;
+}
+
 // Tree rotations (Kensler, "Tree Rotations for Improving Bounding Volume
 // Hierarchies", 2008): passes over the tree, each swapping a node's child with
 // a grandchild on the other side wherever that shrinks the surface area of the

@@ -16,13 +16,6 @@ namespace {
 using shader::BvhNode;
 using shader::WideNode;
 
-Aabb box_of(const BvhNode& n) {
-  Aabb b;
-  b.lo = n.bmin;
-  b.hi = n.bmax;
-  return b;
-}
-
 bool is_leaf(const BvhNode& n) {
   return n.count != 0;
 }
@@ -45,7 +38,7 @@ int collapse_children(const std::vector<BvhNode>& nodes, uint32_t root, uint32_t
     float bestArea = -1.0f;
     for (int i = 0; i < n; ++i) {
       const BvhNode& c = nodes[out[i]];
-      float area = box_of(c).half_area();
+      float area = node_box(c).half_area();
       if (!is_leaf(c) && area > bestArea) {
         bestArea = area;
         best = i;
@@ -173,9 +166,19 @@ class Collapser {
   // Wide levels whose subtrees are handled as separate tasks: up to 8^4.
   static constexpr int kParallelDepth = 4;
 
+  // A wide node's interior children (indices into its kids), in the order of
+  // their node indices.
+  struct Interior {
+    int child[8];
+    int count = 0;
+    void add(int i) { child[count++] = i; }
+    const int* begin() const { return child; }
+    const int* end() const { return child + count; }
+  };
+
   // Runs f(i) for each interior child i, as tasks near the root.
   template <typename F>
-  static void for_children(int depth, const std::vector<int>& interior, F f) {
+  static void for_children(int depth, const Interior& interior, F f) {
     if (depth >= kParallelDepth) {
       for (int i : interior) f(i);
       return;
@@ -190,12 +193,12 @@ class Collapser {
   int measure(uint32_t b, int depth) {
     uint32_t kids[8];
     const int n = collapse_children(binary_.nodes, b, kids);
-    std::vector<int> interior;
+    Interior interior;
     uint32_t wide = 1, prims = 0;
     for (int i = 0; i < n; ++i) {
       const BvhNode& c = binary_.nodes[kids[i]];
       if (!is_leaf(c)) {
-        interior.push_back(i);
+        interior.add(i);
       } else if (c.count > WIDE_MAX_LEAF_SIZE) {
         throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
       } else {
@@ -223,7 +226,7 @@ class Collapser {
     const int n = collapse_children(binary_.nodes, b, kids);
     Aabb boxes[8], all;
     for (int i = 0; i < n; ++i) {
-      boxes[i] = box_of(binary_.nodes[kids[i]]);
+      boxes[i] = node_box(binary_.nodes[kids[i]]);
       all.grow(boxes[i]);
     }
     int slotOf[8];
@@ -240,7 +243,7 @@ class Collapser {
     }
     node.childBase = childBase;
     node.primBase = primBase;
-    std::vector<int> interior;  // children in the order of their node indices
+    Interior interior;
     uint32_t imask = 0, offset = 0;
     for (int s = 0; s < 8; ++s) {
       int i = childInSlot[s];
@@ -255,7 +258,7 @@ class Collapser {
       if (!is_leaf(child)) {
         imask |= 1u << s;
         meta = (1u << 5) | (24u + uint32_t(s));
-        interior.push_back(i);
+        interior.add(i);
       } else {
         meta = (((1u << child.count) - 1u) << 5) | offset;
         std::copy(binary_.order.begin() + child.leftFirst, binary_.order.begin() + child.leftFirst + child.count,
@@ -270,9 +273,9 @@ class Collapser {
     // Each interior child's node index, and where its descendants and its
     // primitives go.
     uint32_t indexOf[8], nodeAt[8], primAt[8];
-    uint32_t nextNode = childBase + uint32_t(interior.size()), nextPrim = primBase + offset;
-    for (size_t k = 0; k < interior.size(); ++k) {
-      const int i = interior[k];
+    uint32_t nextNode = childBase + uint32_t(interior.count), nextPrim = primBase + offset;
+    for (int k = 0; k < interior.count; ++k) {
+      const int i = interior.child[k];
       indexOf[i] = childBase + uint32_t(k);
       nodeAt[i] = nextNode;
       primAt[i] = nextPrim;
