@@ -183,6 +183,13 @@ TEST(SceneErrors, BadValuesAreNamed) {
                {"/surfaces/0/positions", "zero area"});
   expect_error(R"({"surfaces": [{"type": "sphere", "material": {"type": "diffuse_light", "emit": 1}, "transform": {"scale": [1, 2, 1]}}]})",
                {"/surfaces/0", "uniform scale"});
+  // Meshes are opened before the surfaces are read (to size the triangle
+  // array): a missing one inside a group still names its place, and a
+  // malformed mesh surface is left to the reading, which names the problem.
+  expect_error(R"({"surfaces": [{"type": "group", "children": [{"type": "mesh", "filename": "no-such.obj"}]}]})",
+               {"/surfaces/0/children/0", "no-such.obj"});
+  expect_error(R"({"surfaces": [{"type": "mesh", "filename": 7}]})", {"/surfaces/0/filename"});
+  expect_error(R"({"surfaces": [{"type": "group", "children": 7}]})", {"/surfaces/0/children"});
 }
 
 TEST(SceneErrors, MissingFilesAndBadMeshesNameTheFile) {
