@@ -6,6 +6,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/wide_bvh.h"
+#include "util/huge_pages.h"
 
 namespace wp::test {
 namespace {
@@ -310,6 +311,26 @@ TEST(Bvh, TraversalPastTheStepCapIsReported) {
     }
     EXPECT_GT(truncated, 100);
   }
+}
+
+// The builder's working arrays and the big vectors it fills (util/huge_pages.h):
+// aligned to whole huge pages, as large as asked, holding what is written.
+TEST(Bvh, HugePageArraysHoldWhatIsWritten) {
+  const size_t n = (size_t(5) << 20) / sizeof(uint64_t) + 3;  // a little over 5 MiB
+  WorkArray<uint64_t> work(n);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(work.get()) % (size_t(2) << 20), 0u);
+  for (size_t i = 0; i < n; ++i) work[i] = i * 2654435761u;
+  std::vector<uint64_t> v;
+  reserve_huge(v, n);
+  EXPECT_GE(v.capacity(), n);
+  EXPECT_TRUE(v.empty());
+  const uint64_t* room = v.data();
+  for (size_t i = 0; i < n; ++i) v.push_back(work[i]);
+  EXPECT_EQ(v.data(), room) << "filling the reserved room reallocated";
+  for (size_t i = 0; i < n; i += 4097) ASSERT_EQ(v[i], i * 2654435761u);
+  EXPECT_EQ(v.back(), (n - 1) * 2654435761u);
+  advise_huge_pages(nullptr, 0);  // nothing to advise: no effect
+  advise_huge_pages(v.data(), 100);
 }
 
 }  // namespace

@@ -8,20 +8,15 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
-#include <memory>
 #include <tuple>
-#include <type_traits>
-
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 
 #ifdef __SSE2__
 #include <emmintrin.h>
 #define WP_BVH_SSE 1
 #endif
+
+#include "util/huge_pages.h"
 
 namespace wp {
 
@@ -173,33 +168,6 @@ int largest_axis(glm::vec3 extent) {
   return extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
 }
 
-// An uninitialized array for the builder's large working sets. On Linux it is
-// backed by transparent huge pages where the kernel allows them: the first
-// touch of each 4 KiB page was 15 % of a build on the benchmark VM.
-template <typename T>
-class WorkArray {
- public:
-  explicit WorkArray(size_t n) {
-    static_assert(std::is_trivially_destructible_v<T>);
-    constexpr size_t kHuge = size_t(2) << 20;
-    size_t bytes = std::max<size_t>(1, n) * sizeof(T);
-    bytes = (bytes + kHuge - 1) / kHuge * kHuge;
-    data_ = static_cast<T*>(std::aligned_alloc(kHuge, bytes));
-    if (!data_) throw std::bad_alloc();
-#ifdef __linux__
-    madvise(data_, bytes, MADV_HUGEPAGE);
-#endif
-  }
-  ~WorkArray() { std::free(data_); }
-  WorkArray(const WorkArray&) = delete;
-  WorkArray& operator=(const WorkArray&) = delete;
-  T* get() const { return data_; }
-  T& operator[](size_t i) const { return data_[i]; }
-
- private:
-  T* data_ = nullptr;
-};
-
 // A node to build: its primitives [begin, end) in reference array `buf` (0
 // or 1, see Builder), with their bounds and the bounds of their centroids
 // (doubled, as PrimRef::centroid2).
@@ -244,6 +212,7 @@ class Builder {
       bvh.nodes.push_back(root);
       return bvh;
     }
+    reserve_huge(bvh.order, n_);
     bvh.order.resize(n_);
     order_ = bvh.order.data();
     Task root{0, 0, uint32_t(n_), 0, 0, {}, {}};
@@ -293,7 +262,7 @@ class Builder {
   // The tree's nodes in depth-first order (siblings still adjacent), without
   // the unused slots; also measures its depth.
   void compact_nodes(Bvh& bvh) const {
-    bvh.nodes.reserve(std::min<size_t>(nodeCount_.load(), 2 * n_));
+    reserve_huge(bvh.nodes, std::min<size_t>(nodeCount_.load(), 2 * n_));
     bvh.nodes.push_back(nodes_[0]);
     struct Visit {
       uint32_t from, to;

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <tuple>
 
 #include <tbb/task_group.h>
 
 #include "util/error.h"
+#include "util/huge_pages.h"
 
 namespace wp {
 
@@ -149,13 +149,15 @@ class Collapser {
  public:
   explicit Collapser(const Bvh& binary)
       : binary_(binary),
-        wideCount_(new uint32_t[binary.nodes.size()]),
-        primCount_(new uint32_t[binary.nodes.size()]) {}
+        wideCount_(binary.nodes.size()),
+        primCount_(binary.nodes.size()) {}
 
   WideBvh run() {
     WideBvh out;
     out.depth = measure(0, 0);
+    reserve_huge(out.nodes, wideCount_[0]);
     out.nodes.resize(wideCount_[0]);
+    reserve_huge(out.order, primCount_[0]);
     out.order.resize(primCount_[0]);
     out_ = &out;
     emit(0, 0, 1, 0, 0);
@@ -286,7 +288,7 @@ class Collapser {
   }
 
   const Bvh& binary_;
-  std::unique_ptr<uint32_t[]> wideCount_, primCount_;  // per binary node that becomes a wide node
+  WorkArray<uint32_t> wideCount_, primCount_;  // per binary node that becomes a wide node
   WideBvh* out_ = nullptr;
 };
 

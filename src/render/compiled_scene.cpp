@@ -11,6 +11,7 @@
 #include "bvh/wide_bvh.h"
 #include "scene/transform.h"
 #include "util/error.h"
+#include "util/huge_pages.h"
 
 namespace wp {
 
@@ -204,7 +205,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (numTris + numSpheres >= size_t(EMITTER_ENVIRONMENT)) throw InputError(scene.sourcePath + ": too many primitives");
 
   BvhInput input;
-  input.bounds.reserve(numTris + numSpheres);
+  reserve_huge(input.bounds, numTris + numSpheres);
   for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
   for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
   Aabb sceneBounds;
@@ -239,7 +240,10 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
 
   // Primitive records in leaf order (both layouts' leaves index them): each
   // triangle, and for each sphere a placeholder naming it.
-  out.triangles.reserve(order.size());
+  reserve_huge(out.triangles, order.size());
+  reserve_huge(out.triangleShading, size_t(std::count_if(scene.triangles.begin(), scene.triangles.end(), [](const SceneTriangle& t) {
+                 return t.hasNormals || t.hasUvs;
+               })));
   for (uint32_t id : order) {
     shader::Triangle g{};
     if (id >= numTris) {

@@ -12,6 +12,7 @@
 #include "scene/obj_mesh.h"
 #include "scene/transform.h"
 #include "util/error.h"
+#include "util/huge_pages.h"
 
 namespace wp {
 
@@ -58,7 +59,7 @@ class SceneLoader {
     }
     if (root.has("surfaces")) {
       JsonCursor surfs = root["surfaces"].expect_array();
-      scene_.triangles.reserve(mesh_triangles(surfs) + 2 * surfs.size());
+      reserve_huge(scene_.triangles, mesh_triangles(surfs) + 2 * surfs.size());
       for (size_t i = 0; i < surfs.size(); ++i) parse_surface(surfs[i], glm::mat4(1.0f));
     }
     return std::move(scene_);
