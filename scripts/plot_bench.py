@@ -6,7 +6,8 @@ Usage: scripts/plot_bench.py RESULTS.json [--out DIR]
 Render benchmarks give two charts: samples per second per variant and scene
 (median, with the min-max range as error bars), and the per-stage GPU time of
 each variant. Ray-casting benchmarks give Mrays/s of wavepath and Embree side
-by side for the primary and bounce rays of each scene. Uses Debian's
+by side for the primary and bounce rays of each scene; build benchmarks, the
+BVH build rate of wavepath (binary tree, and all of it) and Embree. Uses Debian's
 python3-numpy and python3-matplotlib (hence /usr/bin/python3).
 """
 import argparse
@@ -102,6 +103,28 @@ def plot_raycast(results, out_dir):
     return [path]
 
 
+def plot_build(results, out_dir):
+    rows = results["build"]
+    series = [("wavepath, binary tree", lambda r: r["primitives"] / r["binary_seconds"]["median"] / 1e6),
+              ("wavepath, with bounds and wide collapse", lambda r: r["mprims_per_second"])]
+    if any("embree_mprims_per_second" in r for r in rows):
+        series.append(("Embree", lambda r: r.get("embree_mprims_per_second", 0)))
+    width = 0.8 / len(series)
+    x = np.arange(len(rows))
+    fig, ax = plt.subplots(figsize=(max(7, 1.3 * len(rows)), 4.5))
+    for i, (name, rate) in enumerate(series):
+        ax.bar(x + (i - (len(series) - 1) / 2) * width, [rate(r) for r in rows], width, label=name)
+    ax.set_xticks(x, [short(r["scene"]) + "\n" + f"{r['primitives']:,}" for r in rows])
+    ax.set_ylabel("M primitives/s (median)")
+    ax.set_title(f"BVH build on {results['threads']} threads")
+    ax.legend()
+    fig.tight_layout()
+    path = os.path.join(out_dir, "bench_build.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("results", help="JSON written by wavepath bench --out")
@@ -116,6 +139,8 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     if "raycast" in results:
         paths = plot_raycast(results, args.out)
+    elif "build" in results:
+        paths = plot_build(results, args.out)
     elif "scenes" in results:
         paths = plot_render(results, args.out)
     else:

@@ -6,7 +6,7 @@
 //                              [--device INDEX|NAME] [--variant NAME] [--cpu] [--threads N] [--quiet] [--stage-times]
 //   wavepath compare SCENE.json [--a VARIANT|cpu] [--b cpu|VARIANT] [--spp N] [--report DIR]
 //   wavepath compare --images A.exr B.exr [--report DIR]
-//   wavepath bench [--scenes LIST] [--variants LIST] [--spp N] [--repeats N] [--out results.json] [--csv results.csv]
+//   wavepath bench [--scenes LIST] [--variants LIST] [--spp N] [--repeats N] [--raycast | --build] [--out results.json] [--csv results.csv]
 //   wavepath devices
 //   wavepath info SCENE.json [--max-leaf-size N] [--variant NAME|cpu]
 //
@@ -410,9 +410,12 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--out", bench.jsonPath, "write the results as JSON");
   benchCmd->add_option("--csv", bench.csvPath, "write the results as CSV");
   benchCmd->add_flag("--validation", bench.validation, "enable Vulkan validation; any message is a failure");
-  benchCmd->add_flag("--raycast", bench.raycast,
+  CLI::Option* raycastFlag = benchCmd->add_flag("--raycast", bench.raycast,
                      "trace fixed ray sets (camera rays, then one bounce from each hit) instead of rendering; "
                      "compared with Embree when built in");
+  CLI::Option* buildFlag = benchCmd->add_flag(
+      "--build", bench.build, "time BVH builds (bounds, binary tree, wide collapse) instead of rendering; compared with Embree when built in");
+  buildFlag->excludes(raycastFlag);
 
   ConvergenceArgs conv;
   CLI::App* convergence = app.add_subcommand(
@@ -463,6 +466,7 @@ int main(int argc, char** argv) {
       if (bench.scenes.empty()) bench.scenes.push_back("scenes/cornell-box.json");
       if (bench.variants.empty())
         for (const KernelVariant& v : kernel_variants()) bench.variants.push_back(v.name);
+      if (bench.build) return run_build_bench(bench);
       return bench.raycast ? run_raycast_bench(bench) : run_bench(bench);
     }
     if (*info) return run_info(infoScene, infoLeaf, infoVariant);

@@ -36,11 +36,25 @@ check "ray casting reports the ratio to Embree" $(grep -q '"ratio_to_embree"' "$
 "$wavepath" bench --raycast --scenes "$data/quad-light.json" --variants gpu --resolution 16 16 --repeats 1 >"$work/out" 2>&1
 check "a scene with spheres is timed without the Embree baseline" $([ $? -eq 0 ] && grep -q "triangle scenes only" "$work/out"; echo $?)
 
-# The charts of scripts/plot_bench.py, from both kinds of results.
+# BVH builds: the tree the renderer builds, timed against Embree's build of
+# the same triangles; a scene with spheres is timed without Embree.
+"$wavepath" bench --build --scenes "$data/furnace.json,$data/quad-light.json" --repeats 2 \
+  --out "$work/b.json" --csv "$work/b.csv" >"$work/out" 2>&1
+check "build bench exits 0" $?
+check "build bench reports the rate, the SAH cost and the ratio to Embree" $(grep -q '"mprims_per_second"' "$work/b.json" &&
+  grep -q '"sah_cost"' "$work/b.json" && grep -q '"ratio_to_embree"' "$work/b.json" && grep -q "ratio wavepath / Embree" "$work/out"; echo $?)
+check "build bench times the scene with spheres without Embree" $(grep -q "triangle scenes only" "$work/out" &&
+  [ "$(grep -c '"ratio_to_embree"' "$work/b.json")" -eq 1 ]; echo $?)
+check "build bench CSV has a header and a row per scene" $([ "$(wc -l <"$work/b.csv")" -eq 3 ]; echo $?)
+"$wavepath" bench --build --raycast >"$work/out" 2>"$work/err"
+check "--build with --raycast: exit 2" $([ $? -eq 2 ]; echo $?)
+
+# The charts of scripts/plot_bench.py, from the three kinds of results.
 plot="$(dirname "$0")/../scripts/plot_bench.py"
-"$plot" "$work/r.json" --out "$work/plots" >/dev/null && "$plot" "$work/rc.json" --out "$work/plots" >/dev/null
-check "plot_bench.py draws the render and ray-casting charts" $([ -s "$work/plots/bench_samples_per_second.png" ] &&
-  [ -s "$work/plots/bench_stage_times.png" ] && [ -s "$work/plots/bench_raycast.png" ]; echo $?)
+"$plot" "$work/r.json" --out "$work/plots" >/dev/null && "$plot" "$work/rc.json" --out "$work/plots" >/dev/null &&
+  "$plot" "$work/b.json" --out "$work/plots" >/dev/null
+check "plot_bench.py draws the render, ray-casting and build charts" $([ -s "$work/plots/bench_samples_per_second.png" ] &&
+  [ -s "$work/plots/bench_stage_times.png" ] && [ -s "$work/plots/bench_raycast.png" ] && [ -s "$work/plots/bench_build.png" ]; echo $?)
 "$plot" "$work/out" >/dev/null 2>"$work/err"
 check "plot_bench.py on a file that is not JSON: exit 2" $([ $? -eq 2 ] && grep -q "plot_bench: error" "$work/err"; echo $?)
 

@@ -314,7 +314,8 @@ TEST(Bvh, TraversalPastTheStepCapIsReported) {
 }
 
 // The builder's working arrays and the big vectors it fills (util/huge_pages.h):
-// aligned to whole huge pages, as large as asked, holding what is written.
+// large ones aligned to whole huge pages, all as large as asked and holding
+// what is written.
 TEST(Bvh, HugePageArraysHoldWhatIsWritten) {
   const size_t n = (size_t(5) << 20) / sizeof(uint64_t) + 3;  // a little over 5 MiB
   WorkArray<uint64_t> work(n);
@@ -329,6 +330,9 @@ TEST(Bvh, HugePageArraysHoldWhatIsWritten) {
   EXPECT_EQ(v.data(), room) << "filling the reserved room reallocated";
   for (size_t i = 0; i < n; i += 4097) ASSERT_EQ(v[i], i * 2654435761u);
   EXPECT_EQ(v.back(), (n - 1) * 2654435761u);
+  WorkArray<uint64_t> small(3);  // under a huge page: small pages, still usable
+  small[2] = 7;
+  EXPECT_EQ(small[2], 7u);
   advise_huge_pages(nullptr, 0);  // nothing to advise: no effect
   advise_huge_pages(v.data(), 100);
 }

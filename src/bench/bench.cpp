@@ -10,8 +10,10 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "bench/embree_baseline.h"
+#include "bvh/wide_bvh.h"
 #include "cpu/reference.h"
 #include "gpu/wavefront.h"
 #include "render/compiled_scene.h"
@@ -435,6 +437,146 @@ int run_raycast_bench(const BenchOptions& o) {
     if (!out) throw InputError(o.jsonPath + ": cannot write the results");
   }
   return allChecked ? 0 : 1;
+}
+
+namespace {
+
+// One build of a scene's BVH as the renderer makes it (compile_scene): the
+// primitives' bounds, the binary tree, its collapse into the 8-wide layout.
+struct TimedBuild {
+  double bounds = 0.0, binary = 0.0, collapse = 0.0;
+  Bvh bvh;
+  WideBvh wide;
+  double total() const { return bounds + binary + collapse; }
+};
+
+TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
+  TimedBuild b;
+  auto t0 = std::chrono::steady_clock::now();
+  BvhInput input = bvh_input(scene);
+  auto t1 = std::chrono::steady_clock::now();
+  b.bvh = build_bvh(input, accel);
+  auto t2 = std::chrono::steady_clock::now();
+  b.wide = collapse_to_wide(b.bvh);
+  auto t3 = std::chrono::steady_clock::now();
+  b.bounds = std::chrono::duration<double>(t1 - t0).count();
+  b.binary = std::chrono::duration<double>(t2 - t1).count();
+  b.collapse = std::chrono::duration<double>(t3 - t2).count();
+  return b;
+}
+
+// Whether both trees' leaves hold every primitive exactly once.
+bool places_every_primitive_once(const TimedBuild& b, size_t primitives) {
+  for (const std::vector<uint32_t>* order : {&b.bvh.order, &b.wide.order}) {
+    if (order->size() != primitives) return false;
+    std::vector<bool> seen(primitives, false);
+    for (uint32_t id : *order) {
+      if (id >= primitives || seen[id]) return false;
+      seen[id] = true;
+    }
+  }
+  return true;
+}
+
+const char* split_name(SplitMethod m) {
+  return m == SplitMethod::Sah ? "binned SAH" : (m == SplitMethod::Middle ? "middle split" : "equal counts");
+}
+
+}  // namespace
+
+int run_build_bench(const BenchOptions& o) {
+  std::vector<Scene> scenes;
+  for (const std::string& path : o.scenes) scenes.push_back(load_scene(path));
+  const int threads = tbb::this_task_arena::max_concurrency();
+  std::printf("BVH builds on %d threads: wavepath (bounds, binary tree, 8-wide collapse) against Embree's default build%s\n",
+              threads, embree_available() ? "" : " (not built in)");
+  nlohmann::json results = nlohmann::json::array();
+  for (size_t si = 0; si < scenes.size(); ++si) {
+    const Scene& scene = scenes[si];
+    const size_t primitives = scene.triangles.size() + scene.spheres.size();
+    // The settings compile_scene builds the default (wide) layout with.
+    AcceleratorSettings accel = scene.accelerator;
+    accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);
+    std::string embreeNote;
+    bool embree = embree_available();
+    if (embree && !scene.spheres.empty()) {
+      embree = false;
+      embreeNote = "the Embree baseline takes triangle scenes only";
+    }
+    // A warm-up round, then the timed ones, wavepath and Embree interleaved so
+    // that a change in the machine's speed affects both alike.
+    std::vector<double> total, bounds, binary, collapse, embreeSeconds;
+    TimedBuild last;
+    for (int r = 0; r <= o.repeats; ++r) {
+      last = time_build(scene, accel);
+      double e = embree ? embree_build_seconds(scene) : 0.0;
+      if (r == 0) continue;
+      total.push_back(last.total());
+      bounds.push_back(last.bounds);
+      binary.push_back(last.binary);
+      collapse.push_back(last.collapse);
+      embreeSeconds.push_back(e);
+    }
+    if (!places_every_primitive_once(last, primitives))
+      throw RenderError("internal error: the BVH of " + o.scenes[si] + " does not hold every primitive exactly once");
+    const double rate = double(primitives) / std::max(spread(total).median, 1e-12);
+    std::printf("\n%s: %zu primitives, %s, leaves of at most %d; %zu binary and %zu wide nodes, SAH cost %.3f\n",
+                o.scenes[si].c_str(), primitives, split_name(accel.split), accel.maxLeafSize, last.bvh.nodes.size(),
+                last.wide.nodes.size(), last.bvh.sahCost);
+    if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
+    std::printf("  %-30s %10s %21s %10s\n", "build", "median s", "min - max s", "Mprims/s");
+    auto row = [](const char* name, const Spread& s, double prims) {
+      std::printf("  %-30s %10.4f %10.4f - %8.4f %10s\n", name, s.median, s.min, s.max,
+                  prims > 0.0 ? format_number(prims / std::max(s.median, 1e-12) * 1e-6, 2).c_str() : "");
+    };
+    row("wavepath, all of it", spread(total), double(primitives));
+    row("  bounds", spread(bounds), 0.0);
+    row("  binary tree", spread(binary), double(primitives));
+    row("  8-wide collapse", spread(collapse), 0.0);
+    nlohmann::json j = {{"scene", o.scenes[si]},
+                        {"primitives", primitives},
+                        {"split", split_name(accel.split)},
+                        {"max_leaf_size", accel.maxLeafSize},
+                        {"binary_nodes", last.bvh.nodes.size()},
+                        {"wide_nodes", last.wide.nodes.size()},
+                        {"sah_cost", last.bvh.sahCost},
+                        {"seconds", to_json(spread(total))},
+                        {"bounds_seconds", to_json(spread(bounds))},
+                        {"binary_seconds", to_json(spread(binary))},
+                        {"collapse_seconds", to_json(spread(collapse))},
+                        {"mprims_per_second", rate * 1e-6}};
+    if (embree) {
+      const double embreeRate = double(scene.triangles.size()) / std::max(spread(embreeSeconds).median, 1e-12);
+      row("Embree", spread(embreeSeconds), double(primitives));
+      std::printf("  ratio wavepath / Embree: %.3f\n", rate / embreeRate);
+      j["embree_seconds"] = to_json(spread(embreeSeconds));
+      j["embree_mprims_per_second"] = embreeRate * 1e-6;
+      j["ratio_to_embree"] = rate / embreeRate;
+    }
+    results.push_back(j);
+  }
+  if (!o.jsonPath.empty()) {
+    nlohmann::json j = {{"threads", threads}, {"embree", embree_available()}, {"repeats", o.repeats}, {"build", results}};
+    std::ofstream out(o.jsonPath);
+    out << j.dump(2) << "\n";
+    if (!out) throw InputError(o.jsonPath + ": cannot write the results");
+  }
+  if (!o.csvPath.empty()) {
+    std::ofstream out(o.csvPath);
+    out << "scene,primitives,sah_cost,seconds,binary_seconds,collapse_seconds,mprims_per_second,embree_seconds,"
+           "embree_mprims_per_second,ratio_to_embree\n";
+    for (const nlohmann::json& r : results) {
+      out << r["scene"].get<std::string>() << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["seconds"]["median"]
+          << "," << r["binary_seconds"]["median"] << "," << r["collapse_seconds"]["median"] << "," << r["mprims_per_second"];
+      if (r.contains("embree_seconds"))
+        out << "," << r["embree_seconds"]["median"] << "," << r["embree_mprims_per_second"] << "," << r["ratio_to_embree"];
+      else
+        out << ",,,";
+      out << "\n";
+    }
+    if (!out) throw InputError(o.csvPath + ": cannot write the results");
+  }
+  return 0;
 }
 
 }  // namespace wp

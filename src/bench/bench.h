@@ -25,11 +25,15 @@ struct BenchOptions {
   // one cosine-distributed bounce from each hit, traced by each variant (after
   // its hits are checked against the CPU traversal) and by Embree if built in.
   bool raycast = false;
+  // BVH builds instead of rendering: each scene's tree built as the renderer
+  // builds it, timed against Embree's build of the same triangles.
+  bool build = false;
 };
 
 // Prints the results table; writes JSON / CSV when asked. Returns 0 when every
 // variant passed its check, 1 otherwise (those were not timed).
 int run_bench(const BenchOptions& options);
 int run_raycast_bench(const BenchOptions& options);
+int run_build_bench(const BenchOptions& options);
 
 }  // namespace wp

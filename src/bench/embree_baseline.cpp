@@ -18,12 +18,19 @@ bool embree_available() {
   return true;
 }
 
-EmbreeScene::EmbreeScene(const Scene& s) {
+namespace {
+
+RTCDevice new_device(const Scene& s) {
   if (!s.spheres.empty()) throw RenderError("the Embree baseline takes triangle scenes only");
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) throw RenderError("Embree: cannot create a device");
-  device_ = device;
-  auto t0 = std::chrono::steady_clock::now();
+  return device;
+}
+
+// A new Embree scene of the triangles, built at the default quality on all
+// cores; `buildSeconds` receives the time of rtcCommitScene alone (the
+// vertex copy before it is not Embree's build).
+RTCScene new_scene(RTCDevice device, const Scene& s, double* buildSeconds) {
   RTCScene scene = rtcNewScene(device);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
@@ -41,9 +48,27 @@ EmbreeScene::EmbreeScene(const Scene& s) {
   rtcCommitGeometry(geom);
   rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
+  auto t0 = std::chrono::steady_clock::now();
   rtcCommitScene(scene);
-  buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  scene_ = scene;
+  *buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
+    rtcReleaseScene(scene);
+    throw RenderError("Embree: building the scene failed");
+  }
+  return scene;
+}
+
+}  // namespace
+
+EmbreeScene::EmbreeScene(const Scene& s) {
+  RTCDevice device = new_device(s);
+  try {
+    scene_ = new_scene(device, s, &buildSeconds_);
+  } catch (...) {
+    rtcReleaseDevice(device);
+    throw;
+  }
+  device_ = device;
 }
 
 EmbreeScene::~EmbreeScene() {
@@ -96,5 +121,9 @@ double EmbreeScene::trace(const std::vector<shader::ShadowRay>&, std::vector<flo
 }
 
 #endif
+
+double embree_build_seconds(const Scene& scene) {
+  return EmbreeScene(scene).build_seconds();
+}
 
 }  // namespace wp

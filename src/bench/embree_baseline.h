@@ -1,6 +1,6 @@
-// embree_baseline.h — the same rays traced by Embree 3 (rtcIntersect1 on all
-// cores), as the CPU baseline of the ray-casting benchmark. Optional: built
-// when CMake finds Embree (Debian libembree-dev).
+// embree_baseline.h — Embree 3 as the CPU baseline of the benchmarks: the same
+// rays traced with rtcIntersect1 on all cores, and its BVH build on the same
+// triangles. Optional: built when CMake finds Embree (Debian libembree-dev).
 #pragma once
 
 #include <string>
@@ -25,7 +25,7 @@ class EmbreeScene {
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
-  double build_seconds() const { return buildSeconds_; }
+  double build_seconds() const { return buildSeconds_; }  // rtcCommitScene alone
   // Closest hits of the rays, on all cores; returns the seconds spent tracing.
   double trace(const std::vector<shader::ShadowRay>& rays, std::vector<float>* t) const;
 
@@ -34,5 +34,10 @@ class EmbreeScene {
   void* scene_ = nullptr;
   double buildSeconds_ = 0.0;
 };
+
+// Seconds Embree takes to build its BVH over the scene's triangles from
+// scratch (a new scene, rtcCommitScene at the default build quality, all
+// cores). Triangles only: throws RenderError otherwise.
+double embree_build_seconds(const Scene& scene);
 
 }  // namespace wp

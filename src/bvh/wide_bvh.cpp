@@ -99,10 +99,11 @@ float cell_size(uint32_t biasedExponent) {
 }
 
 // Quantized planes of [lo, hi] on the grid origin + q * cell, rounded
-// outwards and checked in float as the decoding computes them.
-std::pair<uint32_t, uint32_t> quantize(float lo, float hi, float origin, float cell) {
-  int qlo = std::clamp(int(std::floor((double(lo) - double(origin)) / double(cell))), 0, 255);
-  int qhi = std::clamp(int(std::ceil((double(hi) - double(origin)) / double(cell))), 0, 255);
+// outwards and checked in float as the decoding computes them. `inverseCell`
+// is 1 / cell, exact since cell is a power of two.
+std::pair<uint32_t, uint32_t> quantize(float lo, float hi, float origin, float cell, double inverseCell) {
+  int qlo = std::clamp(int(std::floor((double(lo) - double(origin)) * inverseCell)), 0, 255);
+  int qhi = std::clamp(int(std::ceil((double(hi) - double(origin)) * inverseCell)), 0, 255);
   while (qlo > 0 && origin + float(qlo) * cell > lo) --qlo;
   while (qhi < 255 && origin + float(qhi) * cell < hi) ++qhi;
   return {uint32_t(qlo), uint32_t(qhi)};
@@ -238,10 +239,13 @@ class Collapser {
 
     WideNode node{};
     node.origin = all.lo;
-    uint32_t cells[3];
+    float cell[3];
+    double inverseCell[3];
     for (int a = 0; a < 3; ++a) {
-      cells[a] = cell_exponent(all.lo[a], all.hi[a]);
-      set_byte(node.exyzImask, a, cells[a]);
+      const uint32_t e = cell_exponent(all.lo[a], all.hi[a]);
+      set_byte(node.exyzImask, a, e);
+      cell[a] = cell_size(e);
+      inverseCell[a] = 1.0 / double(cell[a]);
     }
     node.childBase = childBase;
     node.primBase = primBase;
@@ -251,7 +255,7 @@ class Collapser {
       int i = childInSlot[s];
       if (i < 0) continue;  // empty slot: meta 0, no bits
       for (int a = 0; a < 3; ++a) {
-        auto [qlo, qhi] = quantize(boxes[i].lo[a], boxes[i].hi[a], node.origin[a], cell_size(cells[a]));
+        auto [qlo, qhi] = quantize(boxes[i].lo[a], boxes[i].hi[a], node.origin[a], cell[a], inverseCell[a]);
         set_byte(plane_words(node, a, false)[s / 4], s % 4, qlo);
         set_byte(plane_words(node, a, true)[s / 4], s % 4, qhi);
       }

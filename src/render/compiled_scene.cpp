@@ -198,16 +198,21 @@ std::vector<shader::Emitter> build_alias_table(const std::vector<double>& weight
   return table;
 }
 
+BvhInput bvh_input(const Scene& scene) {
+  BvhInput input;
+  reserve_huge(input.bounds, scene.triangles.size() + scene.spheres.size());
+  for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
+  for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
+  return input;
+}
+
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
   const size_t numSpheres = scene.spheres.size();
   if (numTris + numSpheres >= size_t(EMITTER_ENVIRONMENT)) throw InputError(scene.sourcePath + ": too many primitives");
 
-  BvhInput input;
-  reserve_huge(input.bounds, numTris + numSpheres);
-  for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
-  for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
+  BvhInput input = bvh_input(scene);
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
   AcceleratorSettings accel = scene.accelerator;

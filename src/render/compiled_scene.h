@@ -74,6 +74,10 @@ struct CompiledScene {
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
 
+// The primitives' bounds, numbered as compile_scene numbers them: the
+// triangles, then the spheres.
+BvhInput bvh_input(const Scene& scene);
+
 // Mean colour of a texture over its domain (exact for constants and images,
 // the average of the two colours for checkers and marble). Used to weigh
 // textured emitters; it only steers sampling, never the estimate.

@@ -38,10 +38,13 @@ class WorkArray {
   explicit WorkArray(size_t n) {
     constexpr size_t kHuge = size_t(2) << 20;
     size_t bytes = std::max<size_t>(1, n) * sizeof(T);
-    bytes = (bytes + kHuge - 1) / kHuge * kHuge;  // aligned_alloc wants a multiple of the alignment
-    data_ = static_cast<T*>(std::aligned_alloc(kHuge, bytes));
+    // Arrays under a huge page stay on small pages: a fresh huge page is
+    // zeroed whole (2 MiB) however little of it is used.
+    const size_t align = bytes < kHuge ? std::max(alignof(std::max_align_t), alignof(T)) : kHuge;
+    bytes = (bytes + align - 1) / align * align;  // aligned_alloc wants a multiple of the alignment
+    data_ = static_cast<T*>(std::aligned_alloc(align, bytes));
     if (!data_) throw std::bad_alloc();
-    advise_huge_pages(data_, bytes);
+    if (align == kHuge) advise_huge_pages(data_, bytes);
   }
   ~WorkArray() { std::free(data_); }
   WorkArray(const WorkArray&) = delete;
