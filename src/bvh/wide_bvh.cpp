@@ -68,17 +68,30 @@ void assign_slots(const Aabb* boxes, int n, int slotOf[8]) {
       score[c][s] = glm::dot(offset, dir);
     }
   }
-  bool childDone[8] = {}, slotTaken[8] = {};
+  // Each child's best free slot (the first on ties), kept current: a taken
+  // slot sends only the children whose best it was back to the search. The
+  // best pair overall is the best child's, the first child on ties: the same
+  // pair as scanning all of them each time, in an eighth of the work (that
+  // scan was half of the collapse's time).
+  uint32_t childDone = 0, slotTaken = 0;  // bit masks
+  int bestSlot[8];
+  auto find_slot = [&](int c) {
+    int best = -1;
+    for (int s = 0; s < 8; ++s)
+      if (((slotTaken >> s) & 1u) == 0u && (best < 0 || score[c][s] > score[c][best])) best = s;
+    bestSlot[c] = best;
+  };
+  for (int c = 0; c < n; ++c) find_slot(c);
   for (int k = 0; k < n; ++k) {
-    int bestC = -1, bestS = -1;
+    int bestC = -1;
     for (int c = 0; c < n; ++c)
-      for (int s = 0; s < 8; ++s)
-        if (!childDone[c] && !slotTaken[s] && (bestC < 0 || score[c][s] > score[bestC][bestS])) {
-          bestC = c;
-          bestS = s;
-        }
-    childDone[bestC] = slotTaken[bestS] = true;
-    slotOf[bestC] = bestS;
+      if (((childDone >> c) & 1u) == 0u && (bestC < 0 || score[c][bestSlot[c]] > score[bestC][bestSlot[bestC]])) bestC = c;
+    const int taken = bestSlot[bestC];
+    slotOf[bestC] = taken;
+    childDone |= 1u << bestC;
+    slotTaken |= 1u << taken;
+    for (int c = 0; c < n; ++c)
+      if (((childDone >> c) & 1u) == 0u && bestSlot[c] == taken) find_slot(c);
   }
 }
 
