@@ -2,6 +2,7 @@
 // hit that testing every primitive gives, and the tree must be well formed.
 #include "test_support.h"
 
+#include <limits>
 #include <random>
 
 #include "bvh/bvh.h"
@@ -310,6 +311,36 @@ TEST(Bvh, TraversalPastTheStepCapIsReported) {
       truncated += view.trace_ray(r.origin, r.dir, r.tmax, false, h) == TRACE_TRUNCATED;
     }
     EXPECT_GT(truncated, 100);
+  }
+}
+
+// Bounds past the range of floats (the loader refuses such geometry, but the
+// builder must not depend on that): infinite and NaN coordinates still give a
+// tree holding every primitive once, whichever split takes them.
+TEST(Bvh, NonFiniteBoundsStillPlaceEveryPrimitiveOnce) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (int count : {5, 12, 40, 3000}) {
+    BvhInput in;
+    for (int i = 0; i < count; ++i) {
+      glm::vec3 c(float(i % 7), float(i % 5), float(i % 3));
+      Aabb b{c, c + 0.5f};
+      if (i % 4 == 1) b.hi.x = inf;
+      if (i % 4 == 2) b.lo.y = -inf;
+      if (i % 4 == 3) b.lo.z = nan;
+      in.bounds.push_back(b);
+    }
+    for (SplitMethod split : {SplitMethod::Sah, SplitMethod::Middle, SplitMethod::Equal}) {
+      for (int maxLeaf : {1, 3}) {
+        Bvh bvh = build_bvh(in, AcceleratorSettings{maxLeaf, split});
+        ASSERT_EQ(bvh.order.size(), in.bounds.size()) << count;
+        std::vector<int> seen(in.bounds.size(), 0);
+        for (uint32_t id : bvh.order) seen.at(id)++;
+        for (int n : seen) ASSERT_EQ(n, 1) << count;
+        ASSERT_LE(bvh.depth, BVH_MAX_DEPTH);
+        WideBvh wide = collapse_to_wide(bvh);
+        ASSERT_EQ(wide.order.size(), in.bounds.size());
+      }
+    }
   }
 }
 

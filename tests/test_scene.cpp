@@ -190,6 +190,19 @@ TEST(SceneErrors, BadValuesAreNamed) {
                {"/surfaces/0/children/0", "no-such.obj"});
   expect_error(R"({"surfaces": [{"type": "mesh", "filename": 7}]})", {"/surfaces/0/filename"});
   expect_error(R"({"surfaces": [{"type": "group", "children": 7}]})", {"/surfaces/0/children"});
+  // Each transform is finite, their product is not: the geometry is refused
+  // where it is placed.
+  const std::string huge = R"("transform": {"scale": 1e30})";
+  const std::string lambertian = R"("material": {"type": "lambertian"})";
+  for (const std::string& shape : {R"({"type": "quad", )" + huge + ", " + lambertian + "}",
+                                   R"({"type": "sphere", )" + huge + ", " + lambertian + "}",
+                                   R"({"type": "triangle", "positions": [[0,0,0],[1,0,0],[0,1,0]], )" + huge + ", " + lambertian + "}",
+                                   R"({"type": "point_light", "position": [1, 1, 1], "intensity": 1, )" + huge + "}",
+                                   R"({"type": "mesh", "filename": ")" + source_path("tests/data/furnace-box.obj") + R"(", )" +
+                                       huge + ", " + lambertian + "}"}) {
+    expect_error(R"({"surfaces": [{"type": "group", )" + huge + R"(, "children": [)" + shape + "]}]}",
+                 {"/surfaces/0/children/0", "past the range of floats"});
+  }
 }
 
 TEST(SceneErrors, MissingFilesAndBadMeshesNameTheFile) {

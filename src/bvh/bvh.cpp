@@ -164,6 +164,15 @@ struct Binning {
   }
 };
 
+// A float's bits as an unsigned integer that sorts in the float's order,
+// -0 before +0 and NaNs at the ends: a total order, so that sorting by
+// centroid stays well defined however wrong the bounds.
+uint32_t sort_key(float x) {
+  uint32_t u;
+  std::memcpy(&u, &x, sizeof(u));
+  return u ^ (uint32_t(int32_t(u) >> 31) | 0x80000000u);
+}
+
 int largest_axis(glm::vec3 extent) {
   return extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
 }
@@ -414,8 +423,9 @@ class Builder {
   void median_split(const Task& t, Task& l, Task& r, int axis) {
     PrimRef* refs = refs_[t.buf];
     uint32_t mid = t.begin + (t.end - t.begin) / 2;
-    std::nth_element(refs + t.begin, refs + mid, refs + t.end,
-                     [axis](const PrimRef& a, const PrimRef& b) { return a.lo[axis] + a.hi[axis] < b.lo[axis] + b.hi[axis]; });
+    std::nth_element(refs + t.begin, refs + mid, refs + t.end, [axis](const PrimRef& a, const PrimRef& b) {
+      return sort_key(a.lo[axis] + a.hi[axis]) < sort_key(b.lo[axis] + b.hi[axis]);
+    });
     l.buf = r.buf = t.buf;
     l.begin = t.begin;
     l.end = r.begin = mid;
@@ -512,18 +522,16 @@ class Builder {
     uint32_t bestLeftCount = 0;
     Box4 bestLeft, bestRight;
     for (int a = 0; a < 3; ++a) {
-      float key[kSweepMax];
+      uint32_t key[kSweepMax];
       uint8_t* o = order[a];
-      // Insertion sort by centroid: a handful of primitives.
+      for (uint32_t i = 0; i < count; ++i) key[i] = sort_key(src[i].lo[a] + src[i].hi[a] + 0.0f);  // + 0: -0 becomes +0
+      // Sorted by centroid, ties in their order: each primitive's place is
+      // the number before it, counted without branches (an insertion sort's
+      // mispredicted comparisons cost more for these few).
       for (uint32_t i = 0; i < count; ++i) {
-        const float k = src[i].lo[a] + src[i].hi[a];
-        uint32_t j = i;
-        for (; j > 0 && key[j - 1] > k; --j) {
-          key[j] = key[j - 1];
-          o[j] = o[j - 1];
-        }
-        key[j] = k;
-        o[j] = uint8_t(i);
+        uint32_t rank = 0;
+        for (uint32_t j = 0; j < count; ++j) rank += uint32_t(key[j] < key[i]) + uint32_t((key[j] == key[i]) & (j < i));
+        o[rank] = uint8_t(i);
       }
       Box4 right[kSweepMax];
       Box4 acc;
@@ -543,6 +551,11 @@ class Builder {
           bestRight = right[k];
         }
       }
+    }
+    if (bestAxis < 0) {  // no split has a finite cost: the bounds are not finite
+      if (count <= uint32_t(settings_.maxLeafSize)) return false;
+      median_split(t, l, r, 0);
+      return true;
     }
     if (leaf_is_better(t, best)) return false;
     // The children, in sorted order, into the other array.

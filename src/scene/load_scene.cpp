@@ -24,6 +24,13 @@ bool is_nonzero(glm::vec3 c) {
   return c.x > 0.0f || c.y > 0.0f || c.z > 0.0f;
 }
 
+// Finite inputs can still be placed past the range of floats by the product
+// of their transforms; such geometry is refused where it is placed.
+bool finite(glm::vec3 p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+constexpr const char* kPastFloatRange = "the transforms place it past the range of floats";
+
 class SceneLoader {
  public:
   explicit SceneLoader(std::string path) : file_(std::move(path)) {}
@@ -354,6 +361,12 @@ class SceneLoader {
       float radius = j.has("radius") ? j["radius"].positive_number() : 1.0f;
       SceneSphere s;
       s.toWorld = xform * glm::scale(glm::mat4(1.0f), glm::vec3(radius));
+      // Its bounds (centre +- the rows' lengths) must be finite too.
+      for (int r = 0; r < 3; ++r) {
+        glm::vec3 row(s.toWorld[0][r], s.toWorld[1][r], s.toWorld[2][r]);
+        if (!std::isfinite(s.toWorld[3][r] + glm::length(row)) || !std::isfinite(s.toWorld[3][r] - glm::length(row)))
+          j.fail(std::string("sphere: ") + kPastFloatRange);
+      }
       s.material = material_of(j);
       if (scene_.materials[s.material].info.z != WP_INVALID && !is_similarity(glm::mat3(s.toWorld)))
         j.fail("emissive spheres must keep their shape (uniform scale): an emissive ellipsoid cannot be sampled yet");
@@ -408,6 +421,7 @@ class SceneLoader {
       j.allow_only({"type", "position", "intensity", "transform"});
       shader::PointLight l{};
       l.position = xform * glm::vec4(j.vec3_or("position", glm::vec3(0.0f)), 1.0f);
+      if (!finite(glm::vec3(l.position))) j.fail(std::string("point light: ") + kPastFloatRange);
       l.intensity = glm::vec4(non_negative(j["intensity"]), 0.0f);
       scene_.pointLights.push_back(l);
     } else if (type == "group") {
@@ -427,6 +441,7 @@ class SceneLoader {
   }
 
   SceneTriangle& add_triangle(const JsonCursor& where, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material) {
+    if (!finite(a) || !finite(b) || !finite(c)) where.fail(std::string("triangle: ") + kPastFloatRange);
     if (glm::length(glm::cross(b - a, c - a)) == 0.0f) where.fail("triangle has zero area");
     SceneTriangle t;
     t.v[0] = a;
@@ -510,6 +525,8 @@ class SceneLoader {
       }
       glm::vec3 v[3];
       for (int c = 0; c < 3; ++c) v[c] = glm::vec3(x * glm::vec4(mesh.positions[mesh.indices[3 * t + c]], 1.0f));
+      if (!finite(v[0]) || !finite(v[1]) || !finite(v[2]))
+        j.fail("mesh " + rel + ", triangle " + std::to_string(t + 1) + ": " + kPastFloatRange);
       // Degenerate triangles are common in scanned meshes; they can never be
       // hit, so they are dropped rather than rejected.
       if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) == 0.0f) continue;
