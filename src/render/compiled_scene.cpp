@@ -246,9 +246,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // Primitive records in leaf order (both layouts' leaves index them): each
   // triangle, and for each sphere a placeholder naming it.
   reserve_huge(out.triangles, order.size());
-  reserve_huge(out.triangleShading, size_t(std::count_if(scene.triangles.begin(), scene.triangles.end(), [](const SceneTriangle& t) {
-                 return t.hasNormals || t.hasUvs;
-               })));
+  reserve_huge(out.triangleShading, scene.triangleShading.size());
   for (uint32_t id : order) {
     shader::Triangle g{};
     if (id >= numTris) {
@@ -265,18 +263,19 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     g.material = t.material;
     g.emitter = WP_INVALID;
     g.shading = WP_INVALID;
-    if (t.hasNormals || t.hasUvs) {
+    if (t.shading != WP_INVALID) {
+      const SceneTriangleShading& in = scene.triangleShading[t.shading];
       shader::TriangleShading sh{};
       g.shading = uint32_t(out.triangleShading.size());
-      sh.hasNormals = t.hasNormals ? 1u : 0u;
-      if (t.hasNormals) {
-        sh.n0 = t.n[0];
-        sh.n1 = t.n[1];
-        sh.n2 = t.n[2];
+      sh.hasNormals = in.hasNormals ? 1u : 0u;
+      if (in.hasNormals) {
+        sh.n0 = in.n[0];
+        sh.n1 = in.n[1];
+        sh.n2 = in.n[2];
       }
       // Without UVs the barycentrics serve, as for triangles without shading data.
       glm::vec2 uv[3] = {{0, 0}, {1, 0}, {0, 1}};
-      if (t.hasUvs) std::copy(t.uv, t.uv + 3, uv);
+      if (in.hasUvs) std::copy(in.uv, in.uv + 3, uv);
       sh.u0 = uv[0].x;
       sh.v0 = uv[0].y;
       sh.uv12 = glm::vec4(uv[1], uv[2]);

@@ -391,9 +391,9 @@ class SceneLoader {
       static const int kWinding[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{0, 2, 1}, {0, 3, 2}}};
       static const glm::vec2 kCornerUv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // planar UVs over the quad
       for (const auto& t : kWinding[mirrored ? 1 : 0]) {
-        SceneTriangle& tri = add_triangle(j, c[t[0]], c[t[1]], c[t[2]], mat);
-        tri.hasUvs = true;
-        for (int k = 0; k < 3; ++k) tri.uv[k] = kCornerUv[t[k]];
+        SceneTriangleShading& sh = add_shading(add_triangle(j, c[t[0]], c[t[1]], c[t[2]], mat));
+        sh.hasUvs = true;
+        for (int k = 0; k < 3; ++k) sh.uv[k] = kCornerUv[t[k]];
       }
     } else if (type == "triangle") {
       j.allow_only({"type", "positions", "normals", "transform", "material"});
@@ -406,12 +406,13 @@ class SceneLoader {
         JsonCursor nrm = j["normals"].expect_array();
         if (nrm.size() != 3) nrm.fail("expected 3 vertex normals, got " + std::to_string(nrm.size()));
         glm::mat3 normalXform = normal_matrix(xform);
+        SceneTriangleShading& sh = add_shading(tri);
         for (size_t i = 0; i < 3; ++i) {
           glm::vec3 n = normalXform * nrm[i].vec3();
           if (!(glm::length(n) > 0.0f)) nrm[i].fail("a vertex normal must not be zero");
-          tri.n[i] = glm::normalize(n);
+          sh.n[i] = glm::normalize(n);
         }
-        tri.hasNormals = true;
+        sh.hasNormals = true;
       }
     } else if (type == "mesh") {
       j.allow_only({"type", "filename", "transform", "material", "material prefix"});
@@ -450,6 +451,12 @@ class SceneLoader {
     t.material = material;
     scene_.triangles.push_back(t);
     return scene_.triangles.back();
+  }
+
+  // Per-vertex data for triangle t, which has none yet.
+  SceneTriangleShading& add_shading(SceneTriangle& t) {
+    t.shading = uint32_t(scene_.triangleShading.size());
+    return scene_.triangleShading.emplace_back();
   }
 
   // The OBJ file of mesh surface j. A mesh placed many times (a grid of
@@ -534,17 +541,19 @@ class SceneLoader {
       for (int c = 0; c < 3; ++c) tri.v[c] = v[c];
       tri.material = override ? fixed : mtlToScene[size_t(mm)];
       // Smooth shading where every corner has a usable normal; UVs where every corner has one.
-      tri.hasNormals = true;
-      tri.hasUvs = true;
+      SceneTriangleShading sh;
+      sh.hasNormals = true;
+      sh.hasUvs = true;
       for (int c = 0; c < 3; ++c) {
         int ni = mesh.normalIndices[3 * t + c];
         int ti = mesh.texcoordIndices[3 * t + c];
         glm::vec3 n = ni >= 0 ? normalXform * mesh.normals[size_t(ni)] : glm::vec3(0.0f);
-        if (glm::length(n) > 0.0f) tri.n[c] = glm::normalize(n);
-        else tri.hasNormals = false;
-        if (ti >= 0) tri.uv[c] = mesh.texcoords[size_t(ti)];
-        else tri.hasUvs = false;
+        if (glm::length(n) > 0.0f) sh.n[c] = glm::normalize(n);
+        else sh.hasNormals = false;
+        if (ti >= 0) sh.uv[c] = mesh.texcoords[size_t(ti)];
+        else sh.hasUvs = false;
       }
+      if (sh.hasNormals || sh.hasUvs) add_shading(tri) = sh;
       scene_.triangles.push_back(tri);
     }
   }

@@ -51,8 +51,14 @@ struct IntegratorSettings {
 struct SceneTriangle {
   glm::vec3 v[3];
   uint32_t material;
-  // Optional per-vertex data; without it the normal is flat and the UVs are
-  // the barycentrics.
+  // Its per-vertex normals and UVs (Scene::triangleShading), or WP_INVALID:
+  // the normal is flat and the UVs are the barycentrics. Kept apart because
+  // most triangles of large scanned meshes have none: 44 bytes a triangle
+  // instead of 104.
+  uint32_t shading = WP_INVALID;
+};
+
+struct SceneTriangleShading {
   bool hasNormals = false;
   bool hasUvs = false;
   glm::vec3 n[3]{};
@@ -81,6 +87,7 @@ struct Scene {
   std::vector<glm::uvec2> texels;          // every image, RGBA half floats, back to back
   std::vector<shader::PointLight> pointLights;
   std::vector<SceneTriangle> triangles;
+  std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;
 };
 
