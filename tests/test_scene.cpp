@@ -70,6 +70,47 @@ TEST(Transform, EveryFormMapsPointsAsDartsDoes) {
   EXPECT_NEAR(glm::distance(apply(look, glm::vec3(1, 0, 0)), glm::vec3(1, 0, 5)), 0, 1e-5);
 }
 
+// Vertex normals and UVs sit apart from the triangles that have them; they
+// must reach those triangles' records, and only theirs, in the compiled scene.
+TEST(Scene, PerVertexDataReachesItsTrianglesOnly) {
+  Scene s = load_scene(write_scene("shading.json", R"({"surfaces": [
+    {"type": "triangle", "positions": [[0,0,0],[1,0,0],[0,1,0]], "normals": [[0,0,2],[0,0,1],[0,1,1]], "material": {"type": "lambertian"}},
+    {"type": "quad", "size": 2, "transform": {"translate": [0, 0, 5]}, "material": {"type": "lambertian"}},
+    {"type": "triangle", "positions": [[0,0,-3],[1,0,-3],[0,1,-3]], "material": {"type": "lambertian"}}]})"));
+  ASSERT_EQ(s.triangles.size(), 4u);
+  ASSERT_EQ(s.triangleShading.size(), 3u);
+  EXPECT_EQ(s.triangles[3].shading, WP_INVALID);
+  const SceneTriangleShading& smooth = s.triangleShading.at(s.triangles[0].shading);
+  EXPECT_TRUE(smooth.hasNormals);
+  EXPECT_FALSE(smooth.hasUvs);
+  EXPECT_NEAR(glm::distance(smooth.n[2], glm::normalize(glm::vec3(0, 1, 1))), 0.0f, 1e-6f);
+  for (int q : {1, 2}) {
+    const SceneTriangleShading& quad = s.triangleShading.at(s.triangles[size_t(q)].shading);
+    EXPECT_TRUE(quad.hasUvs && !quad.hasNormals);
+    for (glm::vec2 uv : quad.uv) EXPECT_TRUE((uv.x == 0.0f || uv.x == 1.0f) && (uv.y == 0.0f || uv.y == 1.0f));
+  }
+
+  CompiledScene cs = compile_scene(s, RenderOptions{});
+  ASSERT_EQ(cs.triangleShading.size(), 3u);
+  int smoothRecords = 0, plainRecords = 0;
+  for (const shader::Triangle& t : cs.triangles) {
+    if (t.v0.z == -3.0f) {
+      EXPECT_EQ(t.shading, WP_INVALID);
+      ++plainRecords;
+    } else if (t.v0.z == 0.0f) {
+      const shader::TriangleShading& sh = cs.triangleShading.at(t.shading);
+      EXPECT_EQ(sh.hasNormals, 1u);
+      EXPECT_NEAR(glm::distance(sh.n2, glm::normalize(glm::vec3(0, 1, 1))), 0.0f, 1e-6f);
+      EXPECT_EQ(glm::vec2(sh.u0, sh.v0), glm::vec2(0.0f));  // no UVs: the barycentrics
+      ++smoothRecords;
+    } else {
+      EXPECT_EQ(cs.triangleShading.at(t.shading).hasNormals, 0u);
+    }
+  }
+  EXPECT_EQ(smoothRecords, 1);
+  EXPECT_EQ(plainRecords, 1);
+}
+
 TEST(Scene, QuadFrontIsTheTransformedZAxisEvenWhenMirrored) {
   for (const char* xf : {R"({"rotate": [90, 1, 0, 0]})", R"([{"scale": [-1, 1, 1]}, {"rotate": [90, 1, 0, 0]}])"}) {
     std::string text = std::string(R"({"surfaces": [{"type": "quad", "size": [2, 3], "material": {"type": "lambertian"}, "transform": )") + xf + "}]}";
