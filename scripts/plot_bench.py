@@ -26,6 +26,18 @@ def short(path):
     return os.path.splitext(os.path.basename(path))[0]
 
 
+def save_chart(fig, ax, out_dir, name, ylabel, title):
+    """Labels, legend and layout of a chart; writes it as out_dir/name and returns the path."""
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend()
+    fig.tight_layout()
+    path = os.path.join(out_dir, name)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def plot_render(results, out_dir):
     scenes = results["scenes"]
     variants = sorted({v["variant"] for s in scenes for v in s["variants"]})
@@ -42,13 +54,8 @@ def plot_render(results, out_dir):
             hi.append((r["max"] - r["median"]) / 1e6)
         ax.bar(x + (i - (len(variants) - 1) / 2) * width, med, width, yerr=[lo, hi], capsize=3, label=name)
     ax.set_xticks(x, [short(s["scene"]) for s in scenes])
-    ax.set_ylabel("Msamples/s (median, min-max)")
-    ax.set_title("wavepath bench on " + results["device"]["name"])
-    ax.legend()
-    fig.tight_layout()
-    paths = [os.path.join(out_dir, "bench_samples_per_second.png")]
-    fig.savefig(paths[0], dpi=120)
-    plt.close(fig)
+    paths = [save_chart(fig, ax, out_dir, "bench_samples_per_second.png", "Msamples/s (median, min-max)",
+                        "wavepath bench on " + results["device"]["name"])]
 
     # Per-stage time of each (scene, variant), stacked.
     stages = ["generate", "prepare", "extend", "sort", "shade", "connect", "accumulate", "megakernel"]
@@ -65,13 +72,8 @@ def plot_render(results, out_dir):
         for k, st in enumerate(stages):
             ax.bar(labels, data[:, k], bottom=bottom, label=st)
             bottom += data[:, k]
-        ax.set_ylabel("GPU seconds per render (median)")
-        ax.set_title("Time per kernel stage")
-        ax.legend()
-        fig.tight_layout()
-        paths.append(os.path.join(out_dir, "bench_stage_times.png"))
-        fig.savefig(paths[-1], dpi=120)
-        plt.close(fig)
+        paths.append(save_chart(fig, ax, out_dir, "bench_stage_times.png", "GPU seconds per render (median)",
+                                "Time per kernel stage"))
     return paths
 
 
@@ -93,14 +95,8 @@ def plot_raycast(results, out_dir):
                 vals.append(next((r["mrays_per_second"] for r in match if r["variant"] == name), 0))
         ax.bar(x + (i - (len(series) - 1) / 2) * width, vals, width, label=name)
     ax.set_xticks(x, [short(s) + "\n" + r for s, r in keys])
-    ax.set_ylabel("Mrays/s (closest hit, median)")
-    ax.set_title("Ray casting on " + results["device"]["name"])
-    ax.legend()
-    fig.tight_layout()
-    path = os.path.join(out_dir, "bench_raycast.png")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return [save_chart(fig, ax, out_dir, "bench_raycast.png", "Mrays/s (closest hit, median)",
+                       "Ray casting on " + results["device"]["name"])]
 
 
 def plot_build(results, out_dir):
@@ -112,17 +108,14 @@ def plot_build(results, out_dir):
     width = 0.8 / len(series)
     x = np.arange(len(rows))
     fig, ax = plt.subplots(figsize=(max(7, 1.3 * len(rows)), 4.5))
+    top = 0.0
     for i, (name, rate) in enumerate(series):
-        ax.bar(x + (i - (len(series) - 1) / 2) * width, [rate(r) for r in rows], width, label=name)
+        values = [rate(r) for r in rows]
+        top = max([top] + values)
+        ax.bar(x + (i - (len(series) - 1) / 2) * width, values, width, label=name)
+    ax.set_ylim(0, 1.35 * top)  # room for the legend above the bars
     ax.set_xticks(x, [short(r["scene"]) + "\n" + f"{r['primitives']:,}" for r in rows])
-    ax.set_ylabel("M primitives/s (median)")
-    ax.set_title(f"BVH build on {results['threads']} threads")
-    ax.legend()
-    fig.tight_layout()
-    path = os.path.join(out_dir, "bench_build.png")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return [path]
+    return [save_chart(fig, ax, out_dir, "bench_build.png", "M primitives/s (median)", f"BVH build on {results['threads']} threads")]
 
 
 def main():
