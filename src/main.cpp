@@ -414,7 +414,7 @@ int main(int argc, char** argv) {
                      "trace fixed ray sets (camera rays, then one bounce from each hit) instead of rendering; "
                      "compared with Embree when built in");
   CLI::Option* buildFlag = benchCmd->add_flag(
-      "--build", bench.build, "time BVH builds (bounds, binary tree, wide collapse) instead of rendering; compared with Embree when built in");
+      "--build", bench.build, "time BVH builds (the renderer's 8-wide tree, and the binary layout) instead of rendering; compared with Embree when built in");
   buildFlag->excludes(raycastFlag);
 
   ConvergenceArgs conv;

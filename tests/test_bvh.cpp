@@ -2,6 +2,7 @@
 // hit that testing every primitive gives, and the tree must be well formed.
 #include "test_support.h"
 
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -311,6 +312,36 @@ TEST(Bvh, TraversalPastTheStepCapIsReported) {
       truncated += view.trace_ray(r.origin, r.dir, r.tmax, false, h) == TRACE_TRUNCATED;
     }
     EXPECT_GT(truncated, 100);
+  }
+}
+
+// The renderer collapses the wide tree straight from the builder's slots
+// (build_wide_bvh); that must give byte for byte the tree collapse_to_wide
+// makes from the laid-out binary tree, on the parallel paths too, and the
+// same depth and SAH cost (summed in another order).
+TEST(Bvh, WideTreeFromTheBuildersSlotsIsTheCollapsedTree) {
+  std::vector<BvhInput> inputs(3);
+  inputs[0] = bvh_input(bunny_with_spheres(AcceleratorSettings{3, SplitMethod::Sah}));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int i = 0; i < 70000; ++i) {
+    glm::vec3 c(u(rng), u(rng), u(rng)), e(0.01f * u(rng), 0.01f * u(rng), 0.01f * u(rng));
+    inputs[1].bounds.push_back(Aabb{c - e, c + e});
+  }
+  // inputs[2]: empty.
+  for (const BvhInput& in : inputs) {
+    for (SplitMethod split : {SplitMethod::Sah, SplitMethod::Middle}) {
+      const AcceleratorSettings accel{WIDE_MAX_LEAF_SIZE, split};
+      Bvh binary = build_bvh(in, accel);
+      WideBvh laidOut = collapse_to_wide(binary);
+      WideBvh direct = build_wide_bvh(in, accel);
+      ASSERT_EQ(direct.nodes.size(), laidOut.nodes.size());
+      EXPECT_EQ(std::memcmp(direct.nodes.data(), laidOut.nodes.data(), direct.nodes.size() * sizeof(WideNode)), 0);
+      EXPECT_EQ(direct.order, laidOut.order);
+      EXPECT_EQ(direct.depth, laidOut.depth);
+      EXPECT_NEAR(direct.sahCost, binary.sahCost, 1e-9 * binary.sahCost);
+      EXPECT_EQ(laidOut.sahCost, binary.sahCost);
+    }
   }
 }
 

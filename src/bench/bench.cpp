@@ -441,13 +441,15 @@ int run_raycast_bench(const BenchOptions& o) {
 
 namespace {
 
-// One build of a scene's BVH as the renderer makes it (compile_scene): the
-// primitives' bounds, the binary tree, its collapse into the 8-wide layout.
+// One round of a scene's builds: the default layout as compile_scene makes
+// it (the primitives' bounds, then the binary tree collapsed into the 8-wide
+// layout from the builder's arrays), and the binary layout alone (gpu-bvh2
+// and the CPU reference: the tree laid out depth-first).
 struct TimedBuild {
-  double bounds = 0.0, binary = 0.0, collapse = 0.0;
+  double bounds = 0.0, wide = 0.0, binary = 0.0;
+  WideBvh wideBvh;
   Bvh bvh;
-  WideBvh wide;
-  double total() const { return bounds + binary + collapse; }
+  double total() const { return bounds + wide; }
 };
 
 TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
@@ -455,19 +457,19 @@ TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
   auto t0 = std::chrono::steady_clock::now();
   BvhInput input = bvh_input(scene);
   auto t1 = std::chrono::steady_clock::now();
-  b.bvh = build_bvh(input, accel);
+  b.wideBvh = build_wide_bvh(input, accel);
   auto t2 = std::chrono::steady_clock::now();
-  b.wide = collapse_to_wide(b.bvh);
+  b.bvh = build_bvh(input, accel);
   auto t3 = std::chrono::steady_clock::now();
   b.bounds = std::chrono::duration<double>(t1 - t0).count();
-  b.binary = std::chrono::duration<double>(t2 - t1).count();
-  b.collapse = std::chrono::duration<double>(t3 - t2).count();
+  b.wide = std::chrono::duration<double>(t2 - t1).count();
+  b.binary = std::chrono::duration<double>(t3 - t2).count();
   return b;
 }
 
 // Whether both trees' leaves hold every primitive exactly once.
 bool places_every_primitive_once(const TimedBuild& b, size_t primitives) {
-  for (const std::vector<uint32_t>* order : {&b.bvh.order, &b.wide.order}) {
+  for (const std::vector<uint32_t>* order : {&b.bvh.order, &b.wideBvh.order}) {
     if (order->size() != primitives) return false;
     std::vector<bool> seen(primitives, false);
     for (uint32_t id : *order) {
@@ -488,7 +490,8 @@ int run_build_bench(const BenchOptions& o) {
   std::vector<Scene> scenes;
   for (const std::string& path : o.scenes) scenes.push_back(load_scene(path));
   const int threads = tbb::this_task_arena::max_concurrency();
-  std::printf("BVH builds on %d threads: wavepath (bounds, binary tree, 8-wide collapse) against Embree's default build%s\n",
+  std::printf("BVH builds on %d threads: wavepath's (bounds, then the binary tree collapsed to 8-wide; the binary layout alone) "
+              "against Embree's default build%s\n",
               threads, embree_available() ? "" : " (not built in)");
   nlohmann::json results = nlohmann::json::array();
   for (size_t si = 0; si < scenes.size(); ++si) {
@@ -505,7 +508,7 @@ int run_build_bench(const BenchOptions& o) {
     }
     // A warm-up round, then the timed ones, wavepath and Embree interleaved so
     // that a change in the machine's speed affects both alike.
-    std::vector<double> total, bounds, binary, collapse, embreeSeconds;
+    std::vector<double> total, bounds, wide, binary, embreeSeconds;
     TimedBuild last;
     for (int r = 0; r <= o.repeats; ++r) {
       last = time_build(scene, accel);
@@ -513,8 +516,8 @@ int run_build_bench(const BenchOptions& o) {
       if (r == 0) continue;
       total.push_back(last.total());
       bounds.push_back(last.bounds);
+      wide.push_back(last.wide);
       binary.push_back(last.binary);
-      collapse.push_back(last.collapse);
       embreeSeconds.push_back(e);
     }
     if (!places_every_primitive_once(last, primitives))
@@ -522,28 +525,28 @@ int run_build_bench(const BenchOptions& o) {
     const double rate = double(primitives) / std::max(spread(total).median, 1e-12);
     std::printf("\n%s: %zu primitives, %s, leaves of at most %d; %zu binary and %zu wide nodes, SAH cost %.3f\n",
                 o.scenes[si].c_str(), primitives, split_name(accel.split), accel.maxLeafSize, last.bvh.nodes.size(),
-                last.wide.nodes.size(), last.bvh.sahCost);
+                last.wideBvh.nodes.size(), last.bvh.sahCost);
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
-    std::printf("  %-30s %10s %21s %10s\n", "build", "median s", "min - max s", "Mprims/s");
+    std::printf("  %-36s %10s %21s %10s\n", "build", "median s", "min - max s", "Mprims/s");
     auto row = [](const char* name, const Spread& s, double prims) {
-      std::printf("  %-30s %10.4f %10.4f - %8.4f %10s\n", name, s.median, s.min, s.max,
+      std::printf("  %-36s %10.4f %10.4f - %8.4f %10s\n", name, s.median, s.min, s.max,
                   prims > 0.0 ? format_number(prims / std::max(s.median, 1e-12) * 1e-6, 2).c_str() : "");
     };
-    row("wavepath, all of it", spread(total), double(primitives));
+    row("wavepath, 8-wide (the renderer's)", spread(total), double(primitives));
     row("  bounds", spread(bounds), 0.0);
-    row("  binary tree", spread(binary), double(primitives));
-    row("  8-wide collapse", spread(collapse), 0.0);
+    row("  binary tree collapsed to 8-wide", spread(wide), double(primitives));
+    row("wavepath, binary layout alone", spread(binary), double(primitives));
     nlohmann::json j = {{"scene", o.scenes[si]},
                         {"primitives", primitives},
                         {"split", split_name(accel.split)},
                         {"max_leaf_size", accel.maxLeafSize},
                         {"binary_nodes", last.bvh.nodes.size()},
-                        {"wide_nodes", last.wide.nodes.size()},
+                        {"wide_nodes", last.wideBvh.nodes.size()},
                         {"sah_cost", last.bvh.sahCost},
                         {"seconds", to_json(spread(total))},
                         {"bounds_seconds", to_json(spread(bounds))},
+                        {"wide_seconds", to_json(spread(wide))},
                         {"binary_seconds", to_json(spread(binary))},
-                        {"collapse_seconds", to_json(spread(collapse))},
                         {"mprims_per_second", rate * 1e-6}};
     if (embree) {
       const double embreeRate = double(scene.triangles.size()) / std::max(spread(embreeSeconds).median, 1e-12);
@@ -563,11 +566,11 @@ int run_build_bench(const BenchOptions& o) {
   }
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);
-    out << "scene,primitives,sah_cost,seconds,binary_seconds,collapse_seconds,mprims_per_second,embree_seconds,"
+    out << "scene,primitives,sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,embree_seconds,"
            "embree_mprims_per_second,ratio_to_embree\n";
     for (const nlohmann::json& r : results) {
       out << r["scene"].get<std::string>() << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["seconds"]["median"]
-          << "," << r["binary_seconds"]["median"] << "," << r["collapse_seconds"]["median"] << "," << r["mprims_per_second"];
+          << "," << r["wide_seconds"]["median"] << "," << r["binary_seconds"]["median"] << "," << r["mprims_per_second"];
       if (r.contains("embree_seconds"))
         out << "," << r["embree_seconds"]["median"] << "," << r["embree_mprims_per_second"] << "," << r["ratio_to_embree"];
       else

@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_group.h>
 
@@ -210,29 +211,39 @@ class Builder {
     });
   }
 
+  // An empty scene's tree: an interior root with an empty box, which every
+  // ray misses before any child is read.
+  static shader::BvhNode empty_root() {
+    shader::BvhNode root{};
+    root.bmin = Aabb().lo;
+    root.bmax = Aabb().hi;
+    return root;
+  }
+
   Bvh build() {
     Bvh bvh;
     if (n_ == 0) {
-      // An empty scene: an interior root with an empty box, which every ray
-      // misses before any child is read.
-      shader::BvhNode root{};
-      root.bmin = Aabb().lo;
-      root.bmax = Aabb().hi;
-      bvh.nodes.push_back(root);
+      bvh.nodes.push_back(empty_root());
       return bvh;
     }
     reserve_huge(bvh.order, n_);
     bvh.order.resize(n_);
-    order_ = bvh.order.data();
-    Task root{0, 0, uint32_t(n_), 0, 0, {}, {}};
-    bounds_of(root);
-    nodeCount_ = 1;
-    tbb::task_group tasks;
-    NodeBlock block;
-    build_node(root, tasks, block);
-    tasks.wait();
+    build_tree(bvh.order.data());
     compact_nodes(bvh);
     return bvh;
+  }
+
+  void build_slots(const std::function<void(const BvhSlots&)>& use) {
+    if (n_ == 0) {
+      const shader::BvhNode root = empty_root();
+      use(BvhSlots{&root, 1, nullptr, 0, 0, 0.0});
+      return;
+    }
+    WorkArray<uint32_t> order(n_);
+    build_tree(order.get());
+    const double rootArea = std::max(double(node_box(nodes_[0]).half_area()), 1e-30);
+    const Measure m = measure(0, 0, rootArea);
+    use(BvhSlots{nodes_.get(), nodeCount_.load(), order.get(), n_, m.depth, m.sahCost});
   }
 
  private:
@@ -257,6 +268,41 @@ class Builder {
   struct NodeBlock {
     uint32_t next = 0, end = 0;
   };
+  // Builds the tree into nodes_, writing the leaves' primitive ids to `order`.
+  void build_tree(uint32_t* order) {
+    order_ = order;
+    Task root{0, 0, uint32_t(n_), 0, 0, {}, {}};
+    bounds_of(root);
+    nodeCount_ = 1;
+    tbb::task_group tasks;
+    NodeBlock block;
+    build_node(root, tasks, block);
+    tasks.wait();
+  }
+
+  // SAH cost and depth of the subtree at slot i (at depth `depth`), straight
+  // from the slots; the top levels' subtrees in parallel, their sums joined in
+  // a fixed order so that the result does not depend on the threads.
+  struct Measure {
+    double sahCost;
+    int depth;
+  };
+  Measure measure(uint32_t i, int depth, double rootArea) const {
+    const shader::BvhNode& n = nodes_[i];
+    const double rel = double(node_box(n).half_area()) / rootArea;
+    if (n.count != 0) return {kIntersectCost * rel * double(n.count), depth};
+    Measure l, r;
+    auto left = [&] { l = measure(n.leftFirst, depth + 1, rootArea); };
+    auto right = [&] { r = measure(n.leftFirst + 1, depth + 1, rootArea); };
+    if (depth < 6) {
+      tbb::parallel_invoke(left, right);
+    } else {
+      left();
+      right();
+    }
+    return {kTraversalCost * rel + l.sahCost + r.sahCost, std::max(l.depth, r.depth)};
+  }
+
   // Two adjacent node slots, for a node's children.
   uint32_t allocate_pair(NodeBlock& block) {
     if (block.next == block.end) {
@@ -731,6 +777,11 @@ void rotate_bvh(Bvh& bvh, int maxPasses) {
   bvh.depth = height[0];
   bvh.sahCost = sah_cost(bvh.nodes);
   bvh.buildSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void build_bvh_slots(const BvhInput& input, const AcceleratorSettings& settings,
+                     const std::function<void(const BvhSlots&)>& use) {
+  Builder(input, settings).build_slots(use);
 }
 
 Bvh build_bvh(const BvhInput& input, const AcceleratorSettings& settings) {

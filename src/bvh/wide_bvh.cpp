@@ -24,7 +24,7 @@ bool is_leaf(const BvhNode& n) {
 // node: starting from root's two children, the interior one of largest
 // surface area is replaced by its two children until there are eight or none
 // is interior. A root that is itself a leaf becomes a wide node's only child.
-int collapse_children(const std::vector<BvhNode>& nodes, uint32_t root, uint32_t out[8]) {
+int collapse_children(const BvhNode* nodes, uint32_t root, uint32_t out[8]) {
   const BvhNode& r = nodes[root];
   if (is_leaf(r)) {
     out[0] = root;
@@ -161,10 +161,10 @@ namespace {
 // layout requires it); each one's descendants follow in a block of their own.
 class Collapser {
  public:
-  explicit Collapser(const Bvh& binary)
-      : binary_(binary),
-        wideCount_(binary.nodes.size()),
-        primCount_(binary.nodes.size()) {}
+  // A binary tree's nodes (slotCount slots; those no node points to are not
+  // read) and leaf order.
+  Collapser(const BvhNode* nodes, size_t slotCount, const uint32_t* order)
+      : nodes_(nodes), order_(order), wideCount_(slotCount), primCount_(slotCount) {}
 
   WideBvh run() {
     WideBvh out;
@@ -208,11 +208,11 @@ class Collapser {
   // node b; returns its height in wide nodes.
   int measure(uint32_t b, int depth) {
     uint32_t kids[8];
-    const int n = collapse_children(binary_.nodes, b, kids);
+    const int n = collapse_children(nodes_, b, kids);
     Interior interior;
     uint32_t wide = 1, prims = 0;
     for (int i = 0; i < n; ++i) {
-      const BvhNode& c = binary_.nodes[kids[i]];
+      const BvhNode& c = nodes_[kids[i]];
       if (!is_leaf(c)) {
         interior.add(i);
       } else if (c.count > WIDE_MAX_LEAF_SIZE) {
@@ -239,10 +239,10 @@ class Collapser {
   // [primBase, ...); then the children's subtrees, each in its own block.
   void emit(uint32_t wideIndex, uint32_t b, uint32_t childBase, uint32_t primBase, int depth) {
     uint32_t kids[8];
-    const int n = collapse_children(binary_.nodes, b, kids);
+    const int n = collapse_children(nodes_, b, kids);
     Aabb boxes[8], all;
     for (int i = 0; i < n; ++i) {
-      boxes[i] = node_box(binary_.nodes[kids[i]]);
+      boxes[i] = node_box(nodes_[kids[i]]);
       all.grow(boxes[i]);
     }
     int slotOf[8];
@@ -272,7 +272,7 @@ class Collapser {
         set_byte(plane_words(node, a, false)[s / 4], s % 4, qlo);
         set_byte(plane_words(node, a, true)[s / 4], s % 4, qhi);
       }
-      const BvhNode& child = binary_.nodes[kids[i]];
+      const BvhNode& child = nodes_[kids[i]];
       uint32_t meta;
       if (!is_leaf(child)) {
         imask |= 1u << s;
@@ -280,8 +280,7 @@ class Collapser {
         interior.add(i);
       } else {
         meta = (((1u << child.count) - 1u) << 5) | offset;
-        std::copy(binary_.order.begin() + child.leftFirst, binary_.order.begin() + child.leftFirst + child.count,
-                  out_->order.begin() + primBase + offset);
+        std::copy(order_ + child.leftFirst, order_ + child.leftFirst + child.count, out_->order.begin() + primBase + offset);
         offset += child.count;
       }
       set_byte(s < 4 ? node.meta0123 : node.meta4567, s % 4, meta);
@@ -304,21 +303,40 @@ class Collapser {
     for_children(depth, interior, [&](int i) { emit(indexOf[i], kids[i], nodeAt[i], primAt[i], depth + 1); });
   }
 
-  const Bvh& binary_;
+  const BvhNode* nodes_;
+  const uint32_t* order_;
   WorkArray<uint32_t> wideCount_, primCount_;  // per binary node that becomes a wide node
   WideBvh* out_ = nullptr;
 };
 
 }  // namespace
 
-WideBvh collapse_to_wide(const Bvh& binary) {
-  if (binary.order.empty()) {
-    WideBvh out;  // a root without children: every ray misses
-    out.nodes.resize(1);
+namespace {
+
+WideBvh collapse(const BvhNode* nodes, size_t slotCount, const uint32_t* order, size_t primitives, double sahCost) {
+  WideBvh out;
+  if (primitives == 0) {
+    out.nodes.resize(1);  // a root without children: every ray misses
     out.depth = 1;
-    return out;
+  } else {
+    out = Collapser(nodes, slotCount, order).run();
   }
-  return Collapser(binary).run();
+  out.sahCost = sahCost;
+  return out;
+}
+
+}  // namespace
+
+WideBvh collapse_to_wide(const Bvh& binary) {
+  return collapse(binary.nodes.data(), binary.nodes.size(), binary.order.data(), binary.order.size(), binary.sahCost);
+}
+
+WideBvh build_wide_bvh(const BvhInput& input, const AcceleratorSettings& settings) {
+  WideBvh out;
+  build_bvh_slots(input, settings, [&](const BvhSlots& tree) {
+    out = collapse(tree.nodes, tree.slotCount, tree.order, tree.primitiveCount, tree.sahCost);
+  });
+  return out;
 }
 
 }  // namespace wp

@@ -16,11 +16,17 @@ struct WideBvh {
   // Leaf order: primitive ids as given to build_bvh, in the order the wide
   // nodes' primBase and offsets index them.
   std::vector<uint32_t> order;
-  int depth = 0;  // wide nodes on the longest root-to-leaf path
+  int depth = 0;          // wide nodes on the longest root-to-leaf path
+  double sahCost = 0.0;  // of the binary tree it was collapsed from
 };
 
 // The binary tree's leaves must hold at most WIDE_MAX_LEAF_SIZE primitives.
 WideBvh collapse_to_wide(const Bvh& binary);
+
+// build_bvh and collapse_to_wide in one, collapsing the binary tree from the
+// builder's own arrays (BvhSlots) instead of a laid-out copy. The same wide
+// tree.
+WideBvh build_wide_bvh(const BvhInput& input, const AcceleratorSettings& settings);
 
 // The box a wide node's slot decodes to (origin + q * 2^(e-127) per plane),
 // for the tests; empty slots decode to whatever their bytes say.

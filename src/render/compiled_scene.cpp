@@ -218,24 +218,32 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   AcceleratorSettings accel = scene.accelerator;
   const bool wide = options.bvhLayout == BvhLayout::Wide;
   if (wide) accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);  // a wide node's slot holds at most that
-  Bvh bvh = build_bvh(input, accel);
-  if (options.bvhRotations) rotate_bvh(bvh);
-  if (bvh.depth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
   out.bvhLayout = options.bvhLayout;
-  out.bvhSahCost = bvh.sahCost;
   uint32_t stackSlots;
   std::vector<uint32_t> order;
+  const auto start = std::chrono::steady_clock::now();
   if (wide) {
-    auto start = std::chrono::steady_clock::now();
-    WideBvh w = collapse_to_wide(bvh);
-    out.bvhBuildSeconds = bvh.buildSeconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    WideBvh w;
+    if (options.bvhRotations) {
+      Bvh bvh = build_bvh(input, accel);
+      rotate_bvh(bvh);
+      w = collapse_to_wide(bvh);
+    } else {
+      w = build_wide_bvh(input, accel);  // collapsed from the builder's arrays, without laying out the binary tree
+    }
+    out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.bvhSahCost = w.sahCost;
     out.wideNodes = std::move(w.nodes);
     order = std::move(w.order);
     out.bvhDepth = w.depth;
     stackSlots = 2u * uint32_t(w.depth) + 2u;  // the wide walk keeps at most two entries per level
     out.nodes.push_back(shader::BvhNode{});
   } else {
-    out.bvhBuildSeconds = bvh.buildSeconds;
+    Bvh bvh = build_bvh(input, accel);
+    if (options.bvhRotations) rotate_bvh(bvh);
+    if (bvh.depth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
+    out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.bvhSahCost = bvh.sahCost;
     out.nodes = std::move(bvh.nodes);
     order = std::move(bvh.order);
     out.bvhDepth = bvh.depth;
