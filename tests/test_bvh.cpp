@@ -15,12 +15,16 @@ namespace {
 
 using namespace shader;
 
-void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount, BvhLayout layout, bool rotations = false) {
+// `stackSlots`, when not 0, overrides the traversal stack's size: more slots
+// than the wide walk keeps in registers make it use its indexed stack.
+void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount, BvhLayout layout, bool rotations = false,
+                                uint32_t stackSlots = 0) {
   Scene scene = bunny_with_spheres(accel);
   RenderOptions options;
   options.bvhLayout = layout;
   options.bvhRotations = rotations;
   CompiledScene cs = compile_scene(scene, options);
+  if (stackSlots != 0) cs.params.accel.z = stackSlots;
   SceneView view = cs.view();
   std::vector<ShadowRay> rays = random_rays(scene, rayCount, 1234);
   std::vector<float> truth = brute_force_closest(scene, rays);
@@ -47,6 +51,13 @@ void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount, 
 TEST(Bvh, SahClosestHitsEqualBruteForce) {
   expect_matches_brute_force(AcceleratorSettings{4, SplitMethod::Sah}, 20000, BvhLayout::Wide);
   expect_matches_brute_force(AcceleratorSettings{4, SplitMethod::Sah}, 20000, BvhLayout::Binary);
+}
+
+// A tree needing more stack slots than the registers hold is walked with the
+// indexed stack: real trees rarely get there, so force it with more slots.
+TEST(Bvh, WideWalkWithTheIndexedStackEqualsBruteForce) {
+  expect_matches_brute_force(AcceleratorSettings{4, SplitMethod::Sah}, 5000, BvhLayout::Wide, false, WIDE_REGISTER_STACK + 1u);
+  expect_matches_brute_force(AcceleratorSettings{1, SplitMethod::Sah}, 5000, BvhLayout::Wide, false, WIDE_REGISTER_STACK + 1u);
 }
 
 TEST(Bvh, OtherSplitMethodsAndLeafSizesEqualBruteForce) {
@@ -134,7 +145,7 @@ TEST(Bvh, WideTreeIsWellFormed) {
   Scene scene = bunny_with_spheres(AcceleratorSettings{4, SplitMethod::Sah});
   CompiledScene cs = compile_scene(scene, RenderOptions{});
   ASSERT_EQ(cs.bvhLayout, BvhLayout::Wide);
-  ASSERT_EQ(cs.params.accel.z, 2u * uint32_t(cs.bvhDepth) + 2u);
+  ASSERT_EQ(cs.params.accel.z, uint32_t(cs.bvhDepth) - 1u + WIDE_STACK_PRIM_GROUPS);
   expect_records_cover_the_scene(cs, scene);
   std::vector<int> seen(cs.triangles.size(), 0), parents(cs.wideNodes.size(), 0);
   // Bounds of everything below each node, filled bottom-up (children come
@@ -292,6 +303,59 @@ TEST(Bvh, DegenerateInputsBuild) {
     Hit h;
     ASSERT_EQ(ev.trace_ray(glm::vec3(0), glm::vec3(0, 0, -1), WP_INF, false, h), TRACE_OK);
     EXPECT_EQ(h.prim, WP_INVALID);
+  }
+}
+
+// Triangles nested towards a corner, each half the size of the one before:
+// every split peels off one of them, so the tree is as deep as there are
+// triangles (up to the builder's depth limit).
+Scene nested_triangles(int count) {
+  Scene scene;
+  scene.accelerator.maxLeafSize = 1;
+  add_lambertian(scene, glm::vec3(0.5f));
+  float size = 1.0f;
+  for (int i = 0; i < count; ++i, size *= 0.5f)
+    scene.triangles.push_back(SceneTriangle{{{0, 0, size}, {size, 0, size}, {0, size, size}}, 0});
+  return scene;
+}
+
+// The walks never hold more groups on their stacks than the slots the host
+// sized the kernels' stacks to (accel.z: the binary walk one per level, the
+// wide walk one node group per level below the root and at most
+// WIDE_STACK_PRIM_GROUPS primitive groups). Past them the wide walk's register
+// stack would drop its bottom entry, and an indexed stack overflow. Trees of
+// every shape, closest and any hit.
+TEST(Bvh, TraversalStaysWithinItsStackSlots) {
+  std::vector<Scene> scenes;
+  for (AcceleratorSettings accel : {AcceleratorSettings{1, SplitMethod::Sah}, AcceleratorSettings{4, SplitMethod::Sah},
+                                    AcceleratorSettings{8, SplitMethod::Middle}, AcceleratorSettings{2, SplitMethod::Equal}})
+    scenes.push_back(bunny_with_spheres(accel));
+  scenes.push_back(nested_triangles(60));
+  for (const Scene& scene : scenes) {
+    for (BvhLayout layout : {BvhLayout::Wide, BvhLayout::Binary}) {
+      RenderOptions options;
+      options.bvhLayout = layout;
+      CompiledScene cs = compile_scene(scene, options);
+      uint32_t deepest = 0;
+      SceneView view = cs.view();
+      view.stackDepthSeen = &deepest;
+      std::vector<ShadowRay> rays = random_rays(scene, 3000, 99);
+      // and rays straight into the nested corner, where the tree is deepest
+      for (int i = 0; i < 64; ++i) {
+        ShadowRay r{};
+        r.origin = glm::vec3(1e-3f * float(i % 8), 1e-3f * float(i / 8), 2.0f);
+        r.dir = glm::vec3(0.0f, 0.0f, -1.0f);
+        r.tmax = WP_INF;
+        rays.push_back(r);
+      }
+      for (const ShadowRay& r : rays) {
+        Hit h;
+        ASSERT_EQ(view.trace_ray(r.origin, r.dir, r.tmax, false, h), TRACE_OK);
+        view.trace_ray(r.origin, r.dir, r.tmax, true, h);
+      }
+      EXPECT_GT(deepest, 0u);
+      EXPECT_LE(deepest, cs.params.accel.z) << "tree depth " << cs.bvhDepth << (layout == BvhLayout::Wide ? ", wide" : ", binary");
+    }
   }
 }
 

@@ -17,14 +17,16 @@ layout(constant_id = 2) const uint kLightSamples = 1u;
 // The BVH layout (scene.accel.x), the features the scene uses (accel.y) and
 // the traversal stack size (accel.z), constants 3 to 5: each kernel holds only
 // the traversal it runs, only the code of the materials, textures and lights
-// the scene has, and a stack no larger than the tree needs (lavapipe keeps it
-// in memory per lane).
+// the scene has, and a stack no larger than the tree needs (the wide walk moves
+// every entry of it on a push or a pop: scene.glsl).
 layout(constant_id = 3) const uint kBvhLayout = BVH_LAYOUT_WIDE;
 layout(constant_id = 4) const uint kSceneFeatures = FEATURE_ALL;
 layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
 #define BVH_LAYOUT_OF_SCENE kBvhLayout
 #define SCENE_HAS(feature) ((kSceneFeatures & (feature)) != 0u)
 #define TRAVERSAL_STACK_SIZE kStackSize
+#define TRAVERSAL_STACK_SLOTS kStackSize
+#define WP_NOTE_STACK_DEPTH(sp)  // C++ only: the tests check the stack's size
 // Path compaction (constant 6): shade appends only the paths still alive to
 // the next bounce's queue, so each bounce dispatches only live paths. Without
 // it (variant gpu-nocompact, to measure what compaction is worth) every path

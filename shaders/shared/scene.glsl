@@ -266,6 +266,7 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     if (d1 != WP_INF) {
       stack[sp] = far;
       sp += 1u;
+      WP_NOTE_STACK_DEPTH(sp);
     }
   }
   return TRACE_OK;
@@ -317,11 +318,58 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
   return meta ^ (interiorBytes & (xorSlot * 0x01010101u));
 }
 
+// The wide walk's stack. lavapipe keeps an indexed private array in memory
+// and reaches it lane by lane: each push was a loop of masked scalar stores
+// and each pop a loop of loads, together about a third of the walk's time. So
+// the stack is an array indexed by constants only, which the compiler holds
+// in registers: entry 0 is the top, and a push or a pop moves every entry one
+// place through selects. That costs in proportion to the entries kept, so the
+// walk bounds them: one node group per level below the root, and at most
+// WIDE_STACK_PRIM_GROUPS primitive groups (types.glsl; a node that would set
+// aside one more waits until the current primitive group is done). The host
+// sizes the stack by the tree (TRAVERSAL_STACK_SLOTS, a specialization
+// constant: the compiler drops the code of unused entries); a tree needing more
+// than WIDE_REGISTER_STACK entries keeps the stack in an indexed array.
+#define WIDE_REGISTER_STACK 32u
+#define WP_MOVE(r, c, to, from) \
+  if ((to) < TRAVERSAL_STACK_SLOTS) {           \
+    r[to] = (c) ? r[from] : r[to];              \
+  }
+#define WP_CLEAR_REGISTER_STACK(r) \
+  r[0u] = uvec2(0u, 0u); r[1u] = uvec2(0u, 0u); r[2u] = uvec2(0u, 0u); r[3u] = uvec2(0u, 0u); \
+  r[4u] = uvec2(0u, 0u); r[5u] = uvec2(0u, 0u); r[6u] = uvec2(0u, 0u); r[7u] = uvec2(0u, 0u); \
+  r[8u] = uvec2(0u, 0u); r[9u] = uvec2(0u, 0u); r[10u] = uvec2(0u, 0u); r[11u] = uvec2(0u, 0u); \
+  r[12u] = uvec2(0u, 0u); r[13u] = uvec2(0u, 0u); r[14u] = uvec2(0u, 0u); r[15u] = uvec2(0u, 0u); \
+  r[16u] = uvec2(0u, 0u); r[17u] = uvec2(0u, 0u); r[18u] = uvec2(0u, 0u); r[19u] = uvec2(0u, 0u); \
+  r[20u] = uvec2(0u, 0u); r[21u] = uvec2(0u, 0u); r[22u] = uvec2(0u, 0u); r[23u] = uvec2(0u, 0u); \
+  r[24u] = uvec2(0u, 0u); r[25u] = uvec2(0u, 0u); r[26u] = uvec2(0u, 0u); r[27u] = uvec2(0u, 0u); \
+  r[28u] = uvec2(0u, 0u); r[29u] = uvec2(0u, 0u); r[30u] = uvec2(0u, 0u); r[31u] = uvec2(0u, 0u);
+// Every entry one place down where c (a push makes room for the new top).
+#define WP_REGISTER_STACK_DOWN(r, c) \
+  WP_MOVE(r, c, 31u, 30u); WP_MOVE(r, c, 30u, 29u); WP_MOVE(r, c, 29u, 28u); WP_MOVE(r, c, 28u, 27u); \
+  WP_MOVE(r, c, 27u, 26u); WP_MOVE(r, c, 26u, 25u); WP_MOVE(r, c, 25u, 24u); WP_MOVE(r, c, 24u, 23u); \
+  WP_MOVE(r, c, 23u, 22u); WP_MOVE(r, c, 22u, 21u); WP_MOVE(r, c, 21u, 20u); WP_MOVE(r, c, 20u, 19u); \
+  WP_MOVE(r, c, 19u, 18u); WP_MOVE(r, c, 18u, 17u); WP_MOVE(r, c, 17u, 16u); WP_MOVE(r, c, 16u, 15u); \
+  WP_MOVE(r, c, 15u, 14u); WP_MOVE(r, c, 14u, 13u); WP_MOVE(r, c, 13u, 12u); WP_MOVE(r, c, 12u, 11u); \
+  WP_MOVE(r, c, 11u, 10u); WP_MOVE(r, c, 10u, 9u); WP_MOVE(r, c, 9u, 8u); WP_MOVE(r, c, 8u, 7u); \
+  WP_MOVE(r, c, 7u, 6u); WP_MOVE(r, c, 6u, 5u); WP_MOVE(r, c, 5u, 4u); WP_MOVE(r, c, 4u, 3u); \
+  WP_MOVE(r, c, 3u, 2u); WP_MOVE(r, c, 2u, 1u); WP_MOVE(r, c, 1u, 0u);
+// Every entry one place up where c (a pop drops the top).
+#define WP_REGISTER_STACK_UP(r, c) \
+  WP_MOVE(r, c, 0u, 1u); WP_MOVE(r, c, 1u, 2u); WP_MOVE(r, c, 2u, 3u); WP_MOVE(r, c, 3u, 4u); \
+  WP_MOVE(r, c, 4u, 5u); WP_MOVE(r, c, 5u, 6u); WP_MOVE(r, c, 6u, 7u); WP_MOVE(r, c, 7u, 8u); \
+  WP_MOVE(r, c, 8u, 9u); WP_MOVE(r, c, 9u, 10u); WP_MOVE(r, c, 10u, 11u); WP_MOVE(r, c, 11u, 12u); \
+  WP_MOVE(r, c, 12u, 13u); WP_MOVE(r, c, 13u, 14u); WP_MOVE(r, c, 14u, 15u); WP_MOVE(r, c, 15u, 16u); \
+  WP_MOVE(r, c, 16u, 17u); WP_MOVE(r, c, 17u, 18u); WP_MOVE(r, c, 18u, 19u); WP_MOVE(r, c, 19u, 20u); \
+  WP_MOVE(r, c, 20u, 21u); WP_MOVE(r, c, 21u, 22u); WP_MOVE(r, c, 22u, 23u); WP_MOVE(r, c, 23u, 24u); \
+  WP_MOVE(r, c, 24u, 25u); WP_MOVE(r, c, 25u, 26u); WP_MOVE(r, c, 26u, 27u); WP_MOVE(r, c, 27u, 28u); \
+  WP_MOVE(r, c, 28u, 29u); WP_MOVE(r, c, 29u, 30u); WP_MOVE(r, c, 30u, 31u);
+
 // The 8-wide compressed BVH (WideNode), after Ylitie et al. 2017. The walk
 // keeps a node group (the hit interior children of a node still to visit) and
 // a primitive group (the hit primitives still to test); each iteration tests
 // one primitive and visits one node, since lavapipe runs both paths of a loop
-// body anyway. Groups set aside go on the stack.
+// body anyway. Groups set aside go on the stack (see above).
 uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   hit.t = tmax;
   hit.prim = WP_INVALID;
@@ -339,8 +387,12 @@ uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   // s in slot s, and the walk takes the highest bit first, so bit 24 + (s ^
   // xorSlot) puts the child facing the ray's origin first.
   uint xorSlot = (negX ? 0u : 1u) | (negY ? 0u : 2u) | (negZ ? 0u : 4u);
-  uvec2 stack[TRAVERSAL_STACK_SIZE];
+  bool inRegisters = TRAVERSAL_STACK_SLOTS <= WIDE_REGISTER_STACK;
+  uvec2 regs[WIDE_REGISTER_STACK];    // the stack, top first, when inRegisters
+  uvec2 stack[TRAVERSAL_STACK_SIZE];  // the stack, bottom first, otherwise
+  WP_CLEAR_REGISTER_STACK(regs);
   uint sp = 0u;
+  uint primGroupsSetAside = 0u;     // primitive groups on the stack
   uint visit = 0u;                  // the node to visit in this iteration (the root first), or WP_INVALID
   uvec2 nodeGroup = uvec2(0u, 0u);  // x: first interior child; y: its remaining hit bits (24-31) | imask (0-7)
   uvec2 primGroup = uvec2(0u, 0u);  // x: first primitive; y: remaining hit bits (0-23)
@@ -355,7 +407,9 @@ uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       intersect_prim(primGroup.x + bit, o, d, sh, hit);
       if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
     }
-    if (visit != WP_INVALID) {
+    // A node waits while it might bring a primitive group that there is no
+    // room to set aside.
+    if (visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
       WideNode n = load_wide_node(visit);
       vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
                        uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
@@ -384,39 +438,57 @@ uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
                   wide_child_bits(5u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
                   wide_child_bits(6u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
                   wide_child_bits(7u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
-      if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
-        stack[sp] = nodeGroup;
-        sp += 1u;
-      }
-      nodeGroup = uvec2(n.childBase, (bits & WIDE_NODE_BITS) | imask);
+      // Set aside what is left of the current node group, and the current
+      // primitive group when this node brings a new one.
+      bool pushNodes = (nodeGroup.y & WIDE_NODE_BITS) != 0u;
       uint prims = bits & ~WIDE_NODE_BITS;
-      if (prims != 0u) {
-        if (primGroup.y != 0u) {
-          stack[sp] = primGroup;
-          sp += 1u;
-        }
-        primGroup = uvec2(n.primBase, prims);
+      bool pushPrims = prims != 0u && primGroup.y != 0u;
+      uint pushes = (pushNodes ? 1u : 0u) + (pushPrims ? 1u : 0u);
+      if (inRegisters) {
+        WP_REGISTER_STACK_DOWN(regs, pushNodes);
+        regs[0u] = pushNodes ? nodeGroup : regs[0u];
+        WP_REGISTER_STACK_DOWN(regs, pushPrims);
+        regs[0u] = pushPrims ? primGroup : regs[0u];
+      } else {
+        if (pushNodes) stack[sp] = nodeGroup;
+        if (pushPrims) stack[sp + (pushNodes ? 1u : 0u)] = primGroup;
       }
+      sp += pushes;
+      WP_NOTE_STACK_DEPTH(sp);
+      primGroupsSetAside += pushPrims ? 1u : 0u;
+      nodeGroup = uvec2(n.childBase, (bits & WIDE_NODE_BITS) | imask);
+      if (prims != 0u) primGroup = uvec2(n.primBase, prims);
       visit = WP_INVALID;
     }
     // With no node group left, take the top of the stack: a node group at
     // once, a primitive group once the current one is done.
     if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
-      uvec2 top = stack[sp - 1u];
+      uvec2 top = inRegisters ? regs[0u] : stack[sp - 1u];
       bool isNodes = (top.y & WIDE_NODE_BITS) != 0u;
-      if (isNodes || primGroup.y == 0u) {
+      bool pop = isNodes || primGroup.y == 0u;
+      if (inRegisters) {
+        WP_REGISTER_STACK_UP(regs, pop);
+      }
+      if (pop) {
         sp -= 1u;
-        if (isNodes) nodeGroup = top;
-        else primGroup = top;
+        if (isNodes) {
+          nodeGroup = top;
+        } else {
+          primGroup = top;
+          primGroupsSetAside -= 1u;
+        }
       }
     }
-    if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
-      uint bit = uint(findMSB(nodeGroup.y));
-      nodeGroup.y &= ~(1u << bit);
-      uint slot = (bit - 24u) ^ xorSlot;
-      visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
-    } else if (primGroup.y == 0u) {
-      break;  // nothing to visit or test, and the stack is empty
+    // The next node to visit, unless one is still waiting.
+    if (visit == WP_INVALID) {
+      if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
+        uint bit = uint(findMSB(nodeGroup.y));
+        nodeGroup.y &= ~(1u << bit);
+        uint slot = (bit - 24u) ^ xorSlot;
+        visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
+      } else if (primGroup.y == 0u) {
+        break;  // nothing to visit or test, and the stack is empty
+      }
     }
   }
   return TRACE_OK;

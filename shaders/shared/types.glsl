@@ -12,10 +12,14 @@
 // more slots than that.
 #define BVH_MAX_DEPTH 80
 #define BVH_MAX_LEAF_SIZE 255
+// Primitive groups the wide walk sets aside on its stack at most, beside one
+// node group per level below the root (scene.glsl, trace_wide).
+#define WIDE_STACK_PRIM_GROUPS 2u
 // Slots of the traversal stack in C++: enough for any tree the builders make
-// (the wide walk keeps at most two entries per level). The kernels size theirs
-// by specialization constant 5 to what the scene's tree needs.
-#define BVH_STACK_MAX (2 * BVH_MAX_DEPTH + 2)
+// (the binary walk keeps one entry per level, the wide walk the above). The
+// kernels size theirs by specialization constant 5 to what the scene's tree
+// needs.
+#define BVH_STACK_MAX (BVH_MAX_DEPTH + WIDE_STACK_PRIM_GROUPS)
 
 // SceneParams.accel.x: which node layout the kernels traverse.
 #define BVH_LAYOUT_BINARY 0u  // BvhNode: two children per node, float boxes

@@ -236,7 +236,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     out.wideNodes = std::move(w.nodes);
     order = std::move(w.order);
     out.bvhDepth = w.depth;
-    stackSlots = 2u * uint32_t(w.depth) + 2u;  // the wide walk keeps at most two entries per level
+    stackSlots = uint32_t(std::max(w.depth, 1)) - 1u + WIDE_STACK_PRIM_GROUPS;  // a node group per level below the root, and the primitive groups
     out.nodes.push_back(shader::BvhNode{});
   } else {
     Bvh bvh = build_bvh(input, accel);

@@ -63,7 +63,15 @@ struct SceneView : ShaderMath {
 #define LIGHT_SAMPLES_OF_SCENE scene.mode.w
 #define LIGHT_SAMPLE_SLOTS MAX_LIGHT_SAMPLES
 #define BVH_LAYOUT_OF_SCENE scene.accel.x
-#define TRAVERSAL_STACK_SIZE BVH_STACK_MAX
+#define TRAVERSAL_STACK_SIZE BVH_STACK_MAX  // GLSL: sized for the scene's tree
+#define TRAVERSAL_STACK_SLOTS scene.accel.z
+  // Where set, the walks record the deepest stack they reach: the tests check
+  // it against the slots the host sized the kernels' stacks to.
+  uint32_t* stackDepthSeen = nullptr;
+  void note_stack_depth(uint32_t sp) const {
+    if (stackDepthSeen && sp > *stackDepthSeen) *stackDepthSeen = sp;
+  }
+#define WP_NOTE_STACK_DEPTH(sp) note_stack_depth(sp)
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
 };
