@@ -9,6 +9,22 @@
 
 namespace wp::test {
 
+namespace {
+// Removes a test's scratch folder when it passes; a failed test keeps its
+// files to look at. Registered before main runs the tests.
+class ScratchCleanup : public testing::EmptyTestEventListener {
+  void OnTestEnd(const testing::TestInfo& t) override {
+    if (t.result()->Failed()) return;
+    std::error_code ignored;  // a folder the test never made is no error
+    std::filesystem::remove_all(scratch_dir(t), ignored);
+  }
+};
+const bool kScratchCleanupRegistered = [] {
+  testing::UnitTest::GetInstance()->listeners().Append(new ScratchCleanup);
+  return true;
+}();
+}  // namespace
+
 Scene bunny_with_spheres(const AcceleratorSettings& accel) {
   Scene scene;
   scene.accelerator = accel;

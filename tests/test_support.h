@@ -29,13 +29,18 @@ inline std::string source_path(const std::string& rel) {
   return std::string(WAVEPATH_SOURCE_DIR) + "/" + rel;
 }
 
-// A path for a file the current test writes. ctest runs each test as its own
+// The folder for the files test `t` writes. ctest runs each test as its own
 // process, two at a time, so every test gets its own folder (test name and
-// process id): a shared name in TempDir() raced between tests.
+// process id): a shared name in TempDir() raced between tests. The folder is
+// removed when the test passes and kept when it fails (test_support.cpp).
+inline std::filesystem::path scratch_dir(const testing::TestInfo& t) {
+  return std::filesystem::path(testing::TempDir()) /
+         ("wavepath-" + std::to_string(::getpid()) + "-" + t.test_suite_name() + "." + t.name());
+}
+
+// A path for a file the current test writes, in its scratch folder.
 inline std::string scratch_path(const std::string& name) {
-  const testing::TestInfo* t = testing::UnitTest::GetInstance()->current_test_info();
-  std::filesystem::path dir = std::filesystem::path(testing::TempDir()) /
-                              ("wavepath-" + std::to_string(::getpid()) + "-" + t->test_suite_name() + "." + t->name());
+  std::filesystem::path dir = scratch_dir(*testing::UnitTest::GetInstance()->current_test_info());
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }
