@@ -325,7 +325,7 @@ int run_devices(bool validation) {
   if (devices.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers");
   for (const GpuDeviceInfo& d : devices) {
     std::printf("%u: %s\n   type %s, driver %s, Vulkan %s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
-                d.apiVersion.c_str(), d.suitable ? "" : " (unsuitable: needs Vulkan 1.1 and a compute queue)");
+                d.apiVersion.c_str(), d.suitable ? "" : " (unsuitable: needs Vulkan 1.1, a compute queue and subgroup ballots in compute shaders)");
     std::printf("   max texel buffer %llu M texels (scene data), max storage buffer %llu MiB (work buffers), max workgroups %u,\n"
                 "   max invocations %u, subgroup %u, device-local memory %llu MiB\n",
                 (unsigned long long)(d.maxTexelBufferElements >> 20), (unsigned long long)(d.maxStorageBufferRange >> 20),

@@ -70,7 +70,12 @@ GpuDeviceInfo describe(const vk::raii::PhysicalDevice& pd, uint32_t index) {
   auto mem = pd.getMemoryProperties();
   for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
     if (mem.memoryHeaps[h].flags & vk::MemoryHeapFlagBits::eDeviceLocal) info.deviceLocalMemory += mem.memoryHeaps[h].size;
-  info.suitable = p.apiVersion >= VK_API_VERSION_1_1 && compute_queue_family(pd).has_value();
+  // shade.comp reserves its output slots with one atomic per subgroup (ballot).
+  const auto& sg = chain.get<vk::PhysicalDeviceSubgroupProperties>();
+  bool ballot = (sg.supportedStages & vk::ShaderStageFlagBits::eCompute) &&
+                (sg.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic) &&
+                (sg.supportedOperations & vk::SubgroupFeatureFlagBits::eBallot);
+  info.suitable = p.apiVersion >= VK_API_VERSION_1_1 && compute_queue_family(pd).has_value() && ballot;
   return info;
 }
 
@@ -140,7 +145,7 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
       if (chosen < 0 || type_rank(devices[i].getProperties().deviceType) < type_rank(devices[size_t(chosen)].getProperties().deviceType))
         chosen = int(i);
     }
-    if (chosen < 0) throw RenderError("no suitable Vulkan device (Vulkan 1.1 with a compute queue) found");
+    if (chosen < 0) throw RenderError("no suitable Vulkan device (Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders) found");
   } else {
     char* end = nullptr;
     long idx = std::strtol(selector.c_str(), &end, 10);
@@ -158,7 +163,7 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
       }
       if (chosen < 0) throw InputError("--device " + selector + ": no device name contains that text (see wavepath devices)");
     }
-    if (!infos[size_t(chosen)].suitable) throw RenderError("device " + infos[size_t(chosen)].name + " lacks Vulkan 1.1 or a compute queue");
+    if (!infos[size_t(chosen)].suitable) throw RenderError("device " + infos[size_t(chosen)].name + " lacks Vulkan 1.1, a compute queue or subgroup ballots in compute shaders");
   }
   physical_ = std::make_unique<vk::raii::PhysicalDevice>(std::move(devices[size_t(chosen)]));
   info_ = infos[size_t(chosen)];

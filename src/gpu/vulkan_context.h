@@ -27,7 +27,7 @@ struct GpuDeviceInfo {
   uint32_t maxComputeWorkGroupInvocations = 0;
   uint32_t subgroupSize = 0;
   uint64_t deviceLocalMemory = 0;
-  bool suitable = false;  // Vulkan 1.1 with a compute queue
+  bool suitable = false;  // Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders
   bool floatAtomicAdd = false;  // set for the chosen device: VK_EXT_shader_atomic_float enabled
 };
 
