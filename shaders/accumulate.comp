@@ -6,5 +6,5 @@
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.pathCount) return;
-  accumulate_path(paths[i]);
+  accumulate_path(read_path(i));
 }

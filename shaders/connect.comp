@@ -8,7 +8,7 @@
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= counters[COUNTER_SHADOW]) return;
-  ShadowRay sr = shadowRays[i];
+  ShadowRay sr = read_shadow_ray(i);
   Hit h;
   if (trace_ray(sr.origin, sr.dir, sr.tmax, true, h) != TRACE_OK) {
     atomicAdd(counters[COUNTER_TRUNCATED], 1u);

@@ -12,8 +12,9 @@ void main() {
   Hit h;
   h.prim = WP_INVALID;
   // Without compaction, shade skips dead paths too.
-  if (kCompaction || (paths[path].flags & PATH_DEAD) == 0u) {
-    if (trace_ray(paths[path].origin, paths[path].dir, WP_INF, false, h) != TRACE_OK) {
+  PathState p = read_path(path);
+  if (kCompaction || (p.flags & PATH_DEAD) == 0u) {
+    if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
       atomicAdd(counters[COUNTER_TRUNCATED], 1u);
       h.prim = WP_INVALID;
     }

@@ -8,7 +8,7 @@
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.pathCount) return;
-  ShadowRay r = shadowRays[pc.waveStart + i];
+  ShadowRay r = read_shadow_ray(pc.waveStart + i);
   Hit h;
   if (trace_ray(r.origin, r.dir, r.tmax, false, h) != TRACE_OK) {
     atomicAdd(counters[COUNTER_TRUNCATED], 1u);

@@ -26,10 +26,10 @@ void main() {
     queues[queueOut * pc.capacity + i] = path;
     if (i == 0u) counters[COUNTER_QUEUE0 + queueOut] = count;
   }
-  PathState p = paths[path];
+  PathState p = read_path(path);
   if (!kCompaction && (p.flags & PATH_DEAD) != 0u) return;
   ShadowRays srs;
-  bool alive = path_shade(p, hits[path], srs);
+  bool alive = path_shade(p, read_hit(path), srs);
   if (!kCompaction && !alive) p.flags |= PATH_DEAD;
   // Reserve the queue and shadow-ray slots before storing anything: on a CPU
   // an atomic waits for every store before it to land, which stalled it

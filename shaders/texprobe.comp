@@ -9,7 +9,7 @@
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.pathCount) return;
-  ShadowRay q = shadowRays[pc.waveStart + i];
+  ShadowRay q = read_shadow_ray(pc.waveStart + i);
   vec3 c = texture_eval(q.path, vec2(q.dir.x, q.dir.y), q.origin);
   Hit h;
   h.t = c.x;

@@ -25,7 +25,11 @@
 #define BINDING_PIXEL_LIST 18
 #define BINDING_WIDE_NODES 19
 #define BINDING_SORT 20
-#define BINDING_COUNT 21
+// Texel-buffer views of three work buffers, for reading them (kernel.glsl).
+#define BINDING_PATH_TEXELS 21
+#define BINDING_HIT_TEXELS 22
+#define BINDING_SHADOW_RAY_TEXELS 23
+#define BINDING_COUNT 24
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -77,7 +81,15 @@ layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;
 // (height + 1 values), then one CDF over the columns of each row (width + 1
 // values each).
 layout(set = 0, binding = BINDING_ENVIRONMENT_CDF) uniform samplerBuffer environmentCdf;
-// Work buffers, written by the kernels.
+// Work buffers, written by the kernels. Paths, hits and shadow rays are also
+// read through texel-buffer views of the same memory (read_path, read_hit,
+// read_shadow_ray in kernel.glsl): on lavapipe a storage-buffer read at a
+// per-lane address is a loop over the lanes, a texel fetch a few vector
+// loads. An invocation reads a record through the view only before any
+// dispatch writes it again, or before it writes it itself.
+layout(set = 0, binding = BINDING_PATH_TEXELS) uniform usamplerBuffer pathTexels;
+layout(set = 0, binding = BINDING_HIT_TEXELS) uniform usamplerBuffer hitTexels;
+layout(set = 0, binding = BINDING_SHADOW_RAY_TEXELS) uniform usamplerBuffer shadowRayTexels;
 layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
 layout(std430, set = 0, binding = BINDING_HITS) buffer HitBuffer { Hit hits[]; };
 layout(std430, set = 0, binding = BINDING_QUEUES) buffer QueueBuffer { uint queues[]; };

@@ -50,6 +50,51 @@ layout(constant_id = 7) const bool kSortByMaterial = false;
 layout(local_size_x_id = 0) in;
 layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
 
+// Work-buffer records read through their texel views (bindings.glsl), field
+// by field as types.glsl lays them out; fields left unused cost nothing.
+PathState read_path(uint i) {
+  int at = int(i) * 4;
+  uvec4 a = texelFetch(pathTexels, at);
+  uvec4 b = texelFetch(pathTexels, at + 1);
+  uvec4 c = texelFetch(pathTexels, at + 2);
+  uvec4 d = texelFetch(pathTexels, at + 3);
+  PathState p;
+  p.origin = texel_xyz(a);
+  p.pixel = a.w;
+  p.dir = texel_xyz(b);
+  p.rng = b.w;
+  p.throughput = texel_xyz(c);
+  p.flags = c.w;
+  p.radiance = texel_xyz(d);
+  p.bsdfPdf = uintBitsToFloat(d.w);
+  return p;
+}
+
+Hit read_hit(uint i) {
+  uvec4 a = texelFetch(hitTexels, int(i));
+  Hit h;
+  h.t = uintBitsToFloat(a.x);
+  h.prim = a.y;
+  h.u = uintBitsToFloat(a.z);
+  h.v = uintBitsToFloat(a.w);
+  return h;
+}
+
+ShadowRay read_shadow_ray(uint i) {
+  int at = int(i) * 3;
+  uvec4 a = texelFetch(shadowRayTexels, at);
+  uvec4 b = texelFetch(shadowRayTexels, at + 1);
+  uvec4 c = texelFetch(shadowRayTexels, at + 2);
+  ShadowRay r;
+  r.origin = texel_xyz(a);
+  r.tmax = uintBitsToFloat(a.w);
+  r.dir = texel_xyz(b);
+  r.path = b.w;
+  r.contribution = texel_xyz(c);
+  r.pad = c.w;
+  return r;
+}
+
 // Adds a finished path's radiance (and its square) to its pixel's sums; a
 // non-finite sample is counted and dropped, never allowed to poison a pixel.
 // A wave holds each pixel at most once, so no atomics are needed.

@@ -136,8 +136,10 @@ struct WavefrontRenderer::Impl {
     // Each path may cast one shadow ray per light sample: their buffer and
     // their dispatch bound the paths per wave too.
     lightSamples = std::max(1u, scene.params.mode.w);
-    capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, maxRange / sizeof(shader::PathState),
-                                   maxRange / (sizeof(shader::ShadowRay) * lightSamples),
+    // Paths and shadow rays are also read through texel views (bindings.glsl).
+    const uint64_t maxViewBytes = uint64_t(ctx.info().maxTexelBufferElements) * 16u;
+    capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
+                                   std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
                                    uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples});
     create_buffers(pixels, maxRange);
     create_pipelines();
@@ -191,6 +193,9 @@ struct WavefrontRenderer::Impl {
       case BINDING_POINT_LIGHTS:
       case BINDING_TEXELS:
       case BINDING_ENVIRONMENT_CDF:
+      case BINDING_PATH_TEXELS:
+      case BINDING_HIT_TEXELS:
+      case BINDING_SHADOW_RAY_TEXELS:
         return true;
       default:
         return false;
@@ -224,6 +229,13 @@ struct WavefrontRenderer::Impl {
     buffers[binding] = std::make_unique<Buffer>(ctx, bytes, U::eStorageBuffer | U::eTransferDst | U::eTransferSrc | extra, false);
   }
 
+  // A work buffer the kernels also read as RGBA32UI texels, through `view`.
+  void add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes) {
+    add_work(binding, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer);
+    views[view] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
+                                                                               vk::Format::eR32G32B32A32Uint, 0, VK_WHOLE_SIZE));
+  }
+
   void create_buffers(uint32_t pixels, uint64_t maxRange) {
     buffers.resize(BINDING_COUNT);
     for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
@@ -244,14 +256,14 @@ struct WavefrontRenderer::Impl {
     add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
     add_texels(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, "environment map distribution", vk::Format::eR32Sfloat);
     add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
-    add_work(BINDING_PATHS, uint64_t(capacity) * sizeof(shader::PathState));
-    add_work(BINDING_HITS, uint64_t(capacity) * sizeof(shader::Hit));
+    add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
+    add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * sizeof(shader::Hit));
     // Queues 0 and 1, and with sorting by material the sorted queue and the
     // key of every queue position.
     const bool sorting = settings.sortByMaterial;
     add_work(BINDING_QUEUES, uint64_t(capacity) * (sorting ? QUEUE_SORTED + 1 : 2) * sizeof(uint32_t));
     add_work(BINDING_SORT, (SORT_KEYS + (sorting ? uint64_t(capacity) : 0)) * sizeof(uint32_t));
-    add_work(BINDING_SHADOW_RAYS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
+    add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, 6 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
     uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
