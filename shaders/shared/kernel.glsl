@@ -53,7 +53,7 @@ layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
 // Work-buffer records read through their texel views (bindings.glsl), field
 // by field as types.glsl lays them out; fields left unused cost nothing.
 PathState read_path(uint i) {
-  int at = int(i) * 4;
+  int at = int(i) * PATH_STATE_TEXELS;
   uvec4 a = texelFetch(pathTexels, at);
   uvec4 b = texelFetch(pathTexels, at + 1);
   uvec4 c = texelFetch(pathTexels, at + 2);
@@ -71,7 +71,7 @@ PathState read_path(uint i) {
 }
 
 Hit read_hit(uint i) {
-  uvec4 a = texelFetch(hitTexels, int(i));
+  uvec4 a = texelFetch(hitTexels, int(i) * HIT_TEXELS);
   Hit h;
   h.t = uintBitsToFloat(a.x);
   h.prim = a.y;
@@ -81,7 +81,7 @@ Hit read_hit(uint i) {
 }
 
 ShadowRay read_shadow_ray(uint i) {
-  int at = int(i) * 3;
+  int at = int(i) * SHADOW_RAY_TEXELS;
   uvec4 a = texelFetch(shadowRayTexels, at);
   uvec4 b = texelFetch(shadowRayTexels, at + 1);
   uvec4 c = texelFetch(shadowRayTexels, at + 2);

@@ -146,6 +146,10 @@ struct WideNode {
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 2
 #define EMITTER_TEXELS 1
+// Work-buffer records the kernels read through texel views (kernel.glsl).
+#define PATH_STATE_TEXELS 4
+#define HIT_TEXELS 1
+#define SHADOW_RAY_TEXELS 3
 
 // A primitive record in BVH leaf order, 48 bytes: a triangle in world space,
 // or a sphere's placeholder (material == WP_INVALID, `shading` = its index in

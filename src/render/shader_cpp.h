@@ -81,7 +81,8 @@ static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 
               sizeof(Triangle) == 16 * TRIANGLE_TEXELS && sizeof(TriangleShading) == 16 * TRIANGLE_SHADING_TEXELS &&
               sizeof(Sphere) == 16 * SPHERE_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
               sizeof(Texture) == 16 * TEXTURE_TEXELS && sizeof(PointLight) == 16 * POINT_LIGHT_TEXELS &&
-              sizeof(Emitter) == 16 * EMITTER_TEXELS);
+              sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(PathState) == 16 * PATH_STATE_TEXELS &&
+              sizeof(Hit) == 16 * HIT_TEXELS && sizeof(ShadowRay) == 16 * SHADOW_RAY_TEXELS);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
               offsetof(WideNode, qlo) == 32 && offsetof(WideNode, qhi) == 64);
