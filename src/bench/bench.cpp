@@ -58,6 +58,13 @@ nlohmann::json to_json(const Spread& s) {
   return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
 }
 
+// Writes the results as JSON to `path`.
+void write_json(const std::string& path, const nlohmann::json& j) {
+  std::ofstream out(path);
+  out << j.dump(2) << "\n";
+  if (!out) throw InputError(path + ": cannot write the results");
+}
+
 // What one variant's scene compiles to: its BVH layout decides these.
 struct BvhFigures {
   double buildSeconds = 0.0, sahCost = 0.0, bytesPerPrimitive = 0.0;
@@ -238,9 +245,7 @@ int run_bench(const BenchOptions& o) {
       }
       j["scenes"].push_back(js);
     }
-    std::ofstream out(o.jsonPath);
-    out << j.dump(2) << "\n";
-    if (!out) throw InputError(o.jsonPath + ": cannot write the results");
+    write_json(o.jsonPath, j);
   }
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);
@@ -432,9 +437,7 @@ int run_raycast_bench(const BenchOptions& o) {
   if (!o.jsonPath.empty()) {
     nlohmann::json j = {{"device", {{"name", ctx.info().name}, {"driver", ctx.info().driver}}},
                         {"embree", embree_available()}, {"repeats", o.repeats}, {"raycast", results}};
-    std::ofstream out(o.jsonPath);
-    out << j.dump(2) << "\n";
-    if (!out) throw InputError(o.jsonPath + ": cannot write the results");
+    write_json(o.jsonPath, j);
   }
   return allChecked ? 0 : 1;
 }
@@ -560,9 +563,7 @@ int run_build_bench(const BenchOptions& o) {
   }
   if (!o.jsonPath.empty()) {
     nlohmann::json j = {{"threads", threads}, {"embree", embree_available()}, {"repeats", o.repeats}, {"build", results}};
-    std::ofstream out(o.jsonPath);
-    out << j.dump(2) << "\n";
-    if (!out) throw InputError(o.jsonPath + ": cannot write the results");
+    write_json(o.jsonPath, j);
   }
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);

@@ -174,6 +174,13 @@ uint32_t sort_key(float x) {
   return u ^ (uint32_t(int32_t(u) >> 31) | 0x80000000u);
 }
 
+// A node's share of its tree's SAH cost: its area relative to the root's,
+// times the cost of visiting it (interior) or testing its primitives (leaf).
+double sah_term(const shader::BvhNode& n, double rootArea) {
+  const double rel = double(node_box(n).half_area()) / rootArea;
+  return n.count == 0 ? kTraversalCost * rel : kIntersectCost * rel * double(n.count);
+}
+
 int largest_axis(glm::vec3 extent) {
   return extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
 }
@@ -289,8 +296,7 @@ class Builder {
   };
   Measure measure(uint32_t i, int depth, double rootArea) const {
     const shader::BvhNode& n = nodes_[i];
-    const double rel = double(node_box(n).half_area()) / rootArea;
-    if (n.count != 0) return {kIntersectCost * rel * double(n.count), depth};
+    if (n.count != 0) return {sah_term(n, rootArea), depth};
     Measure l, r;
     auto left = [&] { l = measure(n.leftFirst, depth + 1, rootArea); };
     auto right = [&] { r = measure(n.leftFirst + 1, depth + 1, rootArea); };
@@ -300,7 +306,7 @@ class Builder {
       left();
       right();
     }
-    return {kTraversalCost * rel + l.sahCost + r.sahCost, std::max(l.depth, r.depth)};
+    return {sah_term(n, rootArea) + l.sahCost + r.sahCost, std::max(l.depth, r.depth)};
   }
 
   // Two adjacent node slots, for a node's children.
@@ -707,10 +713,7 @@ class Builder {
 double sah_cost(const std::vector<shader::BvhNode>& nodes) {
   double rootArea = std::max(double(node_box(nodes[0]).half_area()), 1e-30);
   double cost = 0.0;
-  for (const shader::BvhNode& n : nodes) {
-    double rel = node_box(n).half_area() / rootArea;
-    cost += n.count == 0 ? kTraversalCost * rel : kIntersectCost * rel * double(n.count);
-  }
+  for (const shader::BvhNode& n : nodes) cost += sah_term(n, rootArea);
   return cost;
 }
 

@@ -241,7 +241,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   } else {
     Bvh bvh = build_bvh(input, accel);
     if (options.bvhRotations) rotate_bvh(bvh);
-    if (bvh.depth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
     out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.bvhSahCost = bvh.sahCost;
     out.nodes = std::move(bvh.nodes);
@@ -250,6 +249,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     stackSlots = uint32_t(bvh.depth) + 1u;
     out.wideNodes.push_back(shader::WideNode{});
   }
+  // The builder bounds the depth, and with it the kernels' traversal stacks.
+  if (out.bvhDepth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
 
   // Primitive records in leaf order (both layouts' leaves index them): each
   // triangle, and for each sphere a placeholder naming it.

@@ -362,11 +362,9 @@ class SceneLoader {
       SceneSphere s;
       s.toWorld = xform * glm::scale(glm::mat4(1.0f), glm::vec3(radius));
       // Its bounds (centre +- the rows' lengths) must be finite too.
-      for (int r = 0; r < 3; ++r) {
-        glm::vec3 row(s.toWorld[0][r], s.toWorld[1][r], s.toWorld[2][r]);
-        if (!std::isfinite(s.toWorld[3][r] + glm::length(row)) || !std::isfinite(s.toWorld[3][r] - glm::length(row)))
-          j.fail(std::string("sphere: ") + kPastFloatRange);
-      }
+      const glm::mat3 rows = glm::transpose(glm::mat3(s.toWorld));
+      const glm::vec3 centre(s.toWorld[3]), extent(glm::length(rows[0]), glm::length(rows[1]), glm::length(rows[2]));
+      if (!finite(centre + extent) || !finite(centre - extent)) j.fail(std::string("sphere: ") + kPastFloatRange);
       s.material = material_of(j);
       if (scene_.materials[s.material].info.z != WP_INVALID && !is_similarity(glm::mat3(s.toWorld)))
         j.fail("emissive spheres must keep their shape (uniform scale): an emissive ellipsoid cannot be sampled yet");
