@@ -70,5 +70,8 @@ check "plot_convergence.py draws the chart" $([ -s "$work/conv.png" ]; echo $?)
 check "unknown variant: exit 2, one line" $([ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "gpu-wg7" "$work/err"; echo $?)
 "$wavepath" bench --scenes "$data/bad-unknown-key.json" >"$work/out" 2>"$work/err"
 check "bad scene: exit 2 before any work" $([ $? -eq 2 ] && grep -q "/camera/fov" "$work/err"; echo $?)
+"$wavepath" bench --build --scenes "$data/bad-unknown-key.json" --out "$work/bad-build.json" >"$work/out" 2>"$work/err"
+check "build bench, bad scene: exit 2, the place named, no results file" $([ $? -eq 2 ] && grep -q "/camera/fov" "$work/err" &&
+  [ ! -e "$work/bad-build.json" ]; echo $?)
 
 finish
