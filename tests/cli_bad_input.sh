@@ -44,7 +44,7 @@ expect_error "output is not a PNG" 2 "out.jpg|.png" -- "$wavepath" render "$data
 expect_error "output directory missing" 2 "no-dir/out.png|does not exist" -- "$wavepath" render "$data/furnace.json" -o "$work/no-dir/out.png"
 expect_error "bad option value" 2 "spp" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 0
 expect_error "no Vulkan device" 3 "no Vulkan device" -- env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json "$wavepath" render "$data/furnace.json" -o "$out" --spp 1
-expect_error "no such device" 2 "--device nvidia" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 1 --device nvidia
+expect_error "no such device" 2 "--device no-such-gpu" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 1 --device no-such-gpu
 expect_error "unknown integrator" 2 "--integrator|bdpt" -- "$wavepath" render "$data/furnace.json" -o "$out" --integrator bdpt
 expect_error "unknown sampler" 2 "--sampler|sobol" -- "$wavepath" render "$data/furnace.json" -o "$out" --sampler sobol
 expect_error "missing texture image" 2 "no-such.png|no such file|/materials/0/albedo" -- "$wavepath" render "$data/bad-texture.json" -o "$out"

@@ -488,12 +488,14 @@ TEST_F(Gpu, FeatureComparisonCatchesAPlantedBias) {
 }
 
 // The GLSL texture code against its C++ compilation, query by query: the
-// kernels and the CPU reference must see the same textures. Checker and image
-// lookups must agree exactly (a checker may flip only where the lookup point
-// lies within float rounding of a cell edge: none of these random points);
-// marble, built on sin and seven octaves of noise, within 1e-6 (8 ulps at 1:
-// the GPU's sin may differ from the C library's in the last bits; measured on
-// lavapipe: 6e-8).
+// kernels and the CPU reference must see the same textures. Constants agree
+// exactly. Checker and image lookups agree to rounding: a GPU compiler may
+// fuse multiply-adds (the Vulkan spec allows it), which moves a bilinear
+// weight by an ulp of the texel coordinate (measured: 0 on lavapipe, 1.2e-7
+// on an H100); a checker cell picked wrongly, or a texel off by one, differs by far
+// more. Marble, built on sin and seven octaves of noise, within 1e-5 (the
+// GPU's sin may differ from the C library's in the last bits; measured: 6e-8
+// on lavapipe, 2.4e-6 on an H100).
 TEST_F(Gpu, TextureLookupsMatchTheCpuCode) {
   Scene scene = load_scene(source_path("tests/data/features/textures.json"));
   CompiledScene cs = compile_scene(scene, RenderOptions{});
@@ -512,17 +514,19 @@ TEST_F(Gpu, TextureLookupsMatchTheCpuCode) {
   WavefrontRenderer renderer(*ctx_, cs);
   std::vector<glm::vec3> gpu = renderer.eval_textures(queries);
   ASSERT_EQ(gpu.size(), queries.size());
-  float worstMarble = 0.0f;
-  size_t exactMismatches = 0;
+  float worst[4] = {};  // by texture type: constant, checker, marble, image
   for (size_t i = 0; i < queries.size(); ++i) {
     glm::vec3 cpu = view.texture_eval(queries[i].texture, queries[i].uv, queries[i].p);
     float err = glm::max(glm::abs(cpu.x - gpu[i].x), glm::max(glm::abs(cpu.y - gpu[i].y), glm::abs(cpu.z - gpu[i].z)));
     uint32_t type = cs.textures[queries[i].texture].info.x & TEX_TYPE_MASK;
-    if (type == TEX_MARBLE) worstMarble = std::max(worstMarble, err);
-    else if (err > 0.0f) ++exactMismatches;
+    ASSERT_LT(type, 4u);
+    worst[type] = std::max(worst[type], err);
   }
-  EXPECT_EQ(exactMismatches, 0u) << "constant, checker and image lookups must be identical";
-  EXPECT_LE(worstMarble, 1e-6f) << "marble";
+  EXPECT_EQ(worst[TEX_CONSTANT], 0.0f) << "constant";
+  EXPECT_LE(worst[TEX_CHECKER], 1e-4f) << "checker";
+  EXPECT_LE(worst[TEX_IMAGE], 1e-4f) << "image";
+  EXPECT_LE(worst[TEX_MARBLE], 1e-5f) << "marble";
+  std::printf("worst differences: checker %g, image %g, marble %g\n", worst[TEX_CHECKER], worst[TEX_IMAGE], worst[TEX_MARBLE]);
 }
 
 // Adaptive sampling on the GPU makes the CPU reference's decisions (the same
