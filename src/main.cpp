@@ -294,8 +294,9 @@ int run_convergence(const ConvergenceArgs& c) {
 }
 
 // What the renderer would build for a scene: sizes, BVH quality and memory.
-int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant) {
+int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant, const std::string* kernelsDevice) {
   RenderOptions options = variant_options(RenderOptions{}, variant);  // an unknown variant fails before any work
+  if (kernelsDevice && variant == "cpu") throw InputError("--kernels: the cpu reference has no kernels");
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(scenePath);
   double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -314,6 +315,20 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
               cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
   std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
               prims ? double(gpuBytes) / double(prims) : 0.0);
+  if (kernelsDevice) {
+    // The variant's kernels as the device's compiler built them for this scene.
+    VulkanContext ctx(*kernelsDevice, VulkanContext::validation_requested_by_environment());
+    WavefrontSettings settings = kernel_variant(variant).settings;
+    settings.captureStatistics = true;
+    WavefrontRenderer renderer(ctx, cs, settings);
+    std::vector<KernelStatistics> kernels = renderer.kernel_statistics();
+    std::printf("kernels      as compiled for %s (%s):\n", ctx.info().name.c_str(), ctx.info().driver.c_str());
+    for (const KernelStatistics& k : kernels) {
+      std::printf("  %s (%s):", k.kernel.c_str(), k.executable.c_str());
+      for (const auto& [name, value] : k.values) std::printf(" %s %s;", name.c_str(), value.c_str());
+      std::printf("\n");
+    }
+  }
   return 0;
 }
 
@@ -436,6 +451,9 @@ int main(int argc, char** argv) {
   info->add_option("--max-leaf-size", infoLeaf, "override the scene's BVH leaf size")->check(CLI::Range(1, BVH_MAX_LEAF_SIZE));
   std::string infoVariant = "gpu";
   info->add_option("--variant", infoVariant, "the kernel variant (or cpu) whose BVH layout to build; default gpu");
+  std::string infoDevice;
+  CLI::Option* infoKernels = info->add_flag("--kernels", "also compile the variant's kernels and show the driver's statistics of each (registers, spills, ...)");
+  info->add_option("--device", infoDevice, "Vulkan device for --kernels: index or part of the name");
   bool devValidation = false;
   CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices and the limits that matter to wavepath");
   devices->add_flag("--validation", devValidation, "enable Vulkan validation");
@@ -469,7 +487,7 @@ int main(int argc, char** argv) {
       if (bench.build) return run_build_bench(bench);
       return bench.raycast ? run_raycast_bench(bench) : run_bench(bench);
     }
-    if (*info) return run_info(infoScene, infoLeaf, infoVariant);
+    if (*info) return run_info(infoScene, infoLeaf, infoVariant, *infoKernels ? &infoDevice : nullptr);
     if (*convergence) return run_convergence(conv);
   } catch (const InputError& e) {
     std::fprintf(stderr, "wavepath: error: %s\n", e.what());

@@ -83,6 +83,18 @@ done
 check "devices lists at least one device" $?
 "$wavepath" info "$data/furnace.json" --variant gpu-bvh2 | grep -q "^BVH  *binary"
 check "info --variant gpu-bvh2 builds the binary tree" $?
+expect_error "info --kernels for the cpu reference" 2 "--kernels|cpu" -- "$wavepath" info "$data/furnace.json" --kernels --variant cpu
+# The driver's statistics of each kernel, where the driver reports them
+# (NVIDIA does; lavapipe 22.3 does not, and says so).
+"$wavepath" info "$data/furnace.json" --kernels >"$work/stdout" 2>"$work/stderr"
+rc=$?
+if [ $rc -eq 0 ]; then
+  check "info --kernels lists the kernels with their statistics" $(grep -qE '^  extend \(.*\): .+;' "$work/stdout" &&
+    grep -qE '^  shade \(' "$work/stdout"; echo $?)
+else
+  check "info --kernels on a driver without statistics: exit 3, one line naming the device" $([ $rc -eq 3 ] &&
+    [ "$(wc -l <"$work/stderr")" -eq 1 ] && grep -q "reports no kernel statistics" "$work/stderr"; echo $?)
+fi
 
 # The scaling scenes' generator: usage without arguments, scenes that load.
 scale="$(dirname "$0")/../scripts/make-scale-scenes.py"

@@ -173,16 +173,29 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
   vk::DeviceCreateInfo dci({}, qci);
   // Float atomic adds on storage buffers, where the device has them: several
   // light samples per vertex add to one path's radiance (connect_multi.comp).
+  // Pipeline statistics (registers, spills, instruction counts: whatever the
+  // driver reports), where offered: `wavepath info --kernels` shows them.
   std::vector<const char*> extensions;
   vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT atomicFloat;
+  vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR executableProperties;
   for (const vk::ExtensionProperties& e : physical_->enumerateDeviceExtensionProperties()) {
-    if (std::string(e.extensionName.data()) != VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) continue;
-    auto chain = physical_->getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>();
-    if (chain.get<vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>().shaderBufferFloat32AtomicAdd) {
+    std::string name = e.extensionName.data();
+    if (name == VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) {
+      auto chain = physical_->getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>();
+      if (!chain.get<vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>().shaderBufferFloat32AtomicAdd) continue;
       atomicFloat.shaderBufferFloat32AtomicAdd = VK_TRUE;
-      extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+      atomicFloat.pNext = const_cast<void*>(dci.pNext);
       dci.pNext = &atomicFloat;
+      extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
       info_.floatAtomicAdd = true;
+    } else if (name == VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME) {
+      auto chain = physical_->getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR>();
+      if (!chain.get<vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR>().pipelineExecutableInfo) continue;
+      executableProperties.pipelineExecutableInfo = VK_TRUE;
+      executableProperties.pNext = const_cast<void*>(dci.pNext);
+      dci.pNext = &executableProperties;
+      extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+      info_.pipelineStatistics = true;
     }
   }
   dci.setPEnabledExtensionNames(extensions);

@@ -29,6 +29,7 @@ struct GpuDeviceInfo {
   uint64_t deviceLocalMemory = 0;
   bool suitable = false;  // Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders
   bool floatAtomicAdd = false;  // set for the chosen device: VK_EXT_shader_atomic_float enabled
+  bool pipelineStatistics = false;  // set for the chosen device: VK_KHR_pipeline_executable_properties enabled
 };
 
 class Buffer {

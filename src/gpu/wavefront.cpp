@@ -27,13 +27,14 @@ namespace {
 using shader::KernelPush;
 
 struct Kernel {
+  const char* name;
   const uint32_t* code;
   size_t bytes;
 };
 
 template <size_t N>
-Kernel kernel(const uint32_t (&code)[N]) {
-  return Kernel{code, N * sizeof(uint32_t)};
+Kernel kernel(const char* name, const uint32_t (&code)[N]) {
+  return Kernel{name, code, N * sizeof(uint32_t)};
 }
 
 
@@ -59,6 +60,10 @@ const std::vector<KernelVariant>& kernel_variants() {
     megakernel.megakernel = true;
     WavefrontSettings sorted;
     sorted.sortByMaterial = true;
+    WavefrontSettings registerStack;
+    registerStack.stack = TraversalStack::Registers;
+    WavefrontSettings indexedStack;
+    indexedStack.stack = TraversalStack::Indexed;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
@@ -69,7 +74,11 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu-rotate", "wavefront kernels, wide BVH from a binned-SAH tree improved by tree rotations", WavefrontSettings{},
          BvhLayout::Wide, true},
         {"gpu-sort", "wavefront kernels, paths sorted by the material their ray hit before shading", sorted,
-         BvhLayout::Wide}};
+         BvhLayout::Wide},
+        {"gpu-regstack", "wavefront kernels, the wide walk's stack in registers on every device (gpu: on CPU devices)",
+         registerStack, BvhLayout::Wide},
+        {"gpu-memstack", "wavefront kernels, the wide walk's stack in an indexed array on every device (gpu: on GPUs)",
+         indexedStack, BvhLayout::Wide}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
       s.workgroupSize = size;
@@ -108,12 +117,17 @@ struct WavefrontRenderer::Impl {
   std::vector<vk::raii::BufferView> views;        // the texel buffers' views, indexed by BINDING_*
   std::unique_ptr<Buffer> readAccum;
   std::unique_ptr<Buffer> readCounters;
+  // run_on_rays' transfer buffers, made on first use and kept: a fresh pinned
+  // buffer per call made an H100's ray casts 4 to 5 times slower after a few
+  // dozen calls. The staging buffer only where the rays' buffer is not mapped.
+  std::unique_ptr<Buffer> rayStaging, readHits;
   vk::raii::DescriptorSetLayout setLayout{nullptr};
   vk::raii::PipelineLayout pipelineLayout{nullptr};
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, texprobe{nullptr};
+  std::vector<std::pair<std::string, vk::Pipeline>> compiled;  // every pipeline above that exists, by kernel name
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
   // stage whose dispatch ended at timestamp i + 1.
@@ -308,14 +322,21 @@ struct WavefrontRenderer::Impl {
     // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
     // by material (bools: a 32-bit 0 or 1).
     const shader::uvec4& accel = scene.params.accel;
+    // More slots than the register stack holds select the indexed stack.
+    bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && ctx.info().type != "cpu");
+    uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
     constexpr uint32_t kConstants = 8;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
-                                         accel.y, accel.z, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u};
+                                         accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
-    return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo({}, stage, *pipelineLayout));
+    vk::PipelineCreateFlags flags;
+    if (settings.captureStatistics && ctx.info().pipelineStatistics) flags |= vk::PipelineCreateFlagBits::eCaptureStatisticsKHR;
+    vk::raii::Pipeline p(ctx.device(), nullptr, vk::ComputePipelineCreateInfo(flags, stage, *pipelineLayout));
+    compiled.emplace_back(k.name, *p);
+    return p;
   }
 
   void create_pipelines() {
@@ -347,24 +368,24 @@ struct WavefrontRenderer::Impl {
       writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, &infos[b]);
     }
     ctx.device().updateDescriptorSets(writes, {});
-    generate = make_pipeline(kernel(generate_spv));
-    prepare = make_pipeline(kernel(prepare_spv));
-    extend = make_pipeline(kernel(extend_spv));
-    if (settings.sortByMaterial) sort = make_pipeline(kernel(sort_spv));
-    shade = make_pipeline(kernel(shade_spv));
+    generate = make_pipeline(kernel("generate", generate_spv));
+    prepare = make_pipeline(kernel("prepare", prepare_spv));
+    extend = make_pipeline(kernel("extend", extend_spv));
+    if (settings.sortByMaterial) sort = make_pipeline(kernel("sort", sort_spv));
+    shade = make_pipeline(kernel("shade", shade_spv));
     if (scene.params.mode.w > 1u) {
       if (!ctx.info().floatAtomicAdd) {
         throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
                           std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
       }
-      connect = make_pipeline(kernel(connect_multi_spv));
+      connect = make_pipeline(kernel("connect-multi", connect_multi_spv));
     } else {
-      connect = make_pipeline(kernel(connect_spv));
+      connect = make_pipeline(kernel("connect", connect_spv));
     }
-    accumulate = make_pipeline(kernel(accumulate_spv));
-    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv));
-    raycast = make_pipeline(kernel(raycast_spv));
-    texprobe = make_pipeline(kernel(texprobe_spv));
+    accumulate = make_pipeline(kernel("accumulate", accumulate_spv));
+    if (settings.megakernel) megakernel = make_pipeline(kernel("megakernel", megakernel_spv));
+    raycast = make_pipeline(kernel("raycast", raycast_spv));
+    texprobe = make_pipeline(kernel("texprobe", texprobe_spv));
   }
 
   void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups, Stage stage) {
@@ -512,12 +533,17 @@ struct WavefrontRenderer::Impl {
     reserve_queries(2);
     timestamps = false;  // no per-stage bookkeeping: only the kernel's dispatch is timed
     double kernelTime = 0.0;
-    Buffer readHits(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
+    const Buffer& rayBuffer = *buffers[BINDING_SHADOW_RAYS];
+    if (!readHits) readHits = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
+    if (!rayBuffer.mapped() && !rayStaging)
+      rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::ShadowRay), vk::BufferUsageFlagBits::eTransferSrc, true);
     uint64_t lost = 0;
     for (size_t start = 0; start < rays.size(); start += capacity) {
       uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
-      ctx.upload(*buffers[BINDING_SHADOW_RAYS], rays.data() + start, n * sizeof(shader::ShadowRay));
+      const size_t rayBytes = n * sizeof(shader::ShadowRay);
+      std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, rayBytes);
       ctx.run_now([&](vk::CommandBuffer cb) {
+        if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, rayBytes));
         cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
         cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
         stage_barrier(cb);
@@ -530,12 +556,12 @@ struct WavefrontRenderer::Impl {
         }
         dispatch(cb, kernel, push, groups_for(n), StageTimes::kExtend);
         if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
-        cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
+        cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
         vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
         cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
       });
-      std::memcpy(hits.data() + start, readHits.mapped(), n * sizeof(shader::Hit));
+      std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
       if (timed) {
         uint64_t ticks[2] = {0, 0};
         if (ctx.device().getDispatcher()->vkGetQueryPoolResults(*ctx.device(), *queries, 0, 2, sizeof(ticks), ticks, sizeof(uint64_t),
@@ -600,6 +626,32 @@ std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<Textur
   std::vector<glm::vec3> colors(out.size());
   for (size_t i = 0; i < out.size(); ++i) colors[i] = glm::vec3(out[i].t, out[i].u, out[i].v);
   return colors;
+}
+
+std::vector<KernelStatistics> WavefrontRenderer::kernel_statistics() const {
+  const VulkanContext& ctx = impl_->ctx;
+  if (!impl_->settings.captureStatistics) throw RenderError("kernel statistics were not captured (WavefrontSettings::captureStatistics)");
+  if (!ctx.info().pipelineStatistics)
+    throw RenderError(ctx.info().name + " reports no kernel statistics (its driver lacks VK_KHR_pipeline_executable_properties)");
+  std::vector<KernelStatistics> out;
+  for (const auto& [name, pipeline] : impl_->compiled) {
+    std::vector<vk::PipelineExecutablePropertiesKHR> executables = ctx.device().getPipelineExecutablePropertiesKHR(vk::PipelineInfoKHR(pipeline));
+    for (uint32_t i = 0; i < executables.size(); ++i) {
+      KernelStatistics k{name, executables[i].name.data(), {}};
+      for (const vk::PipelineExecutableStatisticKHR& st : ctx.device().getPipelineExecutableStatisticsKHR(vk::PipelineExecutableInfoKHR(pipeline, i))) {
+        std::string value;
+        switch (st.format) {
+          case vk::PipelineExecutableStatisticFormatKHR::eBool32: value = st.value.b32 ? "yes" : "no"; break;
+          case vk::PipelineExecutableStatisticFormatKHR::eInt64: value = std::to_string(st.value.i64); break;
+          case vk::PipelineExecutableStatisticFormatKHR::eUint64: value = std::to_string(st.value.u64); break;
+          case vk::PipelineExecutableStatisticFormatKHR::eFloat64: value = std::to_string(st.value.f64); break;
+        }
+        k.values.emplace_back(st.name.data(), value);
+      }
+      out.push_back(std::move(k));
+    }
+  }
+  return out;
 }
 
 }  // namespace wp

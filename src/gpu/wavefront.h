@@ -33,13 +33,31 @@ struct StageTimes {
   }
 };
 
+// Where the wide BVH walk keeps its traversal stack (scene.glsl): in registers,
+// every entry moved by selects on a push or a pop, or in an indexed array.
+// Auto picks registers on CPU devices (lavapipe reaches an indexed private
+// array lane by lane, through memory: 10-17 % slower walks on meshes) and the
+// indexed array on GPUs (the register stack costs an H100 24 registers a
+// thread and 2-14 % of its ray rate; docs/benchmarks.md).
+enum class TraversalStack { Auto, Registers, Indexed };
+
 struct WavefrontSettings {
   uint32_t workgroupSize = WORKGROUP_SIZE;  // invocations per workgroup of every kernel
+  TraversalStack stack = TraversalStack::Auto;  // the wide walk's stack (the binary walk always indexes)
   bool compaction = true;                   // later bounces dispatch only live paths (kernel.glsl)
   bool megakernel = false;                  // one kernel per path instead of the wavefront stages
   bool sortByMaterial = false;              // shade runs over paths sorted by the material they hit
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
+  bool captureStatistics = false;       // keep the driver's statistics of each pipeline (kernel_statistics)
+};
+
+// What the driver reports about one compiled kernel (VK_KHR_pipeline_executable_properties):
+// per executable, named statistics such as registers or spilled bytes.
+struct KernelStatistics {
+  std::string kernel;      // generate, extend, ...
+  std::string executable;  // the driver's name for the compiled code
+  std::vector<std::pair<std::string, std::string>> values;  // statistic name, value
 };
 
 // Named kernel variants, selectable on the command line ("gpu" is the default).
@@ -82,6 +100,11 @@ class WavefrontRenderer {
     glm::vec3 p;
   };
   std::vector<glm::vec3> eval_textures(const std::vector<TextureQuery>& queries);
+
+  // The driver's statistics of every kernel this renderer compiled. Needs
+  // settings.captureStatistics; throws RenderError naming the device if its
+  // driver reports none.
+  std::vector<KernelStatistics> kernel_statistics() const;
 
  private:
   struct Impl;
