@@ -1,18 +1,33 @@
 #version 460
 // Stage 4: shadow rays. An unoccluded segment adds its NEE contribution to its
 // path (each path has at most one shadow ray per bounce: no atomics needed;
-// connect_multi.comp handles several light samples per vertex).
+// connect_multi.comp handles several light samples per vertex). The rays go
+// through trace_items.glsl.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
+#define TRACE_ANY_HIT true
+
+uint trace_item_count() {
+  return counters[COUNTER_SHADOW];
+}
+
+void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint path) {
+  ShadowRay sr = read_shadow_ray(item);
+  o = sr.origin;
+  d = sr.dir;
+  tmax = sr.tmax;
+  path = sr.path;
+}
+
+void trace_item_done(uint item, uint path, Hit h, bool truncated) {
+  if (truncated || h.prim != WP_INVALID) return;
+  vec3 contribution = texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2));
+  paths[path].radiance += contribution;
+}
+
+#include "shared/trace_items.glsl"
+
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= counters[COUNTER_SHADOW]) return;
-  ShadowRay sr = read_shadow_ray(i);
-  Hit h;
-  if (trace_ray(sr.origin, sr.dir, sr.tmax, true, h) != TRACE_OK) {
-    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-    return;
-  }
-  if (h.prim == WP_INVALID) paths[sr.path].radiance += sr.contribution;
+  trace_items();
 }

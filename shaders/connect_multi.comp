@@ -7,18 +7,30 @@
 #extension GL_EXT_shader_atomic_float : require
 #include "shared/kernel.glsl"
 
+#define TRACE_ANY_HIT true
+
+uint trace_item_count() {
+  return counters[COUNTER_SHADOW];
+}
+
+void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint path) {
+  ShadowRay sr = read_shadow_ray(item);
+  o = sr.origin;
+  d = sr.dir;
+  tmax = sr.tmax;
+  path = sr.path;
+}
+
+void trace_item_done(uint item, uint path, Hit h, bool truncated) {
+  if (truncated || h.prim != WP_INVALID) return;
+  vec3 contribution = texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2));
+  atomicAdd(paths[path].radiance.x, contribution.x);
+  atomicAdd(paths[path].radiance.y, contribution.y);
+  atomicAdd(paths[path].radiance.z, contribution.z);
+}
+
+#include "shared/trace_items.glsl"
+
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= counters[COUNTER_SHADOW]) return;
-  ShadowRay sr = read_shadow_ray(i);
-  Hit h;
-  if (trace_ray(sr.origin, sr.dir, sr.tmax, true, h) != TRACE_OK) {
-    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-    return;
-  }
-  if (h.prim == WP_INVALID) {
-    atomicAdd(paths[sr.path].radiance.x, sr.contribution.x);
-    atomicAdd(paths[sr.path].radiance.y, sr.contribution.y);
-    atomicAdd(paths[sr.path].radiance.z, sr.contribution.z);
-  }
+  trace_items();
 }

@@ -1,29 +1,46 @@
 #version 460
-// Stage 2: closest hit for every queued path. One ray per invocation, so the
-// traversal's bounded step count is the invocation's whole loop budget. When
-// sorting by material, also counts each hit's sort key.
+// Stage 2: closest hit for every queued path (trace_items.glsl: several rays
+// per invocation on CPU devices, each within its share of the loop budget).
+// When sorting by material, also counts each hit's sort key.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
-void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
-  uint path = queues[pc.queueIn * pc.capacity + i];
-  Hit h;
-  h.prim = WP_INVALID;
-  // Without compaction, shade skips dead paths too.
+#define TRACE_ANY_HIT false
+
+uint trace_item_count() {
+  return counters[COUNTER_QUEUE0 + pc.queueIn];
+}
+
+// Without compaction a finished path keeps its queue slot; its ray is empty
+// (tmax 0: the walk ends at the root) and it writes no hit.
+bool path_is_dead(uint path) {
+  return !kCompaction && (texelFetch(pathTexels, int(path) * PATH_STATE_TEXELS + 2).w & PATH_DEAD) != 0u;
+}
+
+void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint path) {
+  path = read_queue(pc.queueIn, item);
   PathState p = read_path(path);
-  if (kCompaction || (p.flags & PATH_DEAD) == 0u) {
-    if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
-      atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-      h.prim = WP_INVALID;
-    }
-    hits[path] = h;
+  o = p.origin;
+  d = p.dir;
+  tmax = kCompaction || (p.flags & PATH_DEAD) == 0u ? WP_INF : 0.0f;
+}
+
+void trace_item_done(uint item, uint path, Hit h, bool truncated) {
+  if (!path_is_dead(path)) {
+    write_hit(path, h);
     if (!kCompaction) count_rays(COUNTER_CLOSEST_RAYS, 1u);  // prepare counts them with compaction
+  } else {
+    h.prim = WP_INVALID;
   }
   if (kSortByMaterial) {
     uint key = sort_key(h);
-    sortKeys[i] = key;
+    sortKeys[item] = key;
     atomicAdd(sortBins[key], 1u);
   }
+}
+
+#include "shared/trace_items.glsl"
+
+void main() {
+  trace_items();
 }

@@ -10,17 +10,29 @@ uint groups_for(uint n) {
   return (n + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
 }
 
+// Workgroups for a tracing kernel's n rays (kRaysPerInvocation each), and an
+// empty pass for the rays it may defer (trace_items.glsl).
+void size_tracing(uint slot, uint n) {
+  indirect[slot * 3u] = groups_for((n + kRaysPerInvocation - 1u) / kRaysPerInvocation);
+  indirect[slot * 3u + 1u] = 1u;
+  indirect[slot * 3u + 2u] = 1u;
+  indirect[INDIRECT_DEFERRED * 3u] = 0u;
+  indirect[INDIRECT_DEFERRED * 3u + 1u] = 1u;
+  indirect[INDIRECT_DEFERRED * 3u + 2u] = 1u;
+  counters[COUNTER_DEFERRED] = 0u;
+}
+
 void main() {
   if (gl_GlobalInvocationID.x != 0u) return;
   if (pc.phase == PREPARE_EXTEND) {
-    uint base = INDIRECT_EXTEND * 3u;
     uint queued = counters[COUNTER_QUEUE0 + pc.queueIn];
-    indirect[base] = groups_for(queued);
+    size_tracing(INDIRECT_EXTEND, queued);
+    indirect[INDIRECT_SHADE * 3u] = groups_for(queued);
+    indirect[INDIRECT_SHADE * 3u + 1u] = 1u;
+    indirect[INDIRECT_SHADE * 3u + 2u] = 1u;
     // With compaction every queued path casts its ray; without, extend counts
     // the ones it traces (finished paths keep their slots).
     if (kCompaction) count_rays(COUNTER_CLOSEST_RAYS, queued);
-    indirect[base + 1u] = 1u;
-    indirect[base + 2u] = 1u;
     counters[COUNTER_QUEUE0 + (1u - pc.queueIn)] = 0u;
     counters[COUNTER_SHADOW] = 0u;
     if (kSortByMaterial) {
@@ -35,10 +47,7 @@ void main() {
       start += n;
     }
   } else {
-    uint base = INDIRECT_CONNECT * 3u;
-    indirect[base] = groups_for(counters[COUNTER_SHADOW]);
+    size_tracing(INDIRECT_CONNECT, counters[COUNTER_SHADOW]);
     count_rays(COUNTER_SHADOW_RAYS, counters[COUNTER_SHADOW]);
-    indirect[base + 1u] = 1u;
-    indirect[base + 2u] = 1u;
   }
 }

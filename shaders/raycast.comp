@@ -1,18 +1,31 @@
 #version 460
 // Ray casting without shading: closest hit for each ray of a fixed set (read
-// from the shadow-ray buffer: origin, tmax, direction). Used by the BVH tests
-// and the traversal benchmark.
+// from the shadow-ray buffer: origin, tmax, direction), through the same loop
+// as extend (trace_items.glsl). Used by the BVH tests and the traversal
+// benchmark.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
+#define TRACE_ANY_HIT false
+
+uint trace_item_count() {
+  return pc.pathCount;
+}
+
+void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint tag) {
+  ShadowRay r = read_shadow_ray(pc.waveStart + item);
+  o = r.origin;
+  d = r.dir;
+  tmax = r.tmax;
+  tag = 0u;
+}
+
+void trace_item_done(uint item, uint tag, Hit h, bool truncated) {
+  write_hit(item, h);
+}
+
+#include "shared/trace_items.glsl"
+
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.pathCount) return;
-  ShadowRay r = read_shadow_ray(pc.waveStart + i);
-  Hit h;
-  if (trace_ray(r.origin, r.dir, r.tmax, false, h) != TRACE_OK) {
-    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-    h.prim = WP_INVALID;
-  }
-  hits[i] = h;
+  trace_items();
 }

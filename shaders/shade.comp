@@ -19,7 +19,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   uint count = counters[COUNTER_QUEUE0 + pc.queueIn];
   if (i >= count) return;
-  uint path = queues[pc.shadeQueue * pc.capacity + i];  // the extended queue, or its sorted order
+  uint path = read_queue(pc.shadeQueue, i);  // the extended queue, or its sorted order
   uint queueOut = 1u - pc.queueIn;
   if (!kCompaction) {
     // Every path keeps its slot for the next bounce, dead or alive.

@@ -12,5 +12,5 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= counters[COUNTER_QUEUE0 + pc.queueIn]) return;
   uint slot = atomicAdd(sortBins[sortKeys[i]], 1u);
-  queues[QUEUE_SORTED * pc.capacity + slot] = queues[pc.queueIn * pc.capacity + i];
+  queues[QUEUE_SORTED * pc.capacity + slot] = read_queue(pc.queueIn, i);
 }

@@ -2,7 +2,7 @@
 // Texture lookups without rendering, for the test that compares the GLSL and
 // C++ texture code: query i rides in shadowRays[i] (origin: the hit point;
 // dir.xy: the UV; path: the texture index) and its colour comes back in
-// hits[i] (t, u, v = r, g, b).
+// hit record i (t, u, v = r, g, b).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
@@ -16,5 +16,5 @@ void main() {
   h.prim = 0u;
   h.u = c.y;
   h.v = c.z;
-  hits[i] = h;
+  write_hit(i, h);
 }

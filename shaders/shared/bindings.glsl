@@ -25,11 +25,13 @@
 #define BINDING_PIXEL_LIST 18
 #define BINDING_WIDE_NODES 19
 #define BINDING_SORT 20
-// Texel-buffer views of three work buffers, for reading them (kernel.glsl).
+// Texel-buffer views of work buffers, for reading them (kernel.glsl).
 #define BINDING_PATH_TEXELS 21
 #define BINDING_HIT_TEXELS 22
 #define BINDING_SHADOW_RAY_TEXELS 23
-#define BINDING_COUNT 24
+#define BINDING_DEFERRED 24
+#define BINDING_QUEUE_TEXELS 25  // the queues, R32UI
+#define BINDING_COUNT 26
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -44,11 +46,15 @@ struct KernelPush {
   uint sampleIndex; // sample number of every path of this wave
   uint queueIn;     // 0 or 1: the queue of paths to extend / shade
   uint capacity;    // path slots per queue
-  uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
+  uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*; tracing kernels: TRACE_*
   uint shadeQueue;  // the queue region shade reads: queueIn, or QUEUE_SORTED
   uint pad1;
 };
 
+// Tracing kernels (extend, connect, raycast): the dispatch's own rays, or
+// the ones the previous dispatch deferred (trace_items.glsl).
+#define TRACE_ITEMS 0u
+#define TRACE_DEFERRED 1u
 #define PREPARE_EXTEND 0u
 #define PREPARE_CONNECT 1u
 #define PREPARE_SORT 2u
@@ -90,9 +96,14 @@ layout(set = 0, binding = BINDING_ENVIRONMENT_CDF) uniform samplerBuffer environ
 layout(set = 0, binding = BINDING_PATH_TEXELS) uniform usamplerBuffer pathTexels;
 layout(set = 0, binding = BINDING_HIT_TEXELS) uniform usamplerBuffer hitTexels;
 layout(set = 0, binding = BINDING_SHADOW_RAY_TEXELS) uniform usamplerBuffer shadowRayTexels;
+layout(set = 0, binding = BINDING_QUEUE_TEXELS) uniform usamplerBuffer queueTexels;
 layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
-layout(std430, set = 0, binding = BINDING_HITS) buffer HitBuffer { Hit hits[]; };
+// Hits are written whole (write_hit in kernel.glsl): lavapipe stores to a
+// per-lane address in a loop over the lanes, one loop per store, so one
+// 16-byte store beats four 4-byte ones.
+layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer HitBuffer { uvec4 hitRecords[]; };
 layout(std430, set = 0, binding = BINDING_QUEUES) buffer QueueBuffer { uint queues[]; };
+layout(std430, set = 0, binding = BINDING_DEFERRED) buffer DeferredBuffer { uint deferredItems[]; };
 layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRay shadowRays[]; };
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };

@@ -36,6 +36,10 @@ layout(constant_id = 6) const bool kCompaction = true;
 // gpu-sort): extend counts the keys, prepare turns counts into offsets, the
 // sort kernel scatters the queue into QUEUE_SORTED, and shade reads that.
 layout(constant_id = 7) const bool kSortByMaterial = false;
+// Rays per invocation of the tracing kernels (constant 8; trace_items.glsl):
+// several on CPU devices, whose SIMD lanes would otherwise wait for the
+// slowest ray of their group.
+layout(constant_id = 8) const uint kRaysPerInvocation = 1u;
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"
@@ -78,6 +82,15 @@ Hit read_hit(uint i) {
   h.u = uintBitsToFloat(a.z);
   h.v = uintBitsToFloat(a.w);
   return h;
+}
+
+// Entry i of queue q (read_queue's view is of the queue buffer).
+uint read_queue(uint q, uint i) {
+  return texelFetch(queueTexels, int(q * pc.capacity + i)).x;
+}
+
+void write_hit(uint i, Hit h) {
+  hitRecords[i * HIT_TEXELS] = uvec4(floatBitsToUint(h.t), h.prim, floatBitsToUint(h.u), floatBitsToUint(h.v));
 }
 
 ShadowRay read_shadow_ray(uint i) {

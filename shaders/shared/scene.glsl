@@ -370,126 +370,18 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
 // a primitive group (the hit primitives still to test); each iteration tests
 // one primitive and visits one node, since lavapipe runs both paths of a loop
 // body anyway. Groups set aside go on the stack (see above).
+// The walk's state and steps are in wide_walk_*.glsl, shared with the kernels
+// that walk several rays in one loop (trace_items.glsl).
 uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
-  hit.t = tmax;
-  hit.prim = WP_INVALID;
-  hit.u = 0.0f;
-  hit.v = 0.0f;
-  RayShear sh = make_ray_shear(d);
-  // A zero direction component becomes a tiny one, so that no slab distance
-  // is 0 * inf: the result differs only for rays exactly in a box's face.
-  vec3 dd = vec3(abs(d.x) < 1e-20f ? 1e-20f : d.x, abs(d.y) < 1e-20f ? 1e-20f : d.y, abs(d.z) < 1e-20f ? 1e-20f : d.z);
-  vec3 invDir = vec3(1.0f) / dd;
-  bool negX = invDir.x < 0.0f;
-  bool negY = invDir.y < 0.0f;
-  bool negZ = invDir.z < 0.0f;
-  // Slot order for this ray: the builder put the child lying towards octant
-  // s in slot s, and the walk takes the highest bit first, so bit 24 + (s ^
-  // xorSlot) puts the child facing the ray's origin first.
-  uint xorSlot = (negX ? 0u : 1u) | (negY ? 0u : 2u) | (negZ ? 0u : 4u);
-  bool inRegisters = TRAVERSAL_STACK_SLOTS <= WIDE_REGISTER_STACK;
-  uvec2 regs[WIDE_REGISTER_STACK];    // the stack, top first, when inRegisters
-  uvec2 stack[TRAVERSAL_STACK_SIZE];  // the stack, bottom first, otherwise
-  WP_CLEAR_REGISTER_STACK(regs);
-  uint sp = 0u;
-  uint primGroupsSetAside = 0u;     // primitive groups on the stack
-  uint visit = 0u;                  // the node to visit in this iteration (the root first), or WP_INVALID
-  uvec2 nodeGroup = uvec2(0u, 0u);  // x: first interior child; y: its remaining hit bits (24-31) | imask (0-7)
-  uvec2 primGroup = uvec2(0u, 0u);  // x: first primitive; y: remaining hit bits (0-23)
+#include "wide_walk_state.glsl"
+#include "wide_walk_begin.glsl"
   uint steps = 0u;
   uint cap = scene.counts.z;
-  while (true) {
+  bool walkDone = false;
+  while (!walkDone) {
     steps += 1u;
     if (steps > cap) return TRACE_TRUNCATED;
-    if (primGroup.y != 0u) {
-      uint bit = uint(findLSB(primGroup.y));
-      primGroup.y &= primGroup.y - 1u;
-      intersect_prim(primGroup.x + bit, o, d, sh, hit);
-      if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
-    }
-    // A node waits while it might bring a primitive group that there is no
-    // room to set aside.
-    if (visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
-      WideNode n = load_wide_node(visit);
-      vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
-                       uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
-      vec3 scale = cell * invDir;
-      vec3 base = (n.origin - o) * invDir;
-      uvec2 loX = uvec2(n.qlo.x, n.qlo.y);
-      uvec2 loY = uvec2(n.qlo.z, n.qlo.w);
-      uvec2 loZ = uvec2(n.qloZqhiX.x, n.qloZqhiX.y);
-      uvec2 hiX = uvec2(n.qloZqhiX.z, n.qloZqhiX.w);
-      uvec2 hiY = uvec2(n.qhi.x, n.qhi.y);
-      uvec2 hiZ = uvec2(n.qhi.z, n.qhi.w);
-      uvec2 nearX = negX ? hiX : loX;
-      uvec2 farX = negX ? loX : hiX;
-      uvec2 nearY = negY ? hiY : loY;
-      uvec2 farY = negY ? loY : hiY;
-      uvec2 nearZ = negZ ? hiZ : loZ;
-      uvec2 farZ = negZ ? loZ : hiZ;
-      uint imask = n.exyzImask >> 24u;
-      uvec2 meta = uvec2(permute_meta(n.meta0123, imask & 15u, xorSlot), permute_meta(n.meta4567, imask >> 4u, xorSlot));
-      // Eight explicit calls, not a loop: a loop would count against lavapipe's budget.
-      uint bits = wide_child_bits(0u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(1u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(2u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(3u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(4u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(5u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(6u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-                  wide_child_bits(7u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
-      // Set aside what is left of the current node group, and the current
-      // primitive group when this node brings a new one.
-      bool pushNodes = (nodeGroup.y & WIDE_NODE_BITS) != 0u;
-      uint prims = bits & ~WIDE_NODE_BITS;
-      bool pushPrims = prims != 0u && primGroup.y != 0u;
-      uint pushes = (pushNodes ? 1u : 0u) + (pushPrims ? 1u : 0u);
-      if (inRegisters) {
-        WP_REGISTER_STACK_DOWN(regs, pushNodes);
-        regs[0u] = pushNodes ? nodeGroup : regs[0u];
-        WP_REGISTER_STACK_DOWN(regs, pushPrims);
-        regs[0u] = pushPrims ? primGroup : regs[0u];
-      } else {
-        if (pushNodes) stack[sp] = nodeGroup;
-        if (pushPrims) stack[sp + (pushNodes ? 1u : 0u)] = primGroup;
-      }
-      sp += pushes;
-      WP_NOTE_STACK_DEPTH(sp);
-      primGroupsSetAside += pushPrims ? 1u : 0u;
-      nodeGroup = uvec2(n.childBase, (bits & WIDE_NODE_BITS) | imask);
-      if (prims != 0u) primGroup = uvec2(n.primBase, prims);
-      visit = WP_INVALID;
-    }
-    // With no node group left, take the top of the stack: a node group at
-    // once, a primitive group once the current one is done.
-    if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
-      uvec2 top = inRegisters ? regs[0u] : stack[sp - 1u];
-      bool isNodes = (top.y & WIDE_NODE_BITS) != 0u;
-      bool pop = isNodes || primGroup.y == 0u;
-      if (inRegisters) {
-        WP_REGISTER_STACK_UP(regs, pop);
-      }
-      if (pop) {
-        sp -= 1u;
-        if (isNodes) {
-          nodeGroup = top;
-        } else {
-          primGroup = top;
-          primGroupsSetAside -= 1u;
-        }
-      }
-    }
-    // The next node to visit, unless one is still waiting.
-    if (visit == WP_INVALID) {
-      if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
-        uint bit = uint(findMSB(nodeGroup.y));
-        nodeGroup.y &= ~(1u << bit);
-        uint slot = (bit - 24u) ^ xorSlot;
-        visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
-      } else if (primGroup.y == 0u) {
-        break;  // nothing to visit or test, and the stack is empty
-      }
-    }
+#include "wide_walk_step.glsl"
   }
   return TRACE_OK;
 }

@@ -64,6 +64,8 @@ const std::vector<KernelVariant>& kernel_variants() {
     registerStack.stack = TraversalStack::Registers;
     WavefrontSettings indexedStack;
     indexedStack.stack = TraversalStack::Indexed;
+    WavefrontSettings oneRay;
+    oneRay.raysPerInvocation = 1;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
@@ -78,7 +80,9 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu-regstack", "wavefront kernels, the wide walk's stack in registers on every device (gpu: on CPU devices)",
          registerStack, BvhLayout::Wide},
         {"gpu-memstack", "wavefront kernels, the wide walk's stack in an indexed array on every device (gpu: on GPUs)",
-         indexedStack, BvhLayout::Wide}};
+         indexedStack, BvhLayout::Wide},
+        {"gpu-oneray", "wavefront kernels, one ray per invocation of the tracing kernels (gpu: 16 on CPU devices)", oneRay,
+         BvhLayout::Wide}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
       s.workgroupSize = size;
@@ -154,7 +158,8 @@ struct WavefrontRenderer::Impl {
     const uint64_t maxViewBytes = uint64_t(ctx.info().maxTexelBufferElements) * 16u;
     capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
                                    std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
-                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples});
+                                   uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,
+                                   uint64_t(ctx.info().maxTexelBufferElements) / (QUEUE_SORTED + 1)});
     create_buffers(pixels, maxRange);
     create_pipelines();
     commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
@@ -210,6 +215,7 @@ struct WavefrontRenderer::Impl {
       case BINDING_PATH_TEXELS:
       case BINDING_HIT_TEXELS:
       case BINDING_SHADOW_RAY_TEXELS:
+      case BINDING_QUEUE_TEXELS:
         return true;
       default:
         return false;
@@ -244,10 +250,9 @@ struct WavefrontRenderer::Impl {
   }
 
   // A work buffer the kernels also read as RGBA32UI texels, through `view`.
-  void add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes) {
+  void add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes, vk::Format format = vk::Format::eR32G32B32A32Uint) {
     add_work(binding, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer);
-    views[view] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
-                                                                               vk::Format::eR32G32B32A32Uint, 0, VK_WHOLE_SIZE));
+    views[view] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(), format, 0, VK_WHOLE_SIZE));
   }
 
   void create_buffers(uint32_t pixels, uint64_t maxRange) {
@@ -275,11 +280,14 @@ struct WavefrontRenderer::Impl {
     // Queues 0 and 1, and with sorting by material the sorted queue and the
     // key of every queue position.
     const bool sorting = settings.sortByMaterial;
-    add_work(BINDING_QUEUES, uint64_t(capacity) * (sorting ? QUEUE_SORTED + 1 : 2) * sizeof(uint32_t));
+    add_readable_work(BINDING_QUEUES, BINDING_QUEUE_TEXELS, uint64_t(capacity) * (sorting ? QUEUE_SORTED + 1 : 2) * sizeof(uint32_t),
+                      vk::Format::eR32Uint);
     add_work(BINDING_SORT, (SORT_KEYS + (sorting ? uint64_t(capacity) : 0)) * sizeof(uint32_t));
     add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
-    add_work(BINDING_INDIRECT, 6 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
+    add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
+    // Rays a tracing kernel defers to its second pass: at most one per ray of a dispatch.
+    add_work(BINDING_DEFERRED, uint64_t(capacity) * lightSamples * sizeof(uint32_t));
     uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
     if (accumBytes > maxRange) {
       throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image needs " +
@@ -311,6 +319,17 @@ struct WavefrontRenderer::Impl {
   }
   static constexpr uint64_t kMegakernelMinimumCap = 256;
 
+  // Rays per invocation of the tracing kernels (trace_items.glsl): several
+  // where lanes of a SIMD group would wait for each other's rays (CPU
+  // devices) and the walk can resume rays (the wide BVH; with compaction, so
+  // every queued ray is live). Each gets the step cap's share.
+  uint32_t rays_per_invocation() const {
+    if (settings.raysPerInvocation != 0) return settings.raysPerInvocation;
+    bool several = ctx.info().type == "cpu" && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction;
+    return several ? kRaysPerInvocationOnCpus : 1u;
+  }
+  static constexpr uint32_t kRaysPerInvocationOnCpus = 16;
+
   uint32_t groups_for(uint32_t n) const {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
   }
@@ -320,14 +339,15 @@ struct WavefrontRenderer::Impl {
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
     // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
-    // by material (bools: a 32-bit 0 or 1).
+    // by material (bools: a 32-bit 0 or 1), 8 rays per invocation.
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
     bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && ctx.info().type != "cpu");
     uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
-    constexpr uint32_t kConstants = 8;
+    constexpr uint32_t kConstants = 9;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
-                                         accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u};
+                                         accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
+                                         rays_per_invocation()};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -404,6 +424,15 @@ struct WavefrontRenderer::Impl {
     stamp(cb, stage);
   }
 
+  // A tracing kernel (trace_items.glsl) over the rays sized in `slot`, then
+  // over the rays it deferred (usually none: an empty dispatch).
+  void dispatch_tracing(vk::CommandBuffer cb, const vk::raii::Pipeline& p, KernelPush push, uint32_t slot, Stage stage) {
+    push.phase = TRACE_ITEMS;
+    dispatch_indirect(cb, p, push, slot, stage);
+    push.phase = TRACE_DEFERRED;
+    dispatch_indirect(cb, p, push, INDIRECT_DEFERRED, stage);
+  }
+
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
   void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed) {
     KernelPush push{};
@@ -421,18 +450,18 @@ struct WavefrontRenderer::Impl {
       push.queueIn = bounce & 1u;
       push.phase = PREPARE_EXTEND;
       dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
-      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND, StageTimes::kExtend);
+      dispatch_tracing(cb, extend, push, INDIRECT_EXTEND, StageTimes::kExtend);
       push.shadeQueue = push.queueIn;
       if (settings.sortByMaterial) {
         push.phase = PREPARE_SORT;
         dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
-        dispatch_indirect(cb, sort, push, INDIRECT_EXTEND, StageTimes::kSort);
+        dispatch_indirect(cb, sort, push, INDIRECT_SHADE, StageTimes::kSort);
         push.shadeQueue = QUEUE_SORTED;
       }
-      dispatch_indirect(cb, shade, push, INDIRECT_EXTEND, StageTimes::kShade);
+      dispatch_indirect(cb, shade, push, INDIRECT_SHADE, StageTimes::kShade);
       push.phase = PREPARE_CONNECT;
       dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
-      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
+      dispatch_tracing(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
     }
     dispatch(cb, accumulate, push, groups_for(pathCount), StageTimes::kAccumulate);
   }
@@ -482,7 +511,8 @@ struct WavefrontRenderer::Impl {
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
     uint32_t perSubmit = 1;
     const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
-    const uint32_t dispatchesPerBounce = settings.sortByMaterial ? 7 : 5;
+    // prepare, extend and its deferred pass, (prepare, sort,) shade, prepare, connect and its deferred pass
+    const uint32_t dispatchesPerBounce = settings.sortByMaterial ? 9 : 7;
     const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * (scene.params.image.z + 1);
     for (uint32_t sample = first; sample < end;) {
       uint32_t n = std::min(perSubmit, end - sample);
@@ -546,15 +576,24 @@ struct WavefrontRenderer::Impl {
         if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, rayBytes));
         cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
         cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
+        const uint32_t noDeferred[3] = {0, 1, 1};
+        cb.updateBuffer(buffers[BINDING_INDIRECT]->handle(), INDIRECT_DEFERRED * sizeof(noDeferred), sizeof(noDeferred), noDeferred);
         stage_barrier(cb);
         KernelPush push{};
         push.pathCount = n;
         push.capacity = capacity;
+        push.phase = TRACE_ITEMS;
         if (timed) {
           cb.resetQueryPool(*queries, 0, 2);
           cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
         }
-        dispatch(cb, kernel, push, groups_for(n), StageTimes::kExtend);
+        const bool tracing = &kernel == &raycast;
+        const uint32_t perInvocation = tracing ? rays_per_invocation() : 1u;
+        dispatch(cb, kernel, push, groups_for((n + perInvocation - 1) / perInvocation), StageTimes::kExtend);
+        if (tracing) {
+          push.phase = TRACE_DEFERRED;
+          dispatch_indirect(cb, kernel, push, INDIRECT_DEFERRED, StageTimes::kExtend);
+        }
         if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));

@@ -1,0 +1,17 @@
+// wide_walk_state.glsl — the wide BVH walk's locals for one ray (scene.glsl).
+// A fragment of a function body, not a header: see wide_walk_step.glsl.
+// wide_walk_begin.glsl gives them their values for a ray.
+RayShear sh;
+vec3 invDir;
+bool negX;
+bool negY;
+bool negZ;
+uint xorSlot;
+bool inRegisters = TRAVERSAL_STACK_SLOTS <= WIDE_REGISTER_STACK;
+uvec2 regs[WIDE_REGISTER_STACK];    // the stack, top first, when inRegisters
+uvec2 stack[TRAVERSAL_STACK_SIZE];  // the stack, bottom first, otherwise
+uint sp;
+uint primGroupsSetAside;  // primitive groups on the stack
+uint visit;               // the node to visit in this iteration (the root first), or WP_INVALID
+uvec2 nodeGroup;          // x: first interior child; y: its remaining hit bits (24-31) | imask (0-7)
+uvec2 primGroup;          // x: first primitive; y: remaining hit bits (0-23)

@@ -1,0 +1,96 @@
+// wide_walk_step.glsl — one iteration of the wide BVH walk (scene.glsl): test
+// one primitive of the current primitive group, visit one node, take what the
+// stack holds next. A fragment of a function body, not a header: trace_wide
+// includes it in its loop, and trace_items.glsl in the loop that walks
+// several rays per invocation, so both run the same code. It reads and writes
+// the locals of wide_walk_state.glsl, reads o, d and anyHit, updates hit, and
+// sets walkDone once the walk is over (with anyHit: at the first hit).
+if (primGroup.y != 0u) {
+  uint bit = uint(findLSB(primGroup.y));
+  primGroup.y &= primGroup.y - 1u;
+  intersect_prim(primGroup.x + bit, o, d, sh, hit);
+  walkDone = anyHit && hit.prim != WP_INVALID;
+}
+// A node waits while it might bring a primitive group that there is no
+// room to set aside.
+if (!walkDone && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
+  WideNode n = load_wide_node(visit);
+  vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
+                   uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
+  vec3 scale = cell * invDir;
+  vec3 base = (n.origin - o) * invDir;
+  uvec2 loX = uvec2(n.qlo.x, n.qlo.y);
+  uvec2 loY = uvec2(n.qlo.z, n.qlo.w);
+  uvec2 loZ = uvec2(n.qloZqhiX.x, n.qloZqhiX.y);
+  uvec2 hiX = uvec2(n.qloZqhiX.z, n.qloZqhiX.w);
+  uvec2 hiY = uvec2(n.qhi.x, n.qhi.y);
+  uvec2 hiZ = uvec2(n.qhi.z, n.qhi.w);
+  uvec2 nearX = negX ? hiX : loX;
+  uvec2 farX = negX ? loX : hiX;
+  uvec2 nearY = negY ? hiY : loY;
+  uvec2 farY = negY ? loY : hiY;
+  uvec2 nearZ = negZ ? hiZ : loZ;
+  uvec2 farZ = negZ ? loZ : hiZ;
+  uint imask = n.exyzImask >> 24u;
+  uvec2 meta = uvec2(permute_meta(n.meta0123, imask & 15u, xorSlot), permute_meta(n.meta4567, imask >> 4u, xorSlot));
+  // Eight explicit calls, not a loop: a loop would count against lavapipe's budget.
+  uint bits = wide_child_bits(0u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(1u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(2u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(3u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(4u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(5u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(6u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
+              wide_child_bits(7u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
+  // Set aside what is left of the current node group, and the current
+  // primitive group when this node brings a new one.
+  bool pushNodes = (nodeGroup.y & WIDE_NODE_BITS) != 0u;
+  uint prims = bits & ~WIDE_NODE_BITS;
+  bool pushPrims = prims != 0u && primGroup.y != 0u;
+  uint pushes = (pushNodes ? 1u : 0u) + (pushPrims ? 1u : 0u);
+  if (inRegisters) {
+    WP_REGISTER_STACK_DOWN(regs, pushNodes);
+    regs[0u] = pushNodes ? nodeGroup : regs[0u];
+    WP_REGISTER_STACK_DOWN(regs, pushPrims);
+    regs[0u] = pushPrims ? primGroup : regs[0u];
+  } else {
+    if (pushNodes) stack[sp] = nodeGroup;
+    if (pushPrims) stack[sp + (pushNodes ? 1u : 0u)] = primGroup;
+  }
+  sp += pushes;
+  WP_NOTE_STACK_DEPTH(sp);
+  primGroupsSetAside += pushPrims ? 1u : 0u;
+  nodeGroup = uvec2(n.childBase, (bits & WIDE_NODE_BITS) | imask);
+  if (prims != 0u) primGroup = uvec2(n.primBase, prims);
+  visit = WP_INVALID;
+}
+// With no node group left, take the top of the stack: a node group at
+// once, a primitive group once the current one is done.
+if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
+  uvec2 top = inRegisters ? regs[0u] : stack[sp - 1u];
+  bool isNodes = (top.y & WIDE_NODE_BITS) != 0u;
+  bool pop = isNodes || primGroup.y == 0u;
+  if (inRegisters) {
+    WP_REGISTER_STACK_UP(regs, pop);
+  }
+  if (pop) {
+    sp -= 1u;
+    if (isNodes) {
+      nodeGroup = top;
+    } else {
+      primGroup = top;
+      primGroupsSetAside -= 1u;
+    }
+  }
+}
+// The next node to visit, unless one is still waiting.
+if (visit == WP_INVALID) {
+  if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
+    uint bit = uint(findMSB(nodeGroup.y));
+    nodeGroup.y &= ~(1u << bit);
+    uint slot = (bit - 24u) ^ xorSlot;
+    visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
+  } else if (primGroup.y == 0u) {
+    walkDone = true;  // nothing to visit or test, and the stack is empty
+  }
+}
