@@ -38,7 +38,8 @@ layout(constant_id = 6) const bool kCompaction = true;
 layout(constant_id = 7) const bool kSortByMaterial = false;
 // Rays per invocation of the tracing kernels (constant 8; trace_items.glsl):
 // several on CPU devices, whose SIMD lanes would otherwise wait for the
-// slowest ray of their group.
+// slowest ray of their group. A constant, not a push constant: a kernel
+// holding both loops ran single rays 10 % slower.
 layout(constant_id = 8) const uint kRaysPerInvocation = 1u;
 #include "bindings.glsl"
 #include "rng.glsl"

@@ -6,7 +6,10 @@
 // bounce rays kept fewer than half of the lanes busy. So with the wide BVH
 // each invocation takes up to kRaysPerInvocation items (item = invocation +
 // k * stride, stride = items / kRaysPerInvocation) and walks them in one loop:
-// a lane whose ray is done starts its next ray in the next iteration.
+// a lane whose ray is done starts its next ray in the next iteration. The
+// host asks for one ray per invocation on GPUs, and where it knows the rays
+// are coherent (the ray-casting benchmark's camera rays: their lanes finish
+// together anyway).
 //
 // lavapipe's loop budget (65,535 iterations per invocation, all loops
 // together) is shared: each ray gets scene.counts.z / kRaysPerInvocation

@@ -379,11 +379,13 @@ int run_raycast_bench(const BenchOptions& o) {
         std::vector<double> seconds;
       };
       std::vector<Timed> timedVariants;
+      // Camera rays are passed as coherent, bounce rays not (cast_rays).
+      const bool coherent = rays == &sets.primary;
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         const KernelVariant* v = variants[vi];
         auto renderer = std::make_unique<WavefrontRenderer>(ctx, variantScenes[vi], v->settings);
         uint64_t truncated = 0;
-        std::vector<shader::Hit> hits = renderer->cast_rays(*rays, &truncated);
+        std::vector<shader::Hit> hits = renderer->cast_rays(*rays, &truncated, nullptr, coherent);
         std::vector<float> t(hits.size(), WP_INF);
         for (size_t i = 0; i < hits.size(); ++i)
           if (hits[i].prim != WP_INVALID) t[i] = hits[i].t;
@@ -409,7 +411,7 @@ int run_raycast_bench(const BenchOptions& o) {
         if (embree) embreeSeconds.push_back(embree->trace(*rays, &embreeHits));
         for (Timed& t : timedVariants) {
           double kernel = 0.0;
-          t.renderer->cast_rays(*rays, nullptr, &kernel);
+          t.renderer->cast_rays(*rays, nullptr, &kernel, coherent);
           t.seconds.push_back(kernel);
         }
       }

@@ -130,7 +130,7 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
-      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, texprobe{nullptr};
+      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastCoherent{nullptr}, texprobe{nullptr};
   std::vector<std::pair<std::string, vk::Pipeline>> compiled;  // every pipeline above that exists, by kernel name
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
@@ -321,11 +321,15 @@ struct WavefrontRenderer::Impl {
 
   // Rays per invocation of the tracing kernels (trace_items.glsl): several
   // where lanes of a SIMD group would wait for each other's rays (CPU
-  // devices) and the walk can resume rays (the wide BVH; with compaction, so
-  // every queued ray is live). Each gets the step cap's share.
-  uint32_t rays_per_invocation() const {
+  // devices, incoherent rays) and the walk can resume rays (the wide BVH;
+  // with compaction, so every queued ray is live). Each gets the step cap's
+  // share. Coherent rays (the ray-casting benchmark's camera rays) finish
+  // together anyway: on the dragon they ran 16 % slower several to an
+  // invocation. (A render's camera rays are a ninth of its closest-hit rays
+  // at 8 bounces: not worth a second extend kernel.)
+  uint32_t rays_per_invocation(bool coherent) const {
     if (settings.raysPerInvocation != 0) return settings.raysPerInvocation;
-    bool several = ctx.info().type == "cpu" && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction;
+    bool several = ctx.info().type == "cpu" && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction && !coherent;
     return several ? kRaysPerInvocationOnCpus : 1u;
   }
   static constexpr uint32_t kRaysPerInvocationOnCpus = 16;
@@ -334,12 +338,14 @@ struct WavefrontRenderer::Impl {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
   }
 
-  vk::raii::Pipeline make_pipeline(Kernel k) {
+  // coherentRays: a tracing kernel for rays known to be coherent (rays_per_invocation).
+  vk::raii::Pipeline make_pipeline(Kernel k, bool coherentRays = false) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
     // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
-    // by material (bools: a 32-bit 0 or 1), 8 rays per invocation.
+    // by material (bools: a 32-bit 0 or 1), 8 rays per invocation of the
+    // tracing kernels.
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
     bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && ctx.info().type != "cpu");
@@ -347,7 +353,7 @@ struct WavefrontRenderer::Impl {
     constexpr uint32_t kConstants = 9;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
                                          accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
-                                         rays_per_invocation()};
+                                         rays_per_invocation(coherentRays)};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -405,6 +411,7 @@ struct WavefrontRenderer::Impl {
     accumulate = make_pipeline(kernel("accumulate", accumulate_spv));
     if (settings.megakernel) megakernel = make_pipeline(kernel("megakernel", megakernel_spv));
     raycast = make_pipeline(kernel("raycast", raycast_spv));
+    raycastCoherent = make_pipeline(kernel("raycast-coherent", raycast_spv), true);
     texprobe = make_pipeline(kernel("texprobe", texprobe_spv));
   }
 
@@ -550,8 +557,9 @@ struct WavefrontRenderer::Impl {
     }
   }
 
-  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds) {
-    return run_on_rays(raycast, rays, truncated, kernelSeconds);
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
+                                     bool coherent) {
+    return run_on_rays(coherent ? raycastCoherent : raycast, rays, truncated, kernelSeconds);
   }
 
   // Runs `kernel` (raycast or texprobe) over `rays` in chunks of the path
@@ -587,8 +595,8 @@ struct WavefrontRenderer::Impl {
           cb.resetQueryPool(*queries, 0, 2);
           cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
         }
-        const bool tracing = &kernel == &raycast;
-        const uint32_t perInvocation = tracing ? rays_per_invocation() : 1u;
+        const bool tracing = &kernel == &raycast || &kernel == &raycastCoherent;
+        const uint32_t perInvocation = tracing ? rays_per_invocation(&kernel == &raycastCoherent) : 1u;
         dispatch(cb, kernel, push, groups_for((n + perInvocation - 1) / perInvocation), StageTimes::kExtend);
         if (tracing) {
           push.phase = TRACE_DEFERRED;
@@ -650,8 +658,8 @@ const StageTimes& WavefrontRenderer::stage_times() const {
 }
 
 std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
-                                                      double* kernelSeconds) {
-  return impl_->cast_rays(rays, truncated, kernelSeconds);
+                                                      double* kernelSeconds, bool coherent) {
+  return impl_->cast_rays(rays, truncated, kernelSeconds, coherent);
 }
 
 std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<TextureQuery>& queries) {

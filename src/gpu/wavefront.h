@@ -50,7 +50,7 @@ struct WavefrontSettings {
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
   bool captureStatistics = false;       // keep the driver's statistics of each pipeline (kernel_statistics)
-  uint32_t raysPerInvocation = 0;       // of the tracing kernels; 0: 16 on CPU devices with the wide BVH, else 1
+  uint32_t raysPerInvocation = 0;       // of the tracing kernels; 0: 16 for incoherent rays on CPU devices with the wide BVH, else 1
 };
 
 // What the driver reports about one compiled kernel (VK_KHR_pipeline_executable_properties):
@@ -90,9 +90,12 @@ class WavefrontRenderer {
   // Each ray is origin, dir and tmax of a ShadowRay. Truncated traversals are
   // counted in *truncated (if given) and reported as misses. *kernelSeconds
   // (if given) receives the GPU time of the raycast dispatches alone, from
-  // timestamps (0 where the device has none).
+  // timestamps (0 where the device has none). `coherent` says the rays are
+  // like camera rays, neighbours in the array close in origin and direction,
+  // as Embree's coherent-context hint does: on CPU devices they are then
+  // traced one per invocation.
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr,
-                                     double* kernelSeconds = nullptr);
+                                     double* kernelSeconds = nullptr, bool coherent = false);
 
   // The kernels' texture_eval at each query, for comparing GLSL with C++.
   struct TextureQuery {
