@@ -10,16 +10,12 @@ uint groups_for(uint n) {
   return (n + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
 }
 
-// Workgroups for a tracing kernel's n rays (kRaysPerInvocation each), and an
-// empty pass for the rays it may defer (trace_items.glsl).
+// Workgroups for a tracing kernel's n rays, kRaysPerInvocation to an
+// invocation (trace_items.glsl).
 void size_tracing(uint slot, uint n) {
   indirect[slot * 3u] = groups_for((n + kRaysPerInvocation - 1u) / kRaysPerInvocation);
   indirect[slot * 3u + 1u] = 1u;
   indirect[slot * 3u + 2u] = 1u;
-  indirect[INDIRECT_DEFERRED * 3u] = 0u;
-  indirect[INDIRECT_DEFERRED * 3u + 1u] = 1u;
-  indirect[INDIRECT_DEFERRED * 3u + 2u] = 1u;
-  counters[COUNTER_DEFERRED] = 0u;
 }
 
 void main() {

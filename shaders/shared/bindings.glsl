@@ -29,9 +29,8 @@
 #define BINDING_PATH_TEXELS 21
 #define BINDING_HIT_TEXELS 22
 #define BINDING_SHADOW_RAY_TEXELS 23
-#define BINDING_DEFERRED 24
-#define BINDING_QUEUE_TEXELS 25  // the queues, R32UI
-#define BINDING_COUNT 26
+#define BINDING_QUEUE_TEXELS 24  // the queues, R32UI
+#define BINDING_COUNT 25
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -46,15 +45,11 @@ struct KernelPush {
   uint sampleIndex; // sample number of every path of this wave
   uint queueIn;     // 0 or 1: the queue of paths to extend / shade
   uint capacity;    // path slots per queue
-  uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*; tracing kernels: TRACE_*
+  uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
   uint shadeQueue;  // the queue region shade reads: queueIn, or QUEUE_SORTED
   uint pad1;
 };
 
-// Tracing kernels (extend, connect, raycast): the dispatch's own rays, or
-// the ones the previous dispatch deferred (trace_items.glsl).
-#define TRACE_ITEMS 0u
-#define TRACE_DEFERRED 1u
 #define PREPARE_EXTEND 0u
 #define PREPARE_CONNECT 1u
 #define PREPARE_SORT 2u
@@ -103,7 +98,6 @@ layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState p
 // 16-byte store beats four 4-byte ones.
 layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer HitBuffer { uvec4 hitRecords[]; };
 layout(std430, set = 0, binding = BINDING_QUEUES) buffer QueueBuffer { uint queues[]; };
-layout(std430, set = 0, binding = BINDING_DEFERRED) buffer DeferredBuffer { uint deferredItems[]; };
 layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRay shadowRays[]; };
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };

@@ -13,10 +13,9 @@
 //
 // lavapipe's loop budget (65,535 iterations per invocation, all loops
 // together) is shared: each ray gets scene.counts.z / kRaysPerInvocation
-// steps. A ray that needs more is deferred: its item goes to deferredItems,
-// and a second dispatch of the same kernel (phase TRACE_DEFERRED, sized by the
-// first through INDIRECT_DEFERRED) walks each deferred ray alone with the
-// whole cap. Only a ray that needs more than that is truncated.
+// steps, and one that needs more is counted as truncated. The host then runs
+// the same work again one ray per invocation, each ray with the whole cap
+// (wavefront.cpp), so only a ray that needs more than that fails a render.
 //
 // The including kernel defines, before including this file:
 //   TRACE_ANY_HIT    true for shadow rays (the first hit ends the walk)
@@ -27,15 +26,7 @@
 //     its result: hit.prim is WP_INVALID for a miss, and for a truncated walk
 // and calls trace_items() from main().
 
-// Sets an item aside for the TRACE_DEFERRED pass, and grows that pass's
-// dispatch by a workgroup for every workgroup's worth of items.
-void defer_item(uint item) {
-  uint slot = atomicAdd(counters[COUNTER_DEFERRED], 1u);
-  deferredItems[slot] = item;
-  if (slot % gl_WorkGroupSize.x == 0u) atomicAdd(indirect[INDIRECT_DEFERRED * 3u], 1u);
-}
-
-// One item, one walk with the whole step cap.
+// One item, one walk with the whole step cap (where kRaysPerInvocation is 1).
 void trace_one_item(uint item) {
   vec3 o;
   vec3 d;
@@ -57,10 +48,6 @@ void trace_one_item(uint item) {
 
 void trace_items() {
   uint id = gl_GlobalInvocationID.x;
-  if (pc.phase == TRACE_DEFERRED) {
-    if (id < counters[COUNTER_DEFERRED]) trace_one_item(deferredItems[id]);
-    return;
-  }
   uint count = trace_item_count();
   if (id >= count) return;
   if (kRaysPerInvocation == 1u || BVH_LAYOUT_OF_SCENE != BVH_LAYOUT_WIDE) {
@@ -90,17 +77,17 @@ void trace_items() {
       start = false;
     }
     steps += 1u;
-    bool deferred = steps > cap;
+    bool truncated = steps > cap;
     bool walkDone = false;
-    if (!deferred) {
+    if (!truncated) {
 #include "wide_walk_step.glsl"
     }
-    if (walkDone || deferred) {
-      if (deferred) {
-        defer_item(item);
-      } else {
-        trace_item_done(item, tag, hit, false);
+    if (walkDone || truncated) {
+      if (truncated) {
+        atomicAdd(counters[COUNTER_TRUNCATED], 1u);
+        hit.prim = WP_INVALID;
       }
+      trace_item_done(item, tag, hit, truncated);
       item += stride;
       if (item >= count) break;
       start = true;

@@ -81,16 +81,13 @@
 // the next (see count_rays in kernel.glsl).
 #define COUNTER_CLOSEST_RAYS 5u
 #define COUNTER_SHADOW_RAYS 7u
-// Rays set aside by a tracing kernel for a second pass (trace_items.glsl).
-#define COUNTER_DEFERRED 9u
 #define COUNTER_COUNT 12u
 
 // Dispatch-indirect argument slots (3 uints each) in the indirect buffer.
 #define INDIRECT_EXTEND 0u
 #define INDIRECT_CONNECT 1u
-#define INDIRECT_DEFERRED 2u
-#define INDIRECT_SHADE 3u     // one invocation per queued path (sort, shade)
-#define INDIRECT_SLOTS 4u
+#define INDIRECT_SHADE 2u     // one invocation per queued path (sort, shade)
+#define INDIRECT_SLOTS 3u
 
 // Sorting paths by material (variant gpu-sort): between extend and shade the
 // queue is reordered so that paths whose rays hit the same material are

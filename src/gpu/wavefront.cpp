@@ -130,7 +130,8 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
-      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastCoherent{nullptr}, texprobe{nullptr};
+      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, texprobe{nullptr};
+  uint32_t tracingRays = 1;  // rays per invocation of prepare's sizing, extend, connect and raycast (rays_per_invocation)
   std::vector<std::pair<std::string, vk::Pipeline>> compiled;  // every pipeline above that exists, by kernel name
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
@@ -287,7 +288,6 @@ struct WavefrontRenderer::Impl {
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
     // Rays a tracing kernel defers to its second pass: at most one per ray of a dispatch.
-    add_work(BINDING_DEFERRED, uint64_t(capacity) * lightSamples * sizeof(uint32_t));
     uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
     if (accumBytes > maxRange) {
       throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image needs " +
@@ -323,13 +323,15 @@ struct WavefrontRenderer::Impl {
   // where lanes of a SIMD group would wait for each other's rays (CPU
   // devices, incoherent rays) and the walk can resume rays (the wide BVH;
   // with compaction, so every queued ray is live). Each gets the step cap's
-  // share. Coherent rays (the ray-casting benchmark's camera rays) finish
-  // together anyway: on the dragon they ran 16 % slower several to an
-  // invocation. (A render's camera rays are a ninth of its closest-hit rays
-  // at 8 bounces: not worth a second extend kernel.)
-  uint32_t rays_per_invocation(bool coherent) const {
+  // share; where a ray needs more, the work is done again one ray per
+  // invocation (render_samples, run_on_rays). Coherent rays (the ray-casting
+  // benchmark's camera rays, cast_rays) finish together anyway: on the dragon
+  // they ran 16 % slower several to an invocation. (A render's camera rays
+  // are a ninth of its closest-hit rays at 8 bounces: not worth a second
+  // extend kernel.)
+  uint32_t rays_per_invocation() const {
     if (settings.raysPerInvocation != 0) return settings.raysPerInvocation;
-    bool several = ctx.info().type == "cpu" && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction && !coherent;
+    bool several = ctx.info().type == "cpu" && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction;
     return several ? kRaysPerInvocationOnCpus : 1u;
   }
   static constexpr uint32_t kRaysPerInvocationOnCpus = 16;
@@ -338,8 +340,8 @@ struct WavefrontRenderer::Impl {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
   }
 
-  // coherentRays: a tracing kernel for rays known to be coherent (rays_per_invocation).
-  vk::raii::Pipeline make_pipeline(Kernel k, bool coherentRays = false) {
+  // single: a tracing kernel that takes one ray per invocation, whatever tracingRays says.
+  vk::raii::Pipeline make_pipeline(Kernel k, bool single = false) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
@@ -353,7 +355,7 @@ struct WavefrontRenderer::Impl {
     constexpr uint32_t kConstants = 9;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
                                          accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
-                                         rays_per_invocation(coherentRays)};
+                                         single ? 1u : tracingRays};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -363,6 +365,24 @@ struct WavefrontRenderer::Impl {
     vk::raii::Pipeline p(ctx.device(), nullptr, vk::ComputePipelineCreateInfo(flags, stage, *pipelineLayout));
     compiled.emplace_back(k.name, *p);
     return p;
+  }
+
+  // The kernels whose code depends on tracingRays, (re)made from it.
+  void create_tracing_pipelines() {
+    for (const char* name : {"prepare", "extend", "connect", "connect-multi", "raycast"})
+      compiled.erase(std::remove_if(compiled.begin(), compiled.end(), [&](const auto& c) { return c.first == name; }), compiled.end());
+    prepare = make_pipeline(kernel("prepare", prepare_spv));
+    extend = make_pipeline(kernel("extend", extend_spv));
+    if (scene.params.mode.w > 1u) {
+      if (!ctx.info().floatAtomicAdd) {
+        throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
+                          std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
+      }
+      connect = make_pipeline(kernel("connect-multi", connect_multi_spv));
+    } else {
+      connect = make_pipeline(kernel("connect", connect_spv));
+    }
+    raycast = make_pipeline(kernel("raycast", raycast_spv));
   }
 
   void create_pipelines() {
@@ -394,24 +414,14 @@ struct WavefrontRenderer::Impl {
       writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, &infos[b]);
     }
     ctx.device().updateDescriptorSets(writes, {});
+    tracingRays = rays_per_invocation();
+    create_tracing_pipelines();
     generate = make_pipeline(kernel("generate", generate_spv));
-    prepare = make_pipeline(kernel("prepare", prepare_spv));
-    extend = make_pipeline(kernel("extend", extend_spv));
     if (settings.sortByMaterial) sort = make_pipeline(kernel("sort", sort_spv));
     shade = make_pipeline(kernel("shade", shade_spv));
-    if (scene.params.mode.w > 1u) {
-      if (!ctx.info().floatAtomicAdd) {
-        throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
-                          std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
-      }
-      connect = make_pipeline(kernel("connect-multi", connect_multi_spv));
-    } else {
-      connect = make_pipeline(kernel("connect", connect_spv));
-    }
     accumulate = make_pipeline(kernel("accumulate", accumulate_spv));
     if (settings.megakernel) megakernel = make_pipeline(kernel("megakernel", megakernel_spv));
-    raycast = make_pipeline(kernel("raycast", raycast_spv));
-    raycastCoherent = make_pipeline(kernel("raycast-coherent", raycast_spv), true);
+    raycastSingle = make_pipeline(kernel("raycast-single", raycast_spv), true);
     texprobe = make_pipeline(kernel("texprobe", texprobe_spv));
   }
 
@@ -431,15 +441,6 @@ struct WavefrontRenderer::Impl {
     stamp(cb, stage);
   }
 
-  // A tracing kernel (trace_items.glsl) over the rays sized in `slot`, then
-  // over the rays it deferred (usually none: an empty dispatch).
-  void dispatch_tracing(vk::CommandBuffer cb, const vk::raii::Pipeline& p, KernelPush push, uint32_t slot, Stage stage) {
-    push.phase = TRACE_ITEMS;
-    dispatch_indirect(cb, p, push, slot, stage);
-    push.phase = TRACE_DEFERRED;
-    dispatch_indirect(cb, p, push, INDIRECT_DEFERRED, stage);
-  }
-
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
   void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed) {
     KernelPush push{};
@@ -457,7 +458,7 @@ struct WavefrontRenderer::Impl {
       push.queueIn = bounce & 1u;
       push.phase = PREPARE_EXTEND;
       dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
-      dispatch_tracing(cb, extend, push, INDIRECT_EXTEND, StageTimes::kExtend);
+      dispatch_indirect(cb, extend, push, INDIRECT_EXTEND, StageTimes::kExtend);
       push.shadeQueue = push.queueIn;
       if (settings.sortByMaterial) {
         push.phase = PREPARE_SORT;
@@ -468,7 +469,7 @@ struct WavefrontRenderer::Impl {
       dispatch_indirect(cb, shade, push, INDIRECT_SHADE, StageTimes::kShade);
       push.phase = PREPARE_CONNECT;
       dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
-      dispatch_tracing(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
+      dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
     }
     dispatch(cb, accumulate, push, groups_for(pathCount), StageTimes::kAccumulate);
   }
@@ -518,8 +519,7 @@ struct WavefrontRenderer::Impl {
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
     uint32_t perSubmit = 1;
     const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
-    // prepare, extend and its deferred pass, (prepare, sort,) shade, prepare, connect and its deferred pass
-    const uint32_t dispatchesPerBounce = settings.sortByMaterial ? 9 : 7;
+    const uint32_t dispatchesPerBounce = settings.sortByMaterial ? 7 : 5;
     const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * (scene.params.image.z + 1);
     for (uint32_t sample = first; sample < end;) {
       uint32_t n = std::min(perSubmit, end - sample);
@@ -546,6 +546,13 @@ struct WavefrontRenderer::Impl {
       while (ctx.device().waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
       }
       double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      // A ray past its share of the loop budget (trace_items.glsl): the same
+      // samples again, one ray per invocation from now on.
+      if (static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED] > 0 && tracingRays > 1) {
+        tracingRays = 1;
+        create_tracing_pipelines();
+        continue;
+      }
       fold(image, truncated);
       collect_times();
       sample += n;
@@ -559,7 +566,7 @@ struct WavefrontRenderer::Impl {
 
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
                                      bool coherent) {
-    return run_on_rays(coherent ? raycastCoherent : raycast, rays, truncated, kernelSeconds);
+    return run_on_rays(coherent ? raycastSingle : raycast, rays, truncated, kernelSeconds);
   }
 
   // Runs `kernel` (raycast or texprobe) over `rays` in chunks of the path
@@ -575,47 +582,45 @@ struct WavefrontRenderer::Impl {
     if (!readHits) readHits = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
     if (!rayBuffer.mapped() && !rayStaging)
       rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::ShadowRay), vk::BufferUsageFlagBits::eTransferSrc, true);
-    uint64_t lost = 0;
-    for (size_t start = 0; start < rays.size(); start += capacity) {
-      uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
-      const size_t rayBytes = n * sizeof(shader::ShadowRay);
-      std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, rayBytes);
+    // One chunk through `p`: the rays truncated, and the kernel's GPU time added to kernelTime.
+    auto run_chunk = [&](const vk::raii::Pipeline& p, uint32_t n, uint32_t perInvocation) {
       ctx.run_now([&](vk::CommandBuffer cb) {
-        if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, rayBytes));
+        if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::ShadowRay)));
         cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
         cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
-        const uint32_t noDeferred[3] = {0, 1, 1};
-        cb.updateBuffer(buffers[BINDING_INDIRECT]->handle(), INDIRECT_DEFERRED * sizeof(noDeferred), sizeof(noDeferred), noDeferred);
         stage_barrier(cb);
         KernelPush push{};
         push.pathCount = n;
         push.capacity = capacity;
-        push.phase = TRACE_ITEMS;
         if (timed) {
           cb.resetQueryPool(*queries, 0, 2);
           cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
         }
-        const bool tracing = &kernel == &raycast || &kernel == &raycastCoherent;
-        const uint32_t perInvocation = tracing ? rays_per_invocation(&kernel == &raycastCoherent) : 1u;
-        dispatch(cb, kernel, push, groups_for((n + perInvocation - 1) / perInvocation), StageTimes::kExtend);
-        if (tracing) {
-          push.phase = TRACE_DEFERRED;
-          dispatch_indirect(cb, kernel, push, INDIRECT_DEFERRED, StageTimes::kExtend);
-        }
+        dispatch(cb, p, push, groups_for((n + perInvocation - 1) / perInvocation), StageTimes::kExtend);
         if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
         vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
         cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
       });
-      std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
       if (timed) {
         uint64_t ticks[2] = {0, 0};
         if (ctx.device().getDispatcher()->vkGetQueryPoolResults(*ctx.device(), *queries, 0, 2, sizeof(ticks), ticks, sizeof(uint64_t),
                                                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
           kernelTime += double(ticks[1] - ticks[0]) * timestampPeriodNs * 1e-9;
       }
-      lost += static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
+      return static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
+    };
+    const uint32_t perInvocation = &kernel == &raycast ? tracingRays : 1u;
+    uint64_t lost = 0;
+    for (size_t start = 0; start < rays.size(); start += capacity) {
+      uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
+      std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, n * sizeof(shader::ShadowRay));
+      uint32_t chunkLost = run_chunk(kernel, n, perInvocation);
+      // A ray past its share of the loop budget: the chunk again, one ray per invocation.
+      if (chunkLost > 0 && perInvocation > 1) chunkLost = run_chunk(raycastSingle, n, 1);
+      std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
+      lost += chunkLost;
     }
     if (truncated) *truncated = lost;
     if (kernelSeconds) *kernelSeconds = kernelTime;
