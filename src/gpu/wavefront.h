@@ -50,7 +50,7 @@ struct WavefrontSettings {
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
   bool captureStatistics = false;       // keep the driver's statistics of each pipeline (kernel_statistics)
-  uint32_t raysPerInvocation = 0;       // of the tracing kernels; 0: 16 for incoherent rays on CPU devices with the wide BVH, else 1
+  uint32_t raysPerInvocation = 0;       // of the tracing kernels; 0: 16 on CPU devices for a wide BVH of depth 4 or more, else 1
 };
 
 // What the driver reports about one compiled kernel (VK_KHR_pipeline_executable_properties):
