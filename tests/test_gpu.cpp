@@ -242,6 +242,11 @@ TEST_F(Gpu, MegakernelReportsRaysPastItsShareOfTheBudget) {
   Progress quiet("", 0, false);
   WavefrontRenderer wavefront(*ctx_, cs);
   EXPECT_NO_THROW(wavefront.render(quiet));
+  // 16 rays per invocation give each ray a sixteenth of the cap: the camera
+  // rays outrun it, and the renderer redoes the samples one ray per
+  // invocation (render_samples) instead of failing.
+  WavefrontRenderer multiRay(*ctx_, cs, kernel_variant("gpu-multiray").settings);
+  EXPECT_NO_THROW(multiRay.render(quiet));
   WavefrontRenderer mega(*ctx_, cs, kernel_variant("gpu-mega").settings);
   try {
     mega.render(quiet);
