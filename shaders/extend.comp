@@ -12,7 +12,7 @@ uint trace_item_count() {
 }
 
 // Without compaction a finished path keeps its queue slot; its ray is empty
-// (tmax 0: the walk ends at the root) and it writes no hit.
+// (tmax 0: nothing to find) and it writes no hit.
 bool path_is_dead(uint path) {
   return !kCompaction && (texelFetch(pathTexels, int(path) * PATH_STATE_TEXELS + 2).w & PATH_DEAD) != 0u;
 }

@@ -10,22 +10,24 @@ uint groups_for(uint n) {
   return (n + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
 }
 
-// Workgroups for a tracing kernel's n rays, kRaysPerInvocation to an
-// invocation (trace_items.glsl).
-void size_tracing(uint slot, uint n) {
-  indirect[slot * 3u] = groups_for((n + kRaysPerInvocation - 1u) / kRaysPerInvocation);
+void set_dispatch(uint slot, uint groups) {
+  indirect[slot * 3u] = groups;
   indirect[slot * 3u + 1u] = 1u;
   indirect[slot * 3u + 2u] = 1u;
+}
+
+// Workgroups for a tracing kernel's n rays, kRaysPerInvocation to an
+// invocation (trace_items.glsl).
+uint tracing_groups(uint n) {
+  return groups_for((n + kRaysPerInvocation - 1u) / kRaysPerInvocation);
 }
 
 void main() {
   if (gl_GlobalInvocationID.x != 0u) return;
   if (pc.phase == PREPARE_EXTEND) {
     uint queued = counters[COUNTER_QUEUE0 + pc.queueIn];
-    size_tracing(INDIRECT_EXTEND, queued);
-    indirect[INDIRECT_SHADE * 3u] = groups_for(queued);
-    indirect[INDIRECT_SHADE * 3u + 1u] = 1u;
-    indirect[INDIRECT_SHADE * 3u + 2u] = 1u;
+    set_dispatch(INDIRECT_EXTEND, tracing_groups(queued));
+    set_dispatch(INDIRECT_SHADE, groups_for(queued));
     // With compaction every queued path casts its ray; without, extend counts
     // the ones it traces (finished paths keep their slots).
     if (kCompaction) count_rays(COUNTER_CLOSEST_RAYS, queued);
@@ -43,7 +45,7 @@ void main() {
       start += n;
     }
   } else {
-    size_tracing(INDIRECT_CONNECT, counters[COUNTER_SHADOW]);
+    set_dispatch(INDIRECT_CONNECT, tracing_groups(counters[COUNTER_SHADOW]));
     count_rays(COUNTER_SHADOW_RAYS, counters[COUNTER_SHADOW]);
   }
 }

@@ -26,6 +26,16 @@
 //     its result: hit.prim is WP_INVALID for a miss, and for a truncated walk
 // and calls trace_items() from main().
 
+// Hands an item's result to the kernel; a truncated walk is counted and
+// reported as a miss.
+void finish_item(uint item, uint tag, Hit hit, bool truncated) {
+  if (truncated) {
+    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
+    hit.prim = WP_INVALID;
+  }
+  trace_item_done(item, tag, hit, truncated);
+}
+
 // One item, one walk with the whole step cap (where kRaysPerInvocation is 1).
 void trace_one_item(uint item) {
   vec3 o;
@@ -39,11 +49,7 @@ void trace_one_item(uint item) {
   hit.u = 0.0f;
   hit.v = 0.0f;
   bool truncated = tmax > 0.0f && trace_ray(o, d, tmax, TRACE_ANY_HIT, hit) != TRACE_OK;
-  if (truncated) {
-    atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-    hit.prim = WP_INVALID;
-  }
-  trace_item_done(item, tag, hit, truncated);
+  finish_item(item, tag, hit, truncated);
 }
 
 void trace_items() {
@@ -83,11 +89,7 @@ void trace_items() {
 #include "wide_walk_step.glsl"
     }
     if (walkDone || truncated) {
-      if (truncated) {
-        atomicAdd(counters[COUNTER_TRUNCATED], 1u);
-        hit.prim = WP_INVALID;
-      }
-      trace_item_done(item, tag, hit, truncated);
+      finish_item(item, tag, hit, truncated);
       item += stride;
       if (item >= count) break;
       start = true;

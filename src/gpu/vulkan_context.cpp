@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <type_traits>
 
 #include "util/error.h"
 
@@ -178,23 +179,25 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
   std::vector<const char*> extensions;
   vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT atomicFloat;
   vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR executableProperties;
+  // The device's support for a feature struct's features, and enabling one.
+  auto offered = [&](const auto& features) {
+    using Features = std::decay_t<decltype(features)>;
+    return physical_->getFeatures2<vk::PhysicalDeviceFeatures2, Features>().template get<Features>();
+  };
+  auto enable = [&](auto& features, const char* extension) {
+    features.pNext = const_cast<void*>(dci.pNext);
+    dci.pNext = &features;
+    extensions.push_back(extension);
+  };
   for (const vk::ExtensionProperties& e : physical_->enumerateDeviceExtensionProperties()) {
     std::string name = e.extensionName.data();
-    if (name == VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) {
-      auto chain = physical_->getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>();
-      if (!chain.get<vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT>().shaderBufferFloat32AtomicAdd) continue;
+    if (name == VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME && offered(atomicFloat).shaderBufferFloat32AtomicAdd) {
       atomicFloat.shaderBufferFloat32AtomicAdd = VK_TRUE;
-      atomicFloat.pNext = const_cast<void*>(dci.pNext);
-      dci.pNext = &atomicFloat;
-      extensions.push_back(VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+      enable(atomicFloat, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
       info_.floatAtomicAdd = true;
-    } else if (name == VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME) {
-      auto chain = physical_->getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR>();
-      if (!chain.get<vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR>().pipelineExecutableInfo) continue;
+    } else if (name == VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME && offered(executableProperties).pipelineExecutableInfo) {
       executableProperties.pipelineExecutableInfo = VK_TRUE;
-      executableProperties.pNext = const_cast<void*>(dci.pNext);
-      dci.pNext = &executableProperties;
-      extensions.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+      enable(executableProperties, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
       info_.pipelineStatistics = true;
     }
   }

@@ -27,14 +27,13 @@ namespace {
 using shader::KernelPush;
 
 struct Kernel {
-  const char* name;
   const uint32_t* code;
   size_t bytes;
 };
 
 template <size_t N>
-Kernel kernel(const char* name, const uint32_t (&code)[N]) {
-  return Kernel{name, code, N * sizeof(uint32_t)};
+Kernel kernel(const uint32_t (&code)[N]) {
+  return Kernel{code, N * sizeof(uint32_t)};
 }
 
 
@@ -136,7 +135,6 @@ struct WavefrontRenderer::Impl {
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, texprobe{nullptr};
   uint32_t tracingRays = 1;  // rays per invocation of prepare's sizing, extend, connect and raycast (rays_per_invocation)
-  std::vector<std::pair<std::string, vk::Pipeline>> compiled;  // every pipeline above that exists, by kernel name
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
   // stage whose dispatch ended at timestamp i + 1.
@@ -291,7 +289,6 @@ struct WavefrontRenderer::Impl {
     add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
-    // Rays a tracing kernel defers to its second pass: at most one per ray of a dispatch.
     uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
     if (accumBytes > maxRange) {
       throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image needs " +
@@ -337,7 +334,7 @@ struct WavefrontRenderer::Impl {
   // store, while the 100k-triangle scenes (depth 6 to 10) gained.
   uint32_t rays_per_invocation() const {
     if (settings.raysPerInvocation != 0) return settings.raysPerInvocation;
-    bool several = ctx.info().type == "cpu" && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction &&
+    bool several = cpu_device() && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction &&
                    scene.bvhDepth >= kMultiRayMinDepth;
     return several ? kRaysPerInvocationOnCpus : 1u;
   }
@@ -346,6 +343,18 @@ struct WavefrontRenderer::Impl {
 
   uint32_t groups_for(uint32_t n) const {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
+  }
+
+  // lavapipe and other CPU implementations: SIMD lanes in a loop, private
+  // arrays in memory (the stack and rays-per-invocation choices follow).
+  bool cpu_device() const { return ctx.info().type == "cpu"; }
+
+  // Every kernel, by name, whether or not this renderer made it.
+  std::vector<std::pair<const char*, const vk::raii::Pipeline*>> kernels() const {
+    return {{"generate", &generate}, {"prepare", &prepare},       {"extend", &extend},
+            {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
+            {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
+            {"raycast-single", &raycastSingle}, {"texprobe", &texprobe}};
   }
 
   // single: a tracing kernel that takes one ray per invocation, whatever tracingRays says.
@@ -358,7 +367,7 @@ struct WavefrontRenderer::Impl {
     // tracing kernels.
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
-    bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && ctx.info().type != "cpu");
+    bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && !cpu_device());
     uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
     constexpr uint32_t kConstants = 9;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
@@ -370,27 +379,23 @@ struct WavefrontRenderer::Impl {
     vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
     vk::PipelineCreateFlags flags;
     if (settings.captureStatistics && ctx.info().pipelineStatistics) flags |= vk::PipelineCreateFlagBits::eCaptureStatisticsKHR;
-    vk::raii::Pipeline p(ctx.device(), nullptr, vk::ComputePipelineCreateInfo(flags, stage, *pipelineLayout));
-    compiled.emplace_back(k.name, *p);
-    return p;
+    return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo(flags, stage, *pipelineLayout));
   }
 
   // The kernels whose code depends on tracingRays, (re)made from it.
   void create_tracing_pipelines() {
-    for (const char* name : {"prepare", "extend", "connect", "connect-multi", "raycast"})
-      compiled.erase(std::remove_if(compiled.begin(), compiled.end(), [&](const auto& c) { return c.first == name; }), compiled.end());
-    prepare = make_pipeline(kernel("prepare", prepare_spv));
-    extend = make_pipeline(kernel("extend", extend_spv));
+    prepare = make_pipeline(kernel(prepare_spv));
+    extend = make_pipeline(kernel(extend_spv));
     if (scene.params.mode.w > 1u) {
       if (!ctx.info().floatAtomicAdd) {
         throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
                           std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
       }
-      connect = make_pipeline(kernel("connect-multi", connect_multi_spv));
+      connect = make_pipeline(kernel(connect_multi_spv));
     } else {
-      connect = make_pipeline(kernel("connect", connect_spv));
+      connect = make_pipeline(kernel(connect_spv));
     }
-    raycast = make_pipeline(kernel("raycast", raycast_spv));
+    raycast = make_pipeline(kernel(raycast_spv));
   }
 
   void create_pipelines() {
@@ -424,13 +429,13 @@ struct WavefrontRenderer::Impl {
     ctx.device().updateDescriptorSets(writes, {});
     tracingRays = rays_per_invocation();
     create_tracing_pipelines();
-    generate = make_pipeline(kernel("generate", generate_spv));
-    if (settings.sortByMaterial) sort = make_pipeline(kernel("sort", sort_spv));
-    shade = make_pipeline(kernel("shade", shade_spv));
-    accumulate = make_pipeline(kernel("accumulate", accumulate_spv));
-    if (settings.megakernel) megakernel = make_pipeline(kernel("megakernel", megakernel_spv));
-    raycastSingle = make_pipeline(kernel("raycast-single", raycast_spv), true);
-    texprobe = make_pipeline(kernel("texprobe", texprobe_spv));
+    generate = make_pipeline(kernel(generate_spv));
+    if (settings.sortByMaterial) sort = make_pipeline(kernel(sort_spv));
+    shade = make_pipeline(kernel(shade_spv));
+    accumulate = make_pipeline(kernel(accumulate_spv));
+    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv));
+    raycastSingle = make_pipeline(kernel(raycast_spv), true);
+    texprobe = make_pipeline(kernel(texprobe_spv));
   }
 
   void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups, Stage stage) {
@@ -694,7 +699,9 @@ std::vector<KernelStatistics> WavefrontRenderer::kernel_statistics() const {
   if (!ctx.info().pipelineStatistics)
     throw RenderError(ctx.info().name + " reports no kernel statistics (its driver lacks VK_KHR_pipeline_executable_properties)");
   std::vector<KernelStatistics> out;
-  for (const auto& [name, pipeline] : impl_->compiled) {
+  for (const auto& [name, made] : impl_->kernels()) {
+    if (!**made) continue;  // a kernel this renderer does not use
+    const vk::Pipeline pipeline = **made;
     std::vector<vk::PipelineExecutablePropertiesKHR> executables = ctx.device().getPipelineExecutablePropertiesKHR(vk::PipelineInfoKHR(pipeline));
     for (uint32_t i = 0; i < executables.size(); ++i) {
       KernelStatistics k{name, executables[i].name.data(), {}};
