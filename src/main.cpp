@@ -453,7 +453,7 @@ int main(int argc, char** argv) {
   info->add_option("--variant", infoVariant, "the kernel variant (or cpu) whose BVH layout to build; default gpu");
   std::string infoDevice;
   CLI::Option* infoKernels = info->add_flag("--kernels", "also compile the variant's kernels and show the driver's statistics of each (registers, spills, ...)");
-  info->add_option("--device", infoDevice, "Vulkan device for --kernels: index or part of the name");
+  info->add_option("--device", infoDevice, "Vulkan device for --kernels: index or part of the name")->needs(infoKernels);
   bool devValidation = false;
   CLI::App* devices = app.add_subcommand("devices", "list Vulkan devices and the limits that matter to wavepath");
   devices->add_flag("--validation", devValidation, "enable Vulkan validation");

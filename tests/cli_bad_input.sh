@@ -84,6 +84,7 @@ check "devices lists at least one device" $?
 "$wavepath" info "$data/furnace.json" --variant gpu-bvh2 | grep -q "^BVH  *binary"
 check "info --variant gpu-bvh2 builds the binary tree" $?
 expect_error "info --kernels for the cpu reference" 2 "--kernels|cpu" -- "$wavepath" info "$data/furnace.json" --kernels --variant cpu
+expect_error "info --device without --kernels" 2 "--device|--kernels" -- "$wavepath" info "$data/furnace.json" --device 0
 # The driver's statistics of each kernel, where the driver reports them
 # (NVIDIA does; lavapipe 22.3 does not, and says so).
 "$wavepath" info "$data/furnace.json" --kernels >"$work/stdout" 2>"$work/stderr"
