@@ -32,6 +32,10 @@ check "JSON records the failed checks and no timings" $([ "$(grep -c '"check_pas
 check "ray casting bench exits 0" $?
 check "ray casting checks and times both ray sets" $([ "$(grep -c '"check_passed": true' "$work/rc.json")" -eq 2 ] &&
   grep -q '"mrays_per_second"' "$work/rc.json"; echo $?)
+check "ray casting counts the CPU walk's steps per ray of both sets" $(python3 -c '
+import json, sys
+rows = json.load(open(sys.argv[1]))["raycast"]
+sys.exit(0 if len(rows) == 2 and all(r["cpu_walk_steps_per_ray"] >= 1 for r in rows) else 1)' "$work/rc.json"; echo $?)
 # Embree is optional at build time: without it the benchmarks say so and time
 # wavepath alone.
 embree=1
@@ -51,6 +55,8 @@ fi
 check "build bench exits 0" $?
 check "build bench reports the rate and the SAH cost of every scene" $([ "$(grep -c '"mprims_per_second"' "$work/b.json")" -ge 2 ] &&
   [ "$(grep -c '"sah_cost"' "$work/b.json")" -ge 2 ]; echo $?)
+check "build bench times the clustered SAH build of every (binned-SAH) scene" $(
+  [ "$(grep -c '"clustered_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath clustered SAH, 8-wide" "$work/out"; echo $?)
 if [ $embree = 1 ]; then
   check "build bench reports the ratio to Embree" $(grep -q '"ratio_to_embree"' "$work/b.json" && grep -q "ratio wavepath / Embree" "$work/out"; echo $?)
   check "build bench times the scene with spheres without Embree" $(grep -q "triangle scenes only" "$work/out" &&

@@ -27,6 +27,7 @@ layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
 #define TRAVERSAL_STACK_SIZE kStackSize
 #define TRAVERSAL_STACK_SLOTS kStackSize
 #define WP_NOTE_STACK_DEPTH(sp)  // C++ only: the tests check the stack's size
+#define WP_NOTE_STEP()  // C++ only: the ray-casting benchmark counts the walks' iterations
 // Path compaction (constant 6): shade appends only the paths still alive to
 // the next bounce's queue, so each bounce dispatches only live paths. Without
 // it (variant gpu-nocompact, to measure what compaction is worth) every path

@@ -229,6 +229,7 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   while (true) {
     steps += 1u;
     if (steps > cap) return TRACE_TRUNCATED;
+    WP_NOTE_STEP();
     if (leafNext < leafEnd) {
       intersect_prim(leafNext, o, d, sh, hit);
       leafNext += 1u;
@@ -381,6 +382,7 @@ uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   while (!walkDone) {
     steps += 1u;
     if (steps > cap) return TRACE_TRUNCATED;
+    WP_NOTE_STEP();
 #include "wide_walk_step.glsl"
   }
   return TRACE_OK;

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <memory>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include "bench/embree_baseline.h"
@@ -284,6 +286,27 @@ std::vector<float> cpu_hits(shader::SceneView& view, const std::vector<shader::S
   return t;
 }
 
+// Mean iterations of the CPU traversal's walk per ray through cs's tree: the
+// loop the kernels run (scene.glsl), so a measure of the tree's quality for
+// these rays that, unlike a time, is the same in every run.
+double walk_steps_per_ray(const CompiledScene& cs, const std::vector<shader::ShadowRay>& rays) {
+  const shader::SceneView view = cs.view();
+  const uint64_t total = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, rays.size(), 1024), uint64_t(0),
+      [&](const tbb::blocked_range<size_t>& r, uint64_t acc) {
+        shader::SceneView counting = view;
+        uint64_t steps = 0;
+        counting.stepsTaken = &steps;
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          shader::Hit h;
+          counting.trace_ray(rays[i].origin, rays[i].dir, rays[i].tmax, false, h);
+        }
+        return acc + steps;
+      },
+      std::plus<uint64_t>());
+  return rays.empty() ? 0.0 : double(total) / double(rays.size());
+}
+
 // Rays whose hit (or miss) differs from the reference by more than rounding.
 size_t mismatches(const std::vector<float>& a, const std::vector<float>& b) {
   size_t n = 0;
@@ -365,7 +388,7 @@ int run_raycast_bench(const BenchOptions& o) {
                 scene.triangles.size() + scene.spheres.size(), sets.primary.size(), sets.bounce.size(), cs.bvhBuildSeconds,
                 embree ? (", Embree build " + std::to_string(embree->build_seconds()) + " s").c_str() : "");
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
-    std::printf("  %-8s %-14s %12s %14s %8s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio");
+    std::printf("  %-8s %-14s %12s %14s %8s %11s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio", "walk steps");
     for (const auto& [setName, rays] : {std::pair<const char*, const std::vector<shader::ShadowRay>*>{"primary", &sets.primary},
                                         {"bounce", &sets.bounce}}) {
       if (rays->empty()) continue;
@@ -423,13 +446,16 @@ int run_raycast_bench(const BenchOptions& o) {
         row["check_passed"] = true;
         row["kernel_seconds"] = to_json(spread(t.seconds));
         row["mrays_per_second"] = rate * 1e-6;
+        const double steps = walk_steps_per_ray(variantScenes[t.variant], *rays);
+        row["cpu_walk_steps_per_ray"] = steps;
         if (embree) {
           row["embree_mrays_per_second"] = embreeRate * 1e-6;
           row["ratio_to_embree"] = rate / embreeRate;
           row["embree_mismatches"] = mismatches(embreeHits, reference);
-          std::printf("  %-8s %-14s %12.2f %14.2f %8.3f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6, rate / embreeRate);
+          std::printf("  %-8s %-14s %12.2f %14.2f %8.3f %11.2f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6,
+                      rate / embreeRate, steps);
         } else {
-          std::printf("  %-8s %-14s %12.2f %14s %8s\n", setName, v->name.c_str(), rate * 1e-6, "-", "-");
+          std::printf("  %-8s %-14s %12.2f %14s %8s %11.2f\n", setName, v->name.c_str(), rate * 1e-6, "-", "-", steps);
         }
         results.push_back(row);
       }
@@ -448,33 +474,45 @@ namespace {
 
 // One round of a scene's builds: the default layout as compile_scene makes
 // it (the primitives' bounds, then the binary tree collapsed into the 8-wide
-// layout from the builder's arrays), and the binary layout alone (gpu-bvh2
-// and the CPU reference: the tree laid out depth-first).
+// layout from the builder's arrays), the binary layout alone (gpu-bvh2 and
+// the CPU reference: the tree laid out depth-first), and, for binned-SAH
+// scenes, the 8-wide layout from the clustered SAH build (gpu-clustered).
 struct TimedBuild {
-  double bounds = 0.0, wide = 0.0, binary = 0.0;
-  WideBvh wideBvh;
+  double bounds = 0.0, wide = 0.0, binary = 0.0, clustered = 0.0;
+  WideBvh wideBvh, clusteredBvh;
   Bvh bvh;
   double total() const { return bounds + wide; }
+  double clusteredTotal() const { return bounds + clustered; }
 };
 
 TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
   TimedBuild b;
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   BvhInput input = bvh_input(scene);
-  auto t1 = std::chrono::steady_clock::now();
+  auto t1 = Clock::now();
   b.wideBvh = build_wide_bvh(input, accel);
-  auto t2 = std::chrono::steady_clock::now();
+  auto t2 = Clock::now();
   b.bvh = build_bvh(input, accel);
-  auto t3 = std::chrono::steady_clock::now();
-  b.bounds = std::chrono::duration<double>(t1 - t0).count();
-  b.wide = std::chrono::duration<double>(t2 - t1).count();
-  b.binary = std::chrono::duration<double>(t3 - t2).count();
+  auto t3 = Clock::now();
+  b.bounds = seconds(t0, t1);
+  b.wide = seconds(t1, t2);
+  b.binary = seconds(t2, t3);
+  if (accel.split == SplitMethod::Sah) {
+    AcceleratorSettings clustered = accel;
+    clustered.split = SplitMethod::ClusteredSah;
+    b.clusteredBvh = build_wide_bvh(input, clustered);
+    b.clustered = seconds(t3, Clock::now());
+  }
   return b;
 }
 
-// Whether both trees' leaves hold every primitive exactly once.
+// Whether the trees' leaves hold every primitive exactly once.
 bool places_every_primitive_once(const TimedBuild& b, size_t primitives) {
-  for (const std::vector<uint32_t>* order : {&b.bvh.order, &b.wideBvh.order}) {
+  std::vector<const std::vector<uint32_t>*> orders{&b.bvh.order, &b.wideBvh.order};
+  if (b.clustered > 0.0) orders.push_back(&b.clusteredBvh.order);
+  for (const std::vector<uint32_t>* order : orders) {
     if (order->size() != primitives) return false;
     std::vector<bool> seen(primitives, false);
     for (uint32_t id : *order) {
@@ -486,7 +524,13 @@ bool places_every_primitive_once(const TimedBuild& b, size_t primitives) {
 }
 
 const char* split_name(SplitMethod m) {
-  return m == SplitMethod::Sah ? "binned SAH" : (m == SplitMethod::Middle ? "middle split" : "equal counts");
+  switch (m) {
+    case SplitMethod::Sah: return "binned SAH";
+    case SplitMethod::ClusteredSah: return "clustered SAH";
+    case SplitMethod::Middle: return "middle split";
+    case SplitMethod::Equal: return "equal counts";
+  }
+  return "?";
 }
 
 }  // namespace
@@ -513,7 +557,7 @@ int run_build_bench(const BenchOptions& o) {
     }
     // A warm-up round, then the timed ones, wavepath and Embree interleaved so
     // that a change in the machine's speed affects both alike.
-    std::vector<double> total, bounds, wide, binary, embreeSeconds;
+    std::vector<double> total, bounds, wide, binary, clustered, embreeSeconds;
     TimedBuild last;
     for (int r = 0; r <= o.repeats; ++r) {
       last = time_build(scene, accel);
@@ -523,6 +567,7 @@ int run_build_bench(const BenchOptions& o) {
       bounds.push_back(last.bounds);
       wide.push_back(last.wide);
       binary.push_back(last.binary);
+      clustered.push_back(last.clusteredTotal());
       embreeSeconds.push_back(e);
     }
     if (!places_every_primitive_once(last, primitives))
@@ -532,15 +577,22 @@ int run_build_bench(const BenchOptions& o) {
                 o.scenes[si].c_str(), primitives, split_name(accel.split), accel.maxLeafSize, last.bvh.nodes.size(),
                 last.wideBvh.nodes.size(), last.bvh.sahCost);
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
-    std::printf("  %-36s %10s %21s %10s\n", "build", "median s", "min - max s", "Mprims/s");
+    std::printf("  %-40s %10s %21s %10s\n", "build", "median s", "min - max s", "Mprims/s");
     auto row = [](const char* name, const Spread& s, double prims) {
-      std::printf("  %-36s %10.4f %10.4f - %8.4f %10s\n", name, s.median, s.min, s.max,
+      std::printf("  %-40s %10.4f %10.4f - %8.4f %10s\n", name, s.median, s.min, s.max,
                   prims > 0.0 ? format_number(prims / std::max(s.median, 1e-12) * 1e-6, 2).c_str() : "");
     };
     row("wavepath, 8-wide (the renderer's)", spread(total), double(primitives));
     row("  bounds", spread(bounds), 0.0);
     row("  binary tree collapsed to 8-wide", spread(wide), double(primitives));
     row("wavepath, binary layout alone", spread(binary), double(primitives));
+    const bool hasClustered = last.clustered > 0.0;
+    const double clusteredRate = hasClustered ? double(primitives) / std::max(spread(clustered).median, 1e-12) : 0.0;
+    if (hasClustered) {
+      row("wavepath clustered SAH, 8-wide", spread(clustered), double(primitives));
+      std::printf("  clustered SAH: SAH cost %.3f (binned %.3f), %.2fx the binned build's rate\n", last.clusteredBvh.sahCost,
+                  last.wideBvh.sahCost, clusteredRate / rate);
+    }
     nlohmann::json j = {{"scene", o.scenes[si]},
                         {"primitives", primitives},
                         {"split", split_name(accel.split)},
@@ -553,13 +605,21 @@ int run_build_bench(const BenchOptions& o) {
                         {"wide_seconds", to_json(spread(wide))},
                         {"binary_seconds", to_json(spread(binary))},
                         {"mprims_per_second", rate * 1e-6}};
+    if (hasClustered) {
+      j["clustered_seconds"] = to_json(spread(clustered));
+      j["clustered_mprims_per_second"] = clusteredRate * 1e-6;
+      j["clustered_sah_cost"] = last.clusteredBvh.sahCost;
+    }
     if (embree) {
       const double embreeRate = double(scene.triangles.size()) / std::max(spread(embreeSeconds).median, 1e-12);
       row("Embree", spread(embreeSeconds), double(primitives));
-      std::printf("  ratio wavepath / Embree: %.3f\n", rate / embreeRate);
+      std::printf("  ratio wavepath / Embree: %.3f", rate / embreeRate);
+      if (hasClustered) std::printf("; clustered SAH / Embree: %.3f", clusteredRate / embreeRate);
+      std::printf("\n");
       j["embree_seconds"] = to_json(spread(embreeSeconds));
       j["embree_mprims_per_second"] = embreeRate * 1e-6;
       j["ratio_to_embree"] = rate / embreeRate;
+      if (hasClustered) j["clustered_ratio_to_embree"] = clusteredRate / embreeRate;
     }
     results.push_back(j);
   }
@@ -569,11 +629,15 @@ int run_build_bench(const BenchOptions& o) {
   }
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);
-    out << "scene,primitives,sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,embree_seconds,"
-           "embree_mprims_per_second,ratio_to_embree\n";
+    out << "scene,primitives,sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,clustered_seconds,"
+           "clustered_mprims_per_second,clustered_sah_cost,embree_seconds,embree_mprims_per_second,ratio_to_embree\n";
     for (const nlohmann::json& r : results) {
       out << r["scene"].get<std::string>() << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["seconds"]["median"]
           << "," << r["wide_seconds"]["median"] << "," << r["binary_seconds"]["median"] << "," << r["mprims_per_second"];
+      if (r.contains("clustered_seconds"))
+        out << "," << r["clustered_seconds"]["median"] << "," << r["clustered_mprims_per_second"] << "," << r["clustered_sah_cost"];
+      else
+        out << ",,,";
       if (r.contains("embree_seconds"))
         out << "," << r["embree_seconds"]["median"] << "," << r["embree_mprims_per_second"] << "," << r["ratio_to_embree"];
       else

@@ -1,6 +1,7 @@
 // bvh.h — binary BVH over primitive bounds, built on the host with binned SAH
-// (or the darts "middle" / "equal" splits), in parallel, directly into the flat
-// node array the kernels and the CPU reference traverse (shader::BvhNode).
+// (or the clustered SAH build, or the darts "middle" / "equal" splits), in
+// parallel, directly into the flat node array the kernels and the CPU
+// reference traverse (shader::BvhNode).
 // wide_bvh.h collapses it into the 8-wide layout.
 #pragma once
 

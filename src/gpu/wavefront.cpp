@@ -76,6 +76,8 @@ const std::vector<KernelVariant>& kernel_variants() {
          BvhLayout::Wide},
         {"gpu-rotate", "wavefront kernels, wide BVH from a binned-SAH tree improved by tree rotations", WavefrontSettings{},
          BvhLayout::Wide, true},
+        {"gpu-clustered", "wavefront kernels, wide BVH from the clustered SAH build (Morton clusters at the top, exact sweep at the bottom)",
+         WavefrontSettings{}, BvhLayout::Wide, false, true},
         {"gpu-sort", "wavefront kernels, paths sorted by the material their ray hit before shading", sorted,
          BvhLayout::Wide},
         {"gpu-regstack", "wavefront kernels, the wide walk's stack in registers on every device (gpu: on CPU devices)",
@@ -102,6 +104,7 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
   const KernelVariant& v = kernel_variant(renderer);
   options.bvhLayout = v.bvhLayout;
   options.bvhRotations = v.bvhRotations;
+  options.clusteredBuild = v.clusteredBuild;
   return options;
 }
 

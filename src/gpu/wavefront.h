@@ -69,7 +69,8 @@ struct KernelVariant {
   std::string description;
   WavefrontSettings settings;
   BvhLayout bvhLayout = BvhLayout::Wide;
-  bool bvhRotations = false;  // the BVH improved by tree rotations
+  bool bvhRotations = false;    // the BVH improved by tree rotations
+  bool clusteredBuild = false;  // the BVH built by SplitMethod::ClusteredSah where the scene asks for SAH
 };
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.

@@ -216,6 +216,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
   AcceleratorSettings accel = scene.accelerator;
+  if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
   const bool wide = options.bvhLayout == BvhLayout::Wide;
   if (wide) accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);  // a wide node's slot holds at most that
   out.bvhLayout = options.bvhLayout;

@@ -37,6 +37,7 @@ struct RenderOptions {
   int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
   BvhLayout bvhLayout = BvhLayout::Wide;
   bool bvhRotations = false;  // improve the binned-SAH tree with tree rotations (rotate_bvh) before use
+  bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene asks for SAH
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;

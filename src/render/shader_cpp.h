@@ -72,6 +72,13 @@ struct SceneView : ShaderMath {
     if (stackDepthSeen && sp > *stackDepthSeen) *stackDepthSeen = sp;
   }
 #define WP_NOTE_STACK_DEPTH(sp) note_stack_depth(sp)
+  // Where set, the walks count their iterations: the ray-casting benchmark's
+  // measure of a tree's quality, which does not move with the machine's speed.
+  uint64_t* stepsTaken = nullptr;
+  void note_step() const {
+    if (stepsTaken) ++*stepsTaken;
+  }
+#define WP_NOTE_STEP() note_step()
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
 };

@@ -230,7 +230,8 @@ class SceneLoader {
       if (s == "sah") scene_.accelerator.split = SplitMethod::Sah;
       else if (s == "middle") scene_.accelerator.split = SplitMethod::Middle;
       else if (s == "equal") scene_.accelerator.split = SplitMethod::Equal;
-      else j["split_method"].fail("unknown split method \"" + s + "\" (expected sah, middle or equal)");
+      else if (s == "clustered sah") scene_.accelerator.split = SplitMethod::ClusteredSah;
+      else j["split_method"].fail("unknown split method \"" + s + "\" (expected sah, clustered sah, middle or equal)");
     }
   }
 

@@ -23,7 +23,11 @@ struct Camera {
   float apertureRadius = 0.0f;
 };
 
-enum class SplitMethod { Sah, Middle, Equal };
+// How the BVH builder splits a node's primitives (bvh.h): binned SAH; the
+// clustered SAH build, faster for large scenes (binned SAH over Morton-order
+// clusters at the top, the exact SAH sweep for small nodes); the middle of the
+// centroids' extent; or two halves by count (darts' "middle" and "equal").
+enum class SplitMethod { Sah, Middle, Equal, ClusteredSah };
 
 struct AcceleratorSettings {
   int maxLeafSize = 4;
