@@ -26,8 +26,15 @@ namespace {
 
 constexpr int kBins = 32;
 constexpr uint32_t kParallelThreshold = 1u << 14;  // subtrees / ranges below this stay on one thread
+// The SAH's costs: a node visit and a primitive test cost alike, as in one
+// iteration of the kernels' walks, which do one of each.
 constexpr float kTraversalCost = 1.0f;
 constexpr float kIntersectCost = 1.0f;
+// When choosing between a leaf and a split, a primitive test costs a little
+// more: smaller leaves cut the wide walk's iterations per ray by 1.5-3 % on the
+// benchmark scenes (docs/benchmarks.md) and keep GPU memory within 64 bytes
+// per triangle (63.5; 1.5 would cost 65.4).
+constexpr float kLeafIntersectCost = 1.25f;
 
 static_assert(sizeof(Aabb) == 24 && offsetof(Aabb, hi) == 12, "F4::load reads an Aabb as six packed floats");
 
@@ -922,12 +929,13 @@ class Builder {
     (this->*build)(r, tasks, block);
   }
 
-  // Whether task t should be a leaf rather than split at `splitArea` (the
-  // children's areas weighted by their primitive counts): a leaf must be
-  // allowed (at most maxLeafSize primitives) and no dearer than the split.
+  // Whether a node of `count` primitives in `bounds` should be a leaf rather
+  // than split at `splitArea` (the children's areas weighted by their
+  // primitive counts): a leaf must be allowed (at most maxLeafSize
+  // primitives) and no dearer than the split.
   bool leaf_is_better(uint32_t count, const Box4& bounds, float splitArea) const {
-    const float splitCost = kTraversalCost + kIntersectCost * splitArea / std::max(bounds.half_area(), 1e-30f);
-    return count <= uint32_t(settings_.maxLeafSize) && splitCost >= kIntersectCost * float(count);
+    const float splitCost = kTraversalCost + kLeafIntersectCost * splitArea / std::max(bounds.half_area(), 1e-30f);
+    return count <= uint32_t(settings_.maxLeafSize) && splitCost >= kLeafIntersectCost * float(count);
   }
 
   // Nodes of at most kBottomMax primitives, the bottom of every SAH tree
