@@ -88,10 +88,17 @@ TEST_F(Gpu, ClosestHitsEqualBruteForceOnARealMesh) {
   scene.camera.width = scene.camera.height = 64;  // 4096 path slots: rays go through in several chunks
   std::vector<ShadowRay> rays = random_rays(scene, 20000, 1234);
   std::vector<float> truth = brute_force_closest(scene, rays);
-  for (bool indexedStack : {false, true}) {
-    SCOPED_TRACE(indexedStack ? "indexed stack" : "register stack");
-    CompiledScene cs = compile_scene(scene, RenderOptions{});
-    if (indexedStack) cs.params.accel.z = WIDE_REGISTER_STACK + 1u;
+  struct Case {
+    const char* name;
+    bool indexedStack, clusteredBuild;
+  };
+  for (const Case& c : {Case{"register stack", false, false}, Case{"indexed stack", true, false},
+                        Case{"clustered SAH build", false, true}}) {
+    SCOPED_TRACE(c.name);
+    RenderOptions options;
+    options.clusteredBuild = c.clusteredBuild;
+    CompiledScene cs = compile_scene(scene, options);
+    if (c.indexedStack) cs.params.accel.z = WIDE_REGISTER_STACK + 1u;
     WavefrontRenderer renderer(*ctx_, cs);
     uint64_t truncated = 0;
     std::vector<Hit> hits = renderer.cast_rays(rays, &truncated);
