@@ -9,7 +9,7 @@
 #include "shared/kernel.glsl"
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = dispatch_item(pc.pathCount);
   if (i >= pc.pathCount) return;
   PathState p;
   path_begin(p, wave_pixel(i), pc.sampleIndex);

@@ -42,6 +42,9 @@ layout(constant_id = 7) const bool kSortByMaterial = false;
 // slowest ray of their group. A constant, not a push constant: a kernel
 // holding both loops ran single rays 10 % slower.
 layout(constant_id = 8) const uint kRaysPerInvocation = 1u;
+// Workgroup interleave (constant 9; dispatch_item below): 1, or on CPU
+// devices the number of columns a dispatch's workgroups are dealt to.
+layout(constant_id = 9) const uint kWorkgroupInterleave = 1u;
 #include "bindings.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"
@@ -55,6 +58,29 @@ layout(constant_id = 8) const uint kRaysPerInvocation = 1u;
 // kernel variant sets it), so one SPIR-V module serves every size.
 layout(local_size_x_id = 0) in;
 layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
+
+// The item of this invocation in a dispatch over `count` items, one to an
+// invocation (the tracing kernels' one-ray path, the megakernel).
+// lavapipe deals a dispatch's workgroups out to its threads in one contiguous
+// block per thread, and work in image order costs unevenly (the sky is cheap,
+// the model is not): one thread then idled while the other traced the costly
+// rows. So with kWorkgroupInterleave = T > 1, workgroup w takes the items of
+// workgroup (w % R) * T + w / R, for R = ceil(G / T) and G the workgroups the
+// items need: the workgroups in rows of T, read by columns, so that each
+// thread's block spreads over all the rows. A workgroup's items stay
+// consecutive (coherent camera rays stay together). Such dispatches have
+// R * T workgroups (the host and prepare round up); an invocation mapped past
+// the items gets an item >= count and takes none. (Shade is left in queue
+// order: interleaved, its queue reads spread out and the queue it appends to
+// came out scrambled for the next extend; renders were 5 % slower.)
+uint dispatch_item(uint count) {
+  if (kWorkgroupInterleave == 1u) return gl_GlobalInvocationID.x;
+  uint groups = (count + kWorkgroupSize - 1u) / kWorkgroupSize;
+  uint rows = (groups + kWorkgroupInterleave - 1u) / kWorkgroupInterleave;
+  uint w = gl_WorkGroupID.x;
+  uint group = (w % rows) * kWorkgroupInterleave + w / rows;
+  return group * kWorkgroupSize + gl_LocalInvocationID.x;
+}
 
 // Work-buffer records read through their texel views (bindings.glsl), field
 // by field as types.glsl lays them out; fields left unused cost nothing.

@@ -53,13 +53,14 @@ void trace_one_item(uint item) {
 }
 
 void trace_items() {
-  uint id = gl_GlobalInvocationID.x;
   uint count = trace_item_count();
-  if (id >= count) return;
   if (kRaysPerInvocation == 1u || BVH_LAYOUT_OF_SCENE != BVH_LAYOUT_WIDE) {
-    trace_one_item(id);
+    uint item = dispatch_item(count);
+    if (item < count) trace_one_item(item);
     return;
   }
+  uint id = gl_GlobalInvocationID.x;
+  if (id >= count) return;
   // Invocation i takes items i, i + stride, ...: at most kRaysPerInvocation.
   // (The dispatch may have a few invocations more; they take none.)
   uint stride = (count + kRaysPerInvocation - 1u) / kRaysPerInvocation;

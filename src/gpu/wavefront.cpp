@@ -348,6 +348,26 @@ struct WavefrontRenderer::Impl {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
   }
 
+  // Workgroup interleave of the kernels that take one item to an invocation
+  // (dispatch_item, kernel.glsl): lavapipe gives each thread one contiguous
+  // block of a dispatch's workgroups, so on CPU devices workgroups are dealt
+  // out in columns of this many. GPUs schedule workgroups as they free up.
+  uint32_t workgroup_interleave() const { return cpu_device() ? kWorkgroupInterleaveOnCpus : 1u; }
+  static constexpr uint32_t kWorkgroupInterleaveOnCpus = 32;
+
+  // Workgroups for n items, one to an invocation, in whole rows of the
+  // interleave (as prepare.comp's interleaved_groups).
+  uint32_t interleaved_groups(uint32_t n) const {
+    const uint32_t t = workgroup_interleave();
+    return (groups_for(n) + t - 1) / t * t;
+  }
+
+  // Workgroups of a tracing kernel for n rays, perInvocation to an invocation
+  // (as prepare.comp's tracing_groups).
+  uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const {
+    return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
+  }
+
   // lavapipe and other CPU implementations: SIMD lanes in a loop, private
   // arrays in memory (the stack and rays-per-invocation choices follow).
   bool cpu_device() const { return ctx.info().type == "cpu"; }
@@ -367,15 +387,15 @@ struct WavefrontRenderer::Impl {
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
     // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
     // by material (bools: a 32-bit 0 or 1), 8 rays per invocation of the
-    // tracing kernels.
+    // tracing kernels, 9 their workgroup interleave.
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
     bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && !cpu_device());
     uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
-    constexpr uint32_t kConstants = 9;
+    constexpr uint32_t kConstants = 10;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
                                          accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
-                                         single ? 1u : tracingRays};
+                                         single ? 1u : tracingRays, workgroup_interleave()};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -465,7 +485,7 @@ struct WavefrontRenderer::Impl {
     push.sampleIndex = sampleIndex;
     push.capacity = capacity;
     push.phase = listed ? GENERATE_FROM_LIST : GENERATE_CONSECUTIVE;
-    if (settings.megakernel) return dispatch(cb, megakernel, push, groups_for(pathCount), StageTimes::kMegakernel);
+    if (settings.megakernel) return dispatch(cb, megakernel, push, interleaved_groups(pathCount), StageTimes::kMegakernel);
     dispatch(cb, generate, push, groups_for(pathCount), StageTimes::kGenerate);
     // Bounce b extends the rays of paths with b scattering events behind them;
     // path_shade ends every path at max bounces, so there are max + 1 passes.
@@ -612,7 +632,7 @@ struct WavefrontRenderer::Impl {
           cb.resetQueryPool(*queries, 0, 2);
           cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
         }
-        dispatch(cb, p, push, groups_for((n + perInvocation - 1) / perInvocation), StageTimes::kExtend);
+        dispatch(cb, p, push, tracing_groups(n, perInvocation), StageTimes::kExtend);
         if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
         cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
         cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
