@@ -143,6 +143,20 @@ TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
   EXPECT_TRUE(features("tests/data/features/environment.json") & (FEATURE_ENVIRONMENT | FEATURE_IMAGE));
 }
 
+// Every split method by its scene-file name (bvh.h).
+TEST(Scene, AcceleratorSplitMethodsByName) {
+  for (auto [name, split] : {std::pair<const char*, SplitMethod>{"sah", SplitMethod::Sah},
+                             {"clustered sah", SplitMethod::ClusteredSah},
+                             {"middle", SplitMethod::Middle},
+                             {"equal", SplitMethod::Equal}}) {
+    const std::string path =
+        write_scene("accel.json", std::string(R"({"accelerator": {"type": "bbh", "max_leaf_size": 2, "split_method": ")") + name + "\"}}");
+    const Scene scene = load_scene(path);
+    EXPECT_EQ(scene.accelerator.split, split) << name;
+    EXPECT_EQ(scene.accelerator.maxLeafSize, 2) << name;
+  }
+}
+
 TEST(SceneErrors, SyntaxErrorsGiveLineAndColumn) {
   expect_error("{\n  \"camera\": {\n    \"vfov\": 40,\n    \"resolution\": [16 16]\n  }\n}\n", {":4:", "JSON syntax error"});
   expect_error("{\n  \"camera\": {\n", {":3:", "JSON syntax error"});
@@ -209,6 +223,9 @@ TEST(SceneErrors, BadValuesAreNamed) {
                {"/surfaces/0/radius", "positive"});
   expect_error(R"({"surfaces": [{"type": "quad", "size": [1, 0], "material": {"type": "lambertian"}}]})",
                {"/surfaces/0/size", "zero-area"});
+  expect_error(R"({"accelerator": {"split_method": "sha"}})",
+               {"/accelerator/split_method", "unknown split method \"sha\"", "clustered sah"});
+  expect_error(R"({"accelerator": {"max_leaf_size": 0}})", {"/accelerator/max_leaf_size"});
   expect_error(R"({"camera": {"resolution": [16]}})", {"/camera/resolution", "[width, height]"});
   expect_error(R"({"camera": {"resolution": [16, "x"]}})", {"/camera/resolution/1", "expected an integer"});
   expect_error(R"({"camera": {"vfov": 180}})", {"/camera/vfov"});
