@@ -26,6 +26,7 @@ namespace {
 
 constexpr int kBins = 32;
 constexpr uint32_t kParallelThreshold = 1u << 14;  // subtrees / ranges below this stay on one thread
+constexpr uint32_t kChunk = 1u << 13;               // primitives per chunk of a parallel pass
 // The SAH's costs: a node visit and a primitive test cost alike, as in one
 // iteration of the kernels' walks, which do one of each.
 constexpr float kTraversalCost = 1.0f;
@@ -291,6 +292,33 @@ uint64_t* radix_sort_codes(uint64_t* keys, uint64_t* scratch, size_t n) {
   return keys;
 }
 
+// The bounds of the boxes corners(i, lo, hi) gives for i in [begin, end), and
+// the bounds of their centroids (doubled, as PrimRef::centroid2); in parallel
+// when there are many.
+struct BoundsAndCentroids {
+  Box4 bounds, centroids;
+};
+
+template <typename Corners>
+BoundsAndCentroids bounds_and_centroids(size_t begin, size_t end, Corners corners) {
+  auto body = [&corners](const tbb::blocked_range<size_t>& r, BoundsAndCentroids acc) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      F4 lo, hi;
+      corners(i, lo, hi);
+      acc.bounds.grow(lo, hi);
+      acc.centroids.grow(lo + hi, lo + hi);
+    }
+    return acc;
+  };
+  if (end - begin < kParallelThreshold) return body(tbb::blocked_range<size_t>(begin, end), BoundsAndCentroids{});
+  return tbb::parallel_reduce(tbb::blocked_range<size_t>(begin, end, kChunk), BoundsAndCentroids{}, body,
+                              [](BoundsAndCentroids a, const BoundsAndCentroids& b) {
+                                a.bounds.grow(b.bounds);
+                                a.centroids.grow(b.centroids);
+                                return a;
+                              });
+}
+
 // A node's share of its tree's SAH cost: its area relative to the root's,
 // times the cost of visiting it (interior) or testing its primitives (leaf).
 double sah_term(const shader::BvhNode& n, double rootArea) {
@@ -326,8 +354,8 @@ struct Task {
 // the binned SAH, weighing its primitives; nodes refine their clusters as they
 // shrink, and hand nodes of at most kBottomMax primitives to the exact sweep.
 // Each primitive then takes part in few binning passes, mostly over data in
-// cache: 1.7-1.9x faster than binned SAH, with trees of about the same SAH
-// cost (docs/benchmarks.md).
+// cache: 1.3-1.5x faster than binned SAH at 1M-10M triangles, with trees of
+// about the same SAH cost (docs/benchmarks.md).
 class Builder {
  public:
   Builder(const BvhInput& in, const AcceleratorSettings& s)
@@ -352,7 +380,6 @@ class Builder {
     r.id = uint32_t(i);
     r.pad = 0;
   }
-
 
   // An empty scene's tree: an interior root with an empty box, which every
   // ray misses before any child is read.
@@ -390,7 +417,6 @@ class Builder {
   }
 
  private:
-  static constexpr uint32_t kChunk = 1u << 13;  // primitives per chunk of a parallel pass
   static uint32_t chunks_of(const Task& t) { return (t.end - t.begin + kChunk - 1) / kChunk; }
   // The primitives [begin, end) of task t's chunk c.
   static std::pair<uint32_t, uint32_t> chunk(const Task& t, uint32_t c) {
@@ -437,6 +463,8 @@ class Builder {
     Box4 bounds, centroids;
   };
 
+  // Cells per axis of the Morton order's grid: 30-bit codes.
+  static constexpr int kMortonCells = 1024;
   // Clusters of at most this many primitives start the top levels.
   static constexpr uint32_t kClusterMax = 32;
   // A top-level node with fewer clusters than this splits them into smaller
@@ -449,31 +477,10 @@ class Builder {
 
   // The clustered SAH build (see the class comment).
   void build_clustered() {
-    // The primitives' bounds and their centroids' bounds.
-    struct Acc {
-      Box4 b, c;
-      void join(const Acc& o) {
-        b.grow(o.b);
-        c.grow(o.c);
-      }
-    };
-    const Acc all = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, n_, kChunk), Acc{},
-        [&](const tbb::blocked_range<size_t>& r, Acc acc) {
-          for (size_t i = r.begin(); i != r.end(); ++i) {
-            F4 lo, hi;
-            F4::load(bounds_[i], lo, hi);
-            acc.b.grow(lo, hi);
-            acc.c.grow(lo + hi, lo + hi);
-          }
-          return acc;
-        },
-        [](Acc a, const Acc& b) {
-          a.join(b);
-          return a;
-        });
-    // Morton order of the centroids, on a 1024^3 grid over their bounds.
-    const Binning grid(all.c, 1024);
+    const BoundsAndCentroids all =
+        bounds_and_centroids(0, n_, [this](size_t i, F4& lo, F4& hi) { F4::load(bounds_[i], lo, hi); });
+    // Morton order of the centroids, on a grid of kMortonCells^3 over their bounds.
+    const Binning grid(all.centroids, kMortonCells);
     WorkArray<uint64_t> keys(n_), scratch(n_);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n_, kChunk), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -492,12 +499,12 @@ class Builder {
     sorted_ = sorted.get();
     keys_ = sortedKeys;
     float lo[4], hi[4];
-    all.c.lo.store(lo);
-    all.c.hi.store(hi);
-    for (int k = 0; k < 3; ++k) cell_[k] = 0.5f * (hi[k] - lo[k]) / 1024.0f;  // a grid cell, in world units
+    all.centroids.lo.store(lo);
+    all.centroids.hi.store(hi);
+    for (int k = 0; k < 3; ++k) cell_[k] = 0.5f * (hi[k] - lo[k]) / float(kMortonCells);  // in world units
     std::vector<PrimRef> clusters = make_clusters();
     std::vector<PrimRef> clusterScratch(clusters.size());
-    ClusterTask top{0, 0, uint32_t(clusters.size()), 0, uint32_t(n_), 0, clusters.data(), clusterScratch.data(), all.b, {}};
+    ClusterTask top{0, 0, uint32_t(clusters.size()), 0, uint32_t(n_), 0, clusters.data(), clusterScratch.data(), all.bounds, {}};
     for (const PrimRef& c : clusters) top.centroids.grow(c.centroid2(), c.centroid2());
     tbb::task_group tasks;
     NodeBlock block;
@@ -717,31 +724,11 @@ class Builder {
 
   // Bounds and centroid bounds of a task's primitives, in parallel when large.
   void bounds_of(Task& t) const {
-    struct Acc {
-      Box4 b, c;
-      void join(const Acc& o) {
-        b.grow(o.b);
-        c.grow(o.c);
-      }
-    };
     const PrimRef* refs = refs_[t.buf];
-    auto body = [refs](const tbb::blocked_range<uint32_t>& r, Acc acc) {
-      for (uint32_t i = r.begin(); i < r.end(); ++i) {
-        F4 c = refs[i].centroid2();
-        acc.b.grow(refs[i].lo4(), refs[i].hi4());
-        acc.c.grow(c, c);
-      }
-      return acc;
-    };
-    Acc acc = t.end - t.begin < kParallelThreshold
-                  ? body(tbb::blocked_range<uint32_t>(t.begin, t.end), Acc{})
-                  : tbb::parallel_reduce(tbb::blocked_range<uint32_t>(t.begin, t.end, kChunk), Acc{}, body,
-                                         [](Acc a, const Acc& b) {
-                                           a.join(b);
-                                           return a;
-                                         });
-    t.bounds = acc.b;
-    t.centroids = acc.c;
+    const BoundsAndCentroids acc =
+        bounds_and_centroids(t.begin, t.end, [refs](size_t i, F4& lo, F4& hi) { lo = refs[i].lo4(), hi = refs[i].hi4(); });
+    t.bounds = acc.bounds;
+    t.centroids = acc.centroids;
   }
 
   // Bins references [begin, end); Weighted: each counts as its `pad`
