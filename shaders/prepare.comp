@@ -16,16 +16,9 @@ void set_dispatch(uint slot, uint groups) {
   indirect[slot * 3u + 2u] = 1u;
 }
 
-// Workgroups for n items, one to an invocation, in whole rows of
-// kWorkgroupInterleave (dispatch_item, kernel.glsl).
-uint interleaved_groups(uint n) {
-  return (groups_for(n) + kWorkgroupInterleave - 1u) / kWorkgroupInterleave * kWorkgroupInterleave;
-}
-
 // Workgroups for a tracing kernel's n rays, kRaysPerInvocation to an
 // invocation (trace_items.glsl).
 uint tracing_groups(uint n) {
-  if (kRaysPerInvocation == 1u) return interleaved_groups(n);
   return groups_for((n + kRaysPerInvocation - 1u) / kRaysPerInvocation);
 }
 

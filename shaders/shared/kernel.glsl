@@ -42,8 +42,9 @@ layout(constant_id = 7) const bool kSortByMaterial = false;
 // slowest ray of their group. A constant, not a push constant: a kernel
 // holding both loops ran single rays 10 % slower.
 layout(constant_id = 8) const uint kRaysPerInvocation = 1u;
-// Workgroup interleave (constant 9; dispatch_item below): 1, or on CPU
-// devices the number of columns a dispatch's workgroups are dealt to.
+// Workgroup interleave (constant 9; dispatch_item below): 1, or for kernels
+// that take work in image order on CPU devices, the number of columns a
+// dispatch's workgroups are dealt to.
 layout(constant_id = 9) const uint kWorkgroupInterleave = 1u;
 #include "bindings.glsl"
 #include "rng.glsl"
@@ -60,7 +61,8 @@ layout(local_size_x_id = 0) in;
 layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
 
 // The item of this invocation in a dispatch over `count` items, one to an
-// invocation (the tracing kernels' one-ray path, the megakernel).
+// invocation (the tracing kernels' one-ray path, the megakernel; the host
+// interleaves the megakernel and the ray caster's camera rays).
 // lavapipe deals a dispatch's workgroups out to its threads in one contiguous
 // block per thread, and work in image order costs unevenly (the sky is cheap,
 // the model is not): one thread then idled while the other traced the costly
@@ -69,10 +71,11 @@ layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
 // items need: the workgroups in rows of T, read by columns, so that each
 // thread's block spreads over all the rows. A workgroup's items stay
 // consecutive (coherent camera rays stay together). Such dispatches have
-// R * T workgroups (the host and prepare round up); an invocation mapped past
-// the items gets an item >= count and takes none. (Shade is left in queue
-// order: interleaved, its queue reads spread out and the queue it appends to
-// came out scrambled for the next extend; renders were 5 % slower.)
+// R * T workgroups (the host rounds up); an invocation mapped past the items
+// gets an item >= count and takes none. (The wavefront kernels are left in
+// queue order: interleaved, shade made renders 5 % slower, its queue reads
+// spread out and the queue it appends to scrambled for the next extend, and
+// extend and connect 9 % slower on the Cornell box.)
 uint dispatch_item(uint count) {
   if (kWorkgroupInterleave == 1u) return gl_GlobalInvocationID.x;
   uint groups = (count + kWorkgroupSize - 1u) / kWorkgroupSize;

@@ -348,22 +348,25 @@ struct WavefrontRenderer::Impl {
     return (n + settings.workgroupSize - 1) / settings.workgroupSize;
   }
 
-  // Workgroup interleave of the kernels that take one item to an invocation
-  // (dispatch_item, kernel.glsl): lavapipe gives each thread one contiguous
-  // block of a dispatch's workgroups, so on CPU devices workgroups are dealt
-  // out in columns of this many. GPUs schedule workgroups as they free up.
+  // Workgroup interleave of the kernels that take work in image order, one
+  // item to an invocation (dispatch_item, kernel.glsl): the megakernel and the
+  // ray caster's coherent rays. lavapipe gives each thread one contiguous
+  // block of a dispatch's workgroups, so on CPU devices their workgroups are
+  // dealt out in columns of this many. GPUs schedule workgroups as they free
+  // up. (Extend and connect take one ray to an invocation only on shallow
+  // trees or GPUs; interleaved, they were 9 % slower on the Cornell box, whose
+  // pixels all cost about the same.)
   uint32_t workgroup_interleave() const { return cpu_device() ? kWorkgroupInterleaveOnCpus : 1u; }
   static constexpr uint32_t kWorkgroupInterleaveOnCpus = 32;
 
-  // Workgroups for n items, one to an invocation, in whole rows of the
-  // interleave (as prepare.comp's interleaved_groups).
+  // Workgroups for n items of an interleaved kernel, one to an invocation, in
+  // whole rows of the interleave.
   uint32_t interleaved_groups(uint32_t n) const {
     const uint32_t t = workgroup_interleave();
     return (groups_for(n) + t - 1) / t * t;
   }
 
-  // Workgroups of a tracing kernel for n rays, perInvocation to an invocation
-  // (as prepare.comp's tracing_groups).
+  // Workgroups of the ray caster for n rays, perInvocation to an invocation.
   uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const {
     return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
   }
@@ -380,8 +383,9 @@ struct WavefrontRenderer::Impl {
             {"raycast-single", &raycastSingle}, {"texprobe", &texprobe}};
   }
 
-  // single: a tracing kernel that takes one ray per invocation, whatever tracingRays says.
-  vk::raii::Pipeline make_pipeline(Kernel k, bool single = false) {
+  // single: a tracing kernel that takes one ray per invocation, whatever
+  // tracingRays says; interleaved: its workgroups dealt out in columns.
+  vk::raii::Pipeline make_pipeline(Kernel k, bool single = false, bool interleaved = false) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
@@ -395,7 +399,7 @@ struct WavefrontRenderer::Impl {
     constexpr uint32_t kConstants = 10;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
                                          accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
-                                         single ? 1u : tracingRays, workgroup_interleave()};
+                                         single ? 1u : tracingRays, interleaved ? workgroup_interleave() : 1u};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -418,7 +422,7 @@ struct WavefrontRenderer::Impl {
     } else {
       connect = make_pipeline(kernel(connect_spv));
     }
-    raycast = make_pipeline(kernel(raycast_spv));
+    raycast = make_pipeline(kernel(raycast_spv), false, true);
   }
 
   void create_pipelines() {
@@ -456,8 +460,8 @@ struct WavefrontRenderer::Impl {
     if (settings.sortByMaterial) sort = make_pipeline(kernel(sort_spv));
     shade = make_pipeline(kernel(shade_spv));
     accumulate = make_pipeline(kernel(accumulate_spv));
-    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv));
-    raycastSingle = make_pipeline(kernel(raycast_spv), true);
+    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), false, true);
+    raycastSingle = make_pipeline(kernel(raycast_spv), true, true);
     texprobe = make_pipeline(kernel(texprobe_spv));
   }
 
