@@ -412,8 +412,10 @@ TEST(Bvh, TraversalPastTheStepCapIsReported) {
 // makes from the laid-out binary tree, on the parallel paths too, and the
 // same depth and SAH cost (summed in another order).
 TEST(Bvh, WideTreeFromTheBuildersSlotsIsTheCollapsedTree) {
-  std::vector<BvhInput> inputs(3);
+  std::vector<BvhInput> inputs(4);
   inputs[0] = bvh_input(bunny_with_spheres(AcceleratorSettings{3, SplitMethod::Sah}));
+  inputs[3] = bvh_input(load_scene(source_path("scenes/cornell-box.json")));  // with an emitter the collapse keeps apart
+  ASSERT_FALSE(inputs[3].emits.empty());
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (int i = 0; i < 70000; ++i) {
@@ -425,7 +427,7 @@ TEST(Bvh, WideTreeFromTheBuildersSlotsIsTheCollapsedTree) {
     for (SplitMethod split : {SplitMethod::Sah, SplitMethod::ClusteredSah, SplitMethod::Middle}) {
       const AcceleratorSettings accel{WIDE_MAX_LEAF_SIZE, split};
       Bvh binary = build_bvh(in, accel);
-      WideBvh laidOut = collapse_to_wide(binary);
+      WideBvh laidOut = collapse_to_wide(binary, in.emits);
       WideBvh direct = build_wide_bvh(in, accel);
       ASSERT_EQ(direct.nodes.size(), laidOut.nodes.size());
       EXPECT_EQ(std::memcmp(direct.nodes.data(), laidOut.nodes.data(), direct.nodes.size() * sizeof(WideNode)), 0);
@@ -433,6 +435,58 @@ TEST(Bvh, WideTreeFromTheBuildersSlotsIsTheCollapsedTree) {
       EXPECT_EQ(direct.depth, laidOut.depth);
       EXPECT_NEAR(direct.sahCost, binary.sahCost, 1e-9 * binary.sahCost);
       EXPECT_EQ(laidOut.sahCost, binary.sahCost);
+    }
+  }
+}
+
+// Shadow rays aimed at an emitter end just in front of it (offset_ray). The
+// wide tree's quantized boxes must not reach past those ends where the binary
+// tree offers a grid that fits the emitter, or every shadow ray enters the
+// emitter's leaf and tests it. The Cornell box's light sits just under the
+// ceiling, off the root's grid; collapsed without the emitter flags, its
+// leaf lands in the root and the test sees the widened box.
+TEST(Bvh, ShadowRaysEndOutsideTheBoxesOfTheEmittersTheyAimAt) {
+  // Ends of shadow rays aimed at the emitters (`lights`, BvhInput::emits)
+  // among the primitives of each leaf slot that lie inside that slot's box,
+  // for the wide tree collapsed from `in`.
+  auto ends_inside = [](const Scene& scene, const BvhInput& in, const std::vector<uint8_t>& lights) {
+    AcceleratorSettings accel = scene.accelerator;
+    accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);
+    const WideBvh wide = build_wide_bvh(in, accel);
+    ShaderMath math;
+    int inside = 0, emitterSlots = 0;
+    for (const WideNode& node : wide.nodes) {
+      for (int slot = 0; slot < 8; ++slot) {
+        const uint32_t meta = ((slot < 4 ? node.meta0123 : node.meta4567) >> (8 * (slot % 4))) & 0xffu;
+        if (meta == 0 || ((node.exyzImask >> (24 + slot)) & 1u)) continue;  // empty or interior
+        const Aabb box = wide_child_box(node, slot);
+        for (uint32_t bits = meta >> 5, k = 0; bits != 0; bits >>= 1, ++k) {
+          const uint32_t prim = wide.order[node.primBase + (meta & 31u) + k];
+          if (lights[prim] == 0 || prim >= scene.triangles.size()) continue;  // spheres are never flat
+          ++emitterSlots;
+          const SceneTriangle& t = scene.triangles[prim];
+          const glm::vec3 front = glm::normalize(glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]));
+          for (float u : {0.05f, 0.3f, 0.6f}) {
+            for (float v : {0.05f, 0.3f}) {
+              const glm::vec3 end = math.offset_ray(t.v[0] + u * (t.v[1] - t.v[0]) + v * (t.v[2] - t.v[0]), front);
+              inside += glm::all(glm::greaterThanEqual(end, box.lo)) && glm::all(glm::lessThanEqual(end, box.hi));
+            }
+          }
+        }
+      }
+    }
+    EXPECT_GT(emitterSlots, 0);
+    return inside;
+  };
+  for (const char* path : {"scenes/cornell-box.json", "scenes/jensen-box.json", "scenes/cornell-dragon.json"}) {
+    SCOPED_TRACE(path);
+    const Scene scene = load_scene(source_path(path));
+    const BvhInput in = bvh_input(scene);
+    EXPECT_EQ(ends_inside(scene, in, in.emits), 0);
+    if (std::string(path) == "scenes/cornell-box.json") {
+      BvhInput unflagged = in;
+      unflagged.emits.clear();  // the collapse sees no emitter
+      EXPECT_GT(ends_inside(scene, unflagged, in.emits), 0) << "without the flags the light was expected in the root's grid";
     }
   }
 }

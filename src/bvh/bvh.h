@@ -37,6 +37,12 @@ struct Aabb {
 
 struct BvhInput {
   std::vector<Aabb> bounds;  // one per primitive
+  // Per primitive, the sides it emits light towards (empty: none emits): bit
+  // 2a where its front faces -a, bit 2a + 1 where it faces +a (every bit for
+  // spheres), 0 where it does not emit. The binary build ignores it; the wide
+  // collapse keeps flat emitters on grids that fit them, since shadow rays
+  // aimed at one end just in front of it (wide_bvh.cpp).
+  std::vector<uint8_t> emits;
 };
 
 struct Bvh {

@@ -21,7 +21,8 @@ struct WideBvh {
 };
 
 // The binary tree's leaves must hold at most WIDE_MAX_LEAF_SIZE primitives.
-WideBvh collapse_to_wide(const Bvh& binary);
+// `emits` is BvhInput::emits for the primitives the tree was built over.
+WideBvh collapse_to_wide(const Bvh& binary, const std::vector<uint8_t>& emits = {});
 
 // build_bvh and collapse_to_wide in one, collapsing the binary tree from the
 // builder's own arrays (BvhSlots) instead of a laid-out copy. The same wide

@@ -198,11 +198,33 @@ std::vector<shader::Emitter> build_alias_table(const std::vector<double>& weight
   return table;
 }
 
+// Luminance of each material's mean emitted radiance (0: it does not emit).
+static std::vector<double> material_radiance(const Scene& scene) {
+  std::vector<double> radiance(scene.materials.size(), 0.0);
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    uint32_t tex = scene.materials[m].info.z;
+    if (tex != WP_INVALID) radiance[m] = luminance(texture_mean(scene.textures, scene.texels, tex));
+  }
+  return radiance;
+}
+
 BvhInput bvh_input(const Scene& scene) {
   BvhInput input;
-  reserve_huge(input.bounds, scene.triangles.size() + scene.spheres.size());
+  const size_t count = scene.triangles.size() + scene.spheres.size();
+  reserve_huge(input.bounds, count);
   for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
   for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
+  const std::vector<double> radiance = material_radiance(scene);
+  if (std::any_of(radiance.begin(), radiance.end(), [](double r) { return r > 0.0; })) {
+    reserve_huge(input.emits, count);
+    for (const SceneTriangle& t : scene.triangles) {
+      const glm::vec3 front = glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]);  // as surface_at's ng
+      uint8_t sides = 0;
+      for (int a = 0; a < 3; ++a) sides |= uint8_t((front[a] < 0.0f ? 1u : 0u) | (front[a] > 0.0f ? 2u : 0u)) << (2 * a);
+      input.emits.push_back(radiance[t.material] > 0.0 ? sides : 0);
+    }
+    for (const SceneSphere& s : scene.spheres) input.emits.push_back(radiance[s.material] > 0.0 ? 0x3f : 0);
+  }
   return input;
 }
 
@@ -228,7 +250,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     if (options.bvhRotations) {
       Bvh bvh = build_bvh(input, accel);
       rotate_bvh(bvh);
-      w = collapse_to_wide(bvh);
+      w = collapse_to_wide(bvh, input.emits);
     } else {
       w = build_wide_bvh(input, accel);  // collapsed from the builder's arrays, without laying out the binary tree
     }
@@ -314,11 +336,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // times pi times area; of the intensity times 4 pi).
   std::vector<double> power;
   std::vector<uint32_t> prims;
-  std::vector<double> materialRadiance(out.materials.size(), 0.0);
-  for (size_t m = 0; m < out.materials.size(); ++m) {
-    uint32_t tex = out.materials[m].info.z;
-    if (tex != WP_INVALID) materialRadiance[m] = luminance(texture_mean(out.textures, out.texels, tex));
-  }
+  const std::vector<double> materialRadiance = material_radiance(scene);
   auto emits = [&](uint32_t material, float area) {
     double p = materialRadiance[material] * WP_PI * double(area);
     return p > 0.0 ? p : 0.0;
