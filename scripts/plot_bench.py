@@ -6,7 +6,7 @@ Usage: scripts/plot_bench.py RESULTS.json [--out DIR]
 Render benchmarks give two charts: samples per second per variant and scene
 (median, with the min-max range as error bars), and the per-stage GPU time of
 each variant. Ray-casting benchmarks give Mrays/s of wavepath and Embree side
-by side for the primary and bounce rays of each scene; build benchmarks, the
+by side for the primary, bounce and shadow rays of each scene; build benchmarks, the
 BVH build rate of wavepath (binary tree, all of it, and the clustered SAH
 build) and Embree. Uses Debian's
 python3-numpy and python3-matplotlib (hence /usr/bin/python3).
@@ -80,7 +80,8 @@ def plot_render(results, out_dir):
 
 def plot_raycast(results, out_dir):
     rows = [r for r in results["raycast"] if r.get("check_passed")]
-    keys = sorted({(r["scene"], r["rays"]) for r in rows}, key=lambda k: (k[0], k[1] != "primary"))
+    order = {"primary": 0, "bounce": 1, "shadow": 2}
+    keys = sorted({(r["scene"], r["rays"]) for r in rows}, key=lambda k: (k[0], order.get(k[1], 3)))
     variants = sorted({r["variant"] for r in rows})
     series = variants + (["Embree"] if any("embree_mrays_per_second" in r for r in rows) else [])
     width = 0.8 / max(len(series), 1)
@@ -96,7 +97,7 @@ def plot_raycast(results, out_dir):
                 vals.append(next((r["mrays_per_second"] for r in match if r["variant"] == name), 0))
         ax.bar(x + (i - (len(series) - 1) / 2) * width, vals, width, label=name)
     ax.set_xticks(x, [short(s) + "\n" + r for s, r in keys])
-    return [save_chart(fig, ax, out_dir, "bench_raycast.png", "Mrays/s (closest hit, median)",
+    return [save_chart(fig, ax, out_dir, "bench_raycast.png", "Mrays/s (shadow rays: any hit; median)",
                        "Ray casting on " + results["device"]["name"])]
 
 

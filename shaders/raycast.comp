@@ -1,12 +1,15 @@
 #version 460
-// Ray casting without shading: closest hit for each ray of a fixed set (read
-// from the shadow-ray buffer: origin, tmax, direction), through the same loop
-// as extend (trace_items.glsl). Used by the BVH tests and the traversal
-// benchmark.
+// Ray casting without shading: the closest (or any) hit for each ray of a
+// fixed set (read from the shadow-ray buffer: origin, tmax, direction),
+// through the same loop as extend (trace_items.glsl). Used by the BVH tests
+// and the traversal benchmark.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
-#define TRACE_ANY_HIT false
+// Constant 10: any hit instead of the closest (the benchmark's shadow rays):
+// a hit with a valid prim means the segment is blocked.
+layout(constant_id = 10) const bool kAnyHit = false;
+#define TRACE_ANY_HIT kAnyHit
 
 uint trace_item_count() {
   return pc.pathCount;

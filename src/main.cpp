@@ -426,7 +426,7 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--csv", bench.csvPath, "write the results as CSV");
   benchCmd->add_flag("--validation", bench.validation, "enable Vulkan validation; any message is a failure");
   CLI::Option* raycastFlag = benchCmd->add_flag("--raycast", bench.raycast,
-                     "trace fixed ray sets (camera rays, then one bounce from each hit) instead of rendering; "
+                     "trace fixed ray sets (camera rays, then one bounce and one shadow ray from each hit) instead of rendering; "
                      "compared with Embree when built in");
   CLI::Option* buildFlag = benchCmd->add_flag(
       "--build", bench.build, "time BVH builds (the renderer's 8-wide tree, and the binary layout) instead of rendering; compared with Embree when built in");

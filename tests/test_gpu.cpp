@@ -124,6 +124,35 @@ TEST_F(Gpu, ClosestHitsEqualBruteForceOnARealMesh) {
   }
 }
 
+// Shadow rays (any hit, cast_shadow_rays) are blocked exactly where testing
+// every primitive finds a hit before their tmax: each ray that hits is cut
+// short of its hit or lengthened past it, alternately.
+TEST_F(Gpu, ShadowRaysAreBlockedExactlyWhereBruteForceHitsBeforeTheirEnd) {
+  Scene scene = bunny_with_spheres(AcceleratorSettings{4, SplitMethod::Sah});
+  scene.camera.width = scene.camera.height = 64;  // 4096 path slots: rays go through in several chunks
+  std::vector<ShadowRay> rays = random_rays(scene, 20000, 4321);
+  const std::vector<float> closest = brute_force_closest(scene, rays);
+  std::vector<bool> blocked(rays.size(), false);
+  int blockedCount = 0, cutShort = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (closest[i] == WP_INF) continue;
+    const bool shorten = i % 2 == 1;
+    rays[i].tmax = closest[i] * (shorten ? 0.5f : 2.0f);
+    blocked[i] = !shorten;
+    blockedCount += !shorten;
+    cutShort += shorten;
+  }
+  WavefrontRenderer renderer(*ctx_, compile_scene(scene, RenderOptions{}));
+  uint64_t truncated = 0;
+  const std::vector<Hit> hits = renderer.cast_shadow_rays(rays, &truncated);
+  EXPECT_EQ(truncated, 0u);
+  int mismatches = 0;
+  for (size_t i = 0; i < rays.size(); ++i) mismatches += (hits[i].prim != WP_INVALID) != blocked[i];
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(blockedCount, 2000);
+  EXPECT_GT(cutShort, 2000);
+}
+
 // A stack of thin slivers in front of a target: a ray down the stack overlaps
 // every sliver's box, so it visits every node and tests every sliver before it
 // reaches the target.

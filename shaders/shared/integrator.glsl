@@ -66,6 +66,23 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
   sr.pad = 0u;
 }
 
+// The segment a shadow ray checks for light sample ls, seen from surface
+// point p whose geometric normal ng faces the side the ray leaves from: it
+// ends just in front of the light point (at a point light itself), or is
+// unbounded towards the environment. (The ray-casting benchmark aims its
+// shadow rays with it too.)
+void aim_shadow_ray(vec3 p, vec3 ng, LightSample ls, OUT(vec3) origin, OUT(vec3) dir, OUT(float) tmax) {
+  origin = offset_ray(p, ng);
+  if (ls.dist == WP_INF) {
+    dir = ls.wi;
+    tmax = WP_INF;
+  } else {
+    vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
+    dir = target - origin;
+    tmax = 1.0f;
+  }
+}
+
 // The shadow rays one path vertex may cast: one per light sample. On the GPU
 // the array has exactly the scene's light samples (a specialization
 // constant); in C++, MAX_LIGHT_SAMPLES.
@@ -152,15 +169,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     float nPdf = float(lightSamples) * ls.pdf;
     float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
     srs.ray[j].contribution = p.throughput * f * ls.radiance * (w * radianceScale / nPdf);
-    srs.ray[j].origin = offset_ray(s.p, b.ng);
-    if (ls.dist == WP_INF) {  // the environment: an unbounded ray
-      srs.ray[j].dir = ls.wi;
-      srs.ray[j].tmax = WP_INF;
-    } else {
-      vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
-      srs.ray[j].dir = target - srs.ray[j].origin;
-      srs.ray[j].tmax = 1.0f;
-    }
+    aim_shadow_ray(s.p, b.ng, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
   }
 
   // The next direction: from the BSDF, or (mixture) from the one-sample

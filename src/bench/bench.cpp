@@ -272,15 +272,23 @@ int run_bench(const BenchOptions& o) {
 
 namespace {
 
-// Closest-hit distances by the CPU traversal (proven equal to brute force by
-// the BVH tests): the reference the GPU's hits are checked against.
-std::vector<float> cpu_hits(shader::SceneView& view, const std::vector<shader::ShadowRay>& rays) {
+// A ray's result as the benchmark compares it: the closest hit's distance,
+// or for shadow rays (any hit) 1 where the segment is blocked; WP_INF for a
+// miss.
+float hit_distance(const shader::Hit& h, bool anyHit) {
+  if (h.prim == WP_INVALID) return WP_INF;
+  return anyHit ? 1.0f : h.t;
+}
+
+// Results by the CPU traversal (proven equal to brute force by the BVH
+// tests): the reference the GPU's hits are checked against.
+std::vector<float> cpu_hits(shader::SceneView& view, const std::vector<shader::ShadowRay>& rays, bool anyHit) {
   std::vector<float> t(rays.size(), WP_INF);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       shader::Hit h;
-      view.trace_ray(rays[i].origin, rays[i].dir, rays[i].tmax, false, h);
-      if (h.prim != WP_INVALID) t[i] = h.t;
+      view.trace_ray(rays[i].origin, rays[i].dir, rays[i].tmax, anyHit, h);
+      t[i] = hit_distance(h, anyHit);
     }
   });
   return t;
@@ -289,7 +297,7 @@ std::vector<float> cpu_hits(shader::SceneView& view, const std::vector<shader::S
 // Mean iterations of the CPU traversal's walk per ray through cs's tree: the
 // loop the kernels run (scene.glsl), so a measure of the tree's quality for
 // these rays that, unlike a time, is the same in every run.
-double walk_steps_per_ray(const CompiledScene& cs, const std::vector<shader::ShadowRay>& rays) {
+double walk_steps_per_ray(const CompiledScene& cs, const std::vector<shader::ShadowRay>& rays, bool anyHit) {
   const shader::SceneView view = cs.view();
   const uint64_t total = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, rays.size(), 1024), uint64_t(0),
@@ -299,7 +307,7 @@ double walk_steps_per_ray(const CompiledScene& cs, const std::vector<shader::Sha
         counting.stepsTaken = &steps;
         for (size_t i = r.begin(); i != r.end(); ++i) {
           shader::Hit h;
-          counting.trace_ray(rays[i].origin, rays[i].dir, rays[i].tmax, false, h);
+          counting.trace_ray(rays[i].origin, rays[i].dir, rays[i].tmax, anyHit, h);
         }
         return acc + steps;
       },
@@ -318,12 +326,14 @@ size_t mismatches(const std::vector<float>& a, const std::vector<float>& b) {
 }
 
 struct RaySets {
-  std::vector<shader::ShadowRay> primary, bounce;
+  std::vector<shader::ShadowRay> primary, bounce, shadow;
   std::vector<float> primaryHits;  // the CPU traversal's distances: the primary rays' reference
 };
 
-// Camera rays through every pixel, then one cosine-distributed bounce from
-// every hit, leaving the surface as the path tracer would.
+// Camera rays through every pixel, then from every hit one cosine-distributed
+// bounce and one shadow ray to a point that next-event estimation picks on
+// an emitter (where it lies above the surface), leaving the surface as the
+// path tracer would.
 RaySets make_rays(shader::SceneView& view, const CompiledScene& cs) {
   RaySets sets;
   size_t pixels = size_t(cs.width) * size_t(cs.height);
@@ -349,6 +359,14 @@ RaySets make_rays(shader::SceneView& view, const CompiledScene& cs) {
     view.make_frame(n, t, b);
     glm::vec3 d = view.frame_to_world(view.square_to_cosine_hemisphere(glm::vec2(view.rng_next(rng), view.rng_next(rng))), t, b, n);
     sets.bounce.push_back(shader::ShadowRay{view.offset_ray(s.p, n), WP_INF, d, uint32_t(p), glm::vec3(0.0f), 0u});
+    shader::SceneView::LightSample ls;
+    const glm::vec3 uLight(view.rng_next(rng), view.rng_next(rng), view.rng_next(rng));
+    if (view.sample_emitter(s.p, uLight, ls) && ls.pdf > 0.0f && glm::dot(ls.wi, n) > 0.0f) {
+      shader::ShadowRay sr{};
+      sr.path = uint32_t(p);
+      view.aim_shadow_ray(s.p, n, ls, sr.origin, sr.dir, sr.tmax);
+      sets.shadow.push_back(sr);
+    }
   }
   return sets;
 }
@@ -384,15 +402,18 @@ int run_raycast_bench(const BenchOptions& o) {
         embreeNote = e.what();
       }
     }
-    std::printf("\n%s: %zu primitives, %zu primary and %zu bounce rays; BVH %.3f s%s\n", o.scenes[si].c_str(),
-                scene.triangles.size() + scene.spheres.size(), sets.primary.size(), sets.bounce.size(), cs.bvhBuildSeconds,
+    std::printf("\n%s: %zu primitives, %zu primary, %zu bounce and %zu shadow rays; BVH %.3f s%s\n", o.scenes[si].c_str(),
+                scene.triangles.size() + scene.spheres.size(), sets.primary.size(), sets.bounce.size(), sets.shadow.size(),
+                cs.bvhBuildSeconds,
                 embree ? (", Embree build " + std::to_string(embree->build_seconds()) + " s").c_str() : "");
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
     std::printf("  %-8s %-14s %12s %14s %8s %11s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio", "walk steps");
     for (const auto& [setName, rays] : {std::pair<const char*, const std::vector<shader::ShadowRay>*>{"primary", &sets.primary},
-                                        {"bounce", &sets.bounce}}) {
+                                        {"bounce", &sets.bounce},
+                                        {"shadow", &sets.shadow}}) {
       if (rays->empty()) continue;
-      std::vector<float> reference = rays == &sets.primary ? sets.primaryHits : cpu_hits(view, *rays);
+      const bool anyHit = rays == &sets.shadow;  // shadow rays ask whether the segment is blocked
+      std::vector<float> reference = rays == &sets.primary ? sets.primaryHits : cpu_hits(view, *rays, anyHit);
       // Check each variant's hits (the first cast is also its warm-up); keep
       // a renderer for each that agrees.
       struct Timed {
@@ -402,16 +423,18 @@ int run_raycast_bench(const BenchOptions& o) {
         std::vector<double> seconds;
       };
       std::vector<Timed> timedVariants;
-      // Camera rays are passed as coherent, bounce rays not (cast_rays).
+      // Camera rays are passed as coherent, the others not (cast_rays).
       const bool coherent = rays == &sets.primary;
+      auto cast = [&](WavefrontRenderer& r, uint64_t* truncated, double* kernel) {
+        return anyHit ? r.cast_shadow_rays(*rays, truncated, kernel) : r.cast_rays(*rays, truncated, kernel, coherent);
+      };
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         const KernelVariant* v = variants[vi];
         auto renderer = std::make_unique<WavefrontRenderer>(ctx, variantScenes[vi], v->settings);
         uint64_t truncated = 0;
-        std::vector<shader::Hit> hits = renderer->cast_rays(*rays, &truncated, nullptr, coherent);
-        std::vector<float> t(hits.size(), WP_INF);
-        for (size_t i = 0; i < hits.size(); ++i)
-          if (hits[i].prim != WP_INVALID) t[i] = hits[i].t;
+        std::vector<shader::Hit> hits = cast(*renderer, &truncated, nullptr);
+        std::vector<float> t(hits.size());
+        for (size_t i = 0; i < hits.size(); ++i) t[i] = hit_distance(hits[i], anyHit);
         size_t bad = mismatches(t, reference);
         nlohmann::json row = {{"scene", o.scenes[si]}, {"rays", setName}, {"count", rays->size()}, {"variant", v->name},
                               {"mismatches", bad}, {"truncated", truncated}};
@@ -429,12 +452,20 @@ int run_raycast_bench(const BenchOptions& o) {
       // change in the machine's speed during the run affects all of them alike.
       std::vector<double> embreeSeconds;
       std::vector<float> embreeHits;
-      if (embree) embree->trace(*rays, &embreeHits);  // warm-up
+      auto embree_trace = [&] {
+        if (!anyHit) return embree->trace(*rays, &embreeHits);
+        std::vector<uint8_t> blocked;
+        const double seconds = embree->occluded(*rays, &blocked);
+        embreeHits.resize(blocked.size());
+        for (size_t i = 0; i < blocked.size(); ++i) embreeHits[i] = blocked[i] ? 1.0f : WP_INF;
+        return seconds;
+      };
+      if (embree) embree_trace();  // warm-up
       for (int r = 0; r < o.repeats; ++r) {
-        if (embree) embreeSeconds.push_back(embree->trace(*rays, &embreeHits));
+        if (embree) embreeSeconds.push_back(embree_trace());
         for (Timed& t : timedVariants) {
           double kernel = 0.0;
-          t.renderer->cast_rays(*rays, nullptr, &kernel, coherent);
+          cast(*t.renderer, nullptr, &kernel);
           t.seconds.push_back(kernel);
         }
       }
@@ -446,7 +477,7 @@ int run_raycast_bench(const BenchOptions& o) {
         row["check_passed"] = true;
         row["kernel_seconds"] = to_json(spread(t.seconds));
         row["mrays_per_second"] = rate * 1e-6;
-        const double steps = walk_steps_per_ray(variantScenes[t.variant], *rays);
+        const double steps = walk_steps_per_ray(variantScenes[t.variant], *rays, anyHit);
         row["cpu_walk_steps_per_ray"] = steps;
         if (embree) {
           row["embree_mrays_per_second"] = embreeRate * 1e-6;

@@ -76,35 +76,60 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
 }
 
+namespace {
+
+RTCRay embree_ray(const shader::ShadowRay& ray) {
+  RTCRay r;
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.dir.x;
+  r.dir_y = ray.dir.y;
+  r.dir_z = ray.dir.z;
+  r.tnear = 0.0f;
+  r.tfar = ray.tmax;
+  r.time = 0.0f;
+  r.mask = ~0u;
+  r.id = 0;
+  r.flags = 0;
+  return r;
+}
+
+// Runs query(i, context) for every ray on all cores; returns the seconds.
+template <typename Query>
+double on_all_cores(size_t count, Query query) {
+  auto t0 = std::chrono::steady_clock::now();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t i = r.begin(); i != r.end(); ++i) query(i, context);
+  });
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
 double EmbreeScene::trace(const std::vector<shader::ShadowRay>& rays, std::vector<float>* t) const {
   t->assign(rays.size(), WP_INF);
   RTCScene scene = static_cast<RTCScene>(scene_);
-  auto t0 = std::chrono::steady_clock::now();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const shader::ShadowRay& ray = rays[i];
-      RTCRayHit rh;
-      rh.ray.org_x = ray.origin.x;
-      rh.ray.org_y = ray.origin.y;
-      rh.ray.org_z = ray.origin.z;
-      rh.ray.dir_x = ray.dir.x;
-      rh.ray.dir_y = ray.dir.y;
-      rh.ray.dir_z = ray.dir.z;
-      rh.ray.tnear = 0.0f;
-      rh.ray.tfar = ray.tmax;
-      rh.ray.time = 0.0f;
-      rh.ray.mask = ~0u;
-      rh.ray.id = 0;
-      rh.ray.flags = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(scene, &context, &rh);
-      if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) (*t)[i] = rh.ray.tfar;
-    }
+  return on_all_cores(rays.size(), [&](size_t i, RTCIntersectContext& context) {
+    RTCRayHit rh;
+    rh.ray = embree_ray(rays[i]);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &rh);
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) (*t)[i] = rh.ray.tfar;
   });
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double EmbreeScene::occluded(const std::vector<shader::ShadowRay>& rays, std::vector<uint8_t>* blocked) const {
+  blocked->assign(rays.size(), 0);
+  RTCScene scene = static_cast<RTCScene>(scene_);
+  return on_all_cores(rays.size(), [&](size_t i, RTCIntersectContext& context) {
+    RTCRay r = embree_ray(rays[i]);
+    rtcOccluded1(scene, &context, &r);
+    (*blocked)[i] = r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+  });
 }
 
 #else
@@ -117,6 +142,9 @@ EmbreeScene::EmbreeScene(const Scene&) {
 }
 EmbreeScene::~EmbreeScene() = default;
 double EmbreeScene::trace(const std::vector<shader::ShadowRay>&, std::vector<float>*) const {
+  return 0.0;
+}
+double EmbreeScene::occluded(const std::vector<shader::ShadowRay>&, std::vector<uint8_t>*) const {
   return 0.0;
 }
 

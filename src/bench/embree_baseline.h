@@ -1,8 +1,10 @@
 // embree_baseline.h — Embree 3 as the CPU baseline of the benchmarks: the same
-// rays traced with rtcIntersect1 on all cores, and its BVH build on the same
-// triangles. Optional: built when CMake finds Embree (Debian libembree-dev).
+// rays traced with rtcIntersect1 (shadow rays: rtcOccluded1) on all cores,
+// and its BVH build on the same triangles. Optional: built when CMake finds
+// Embree (Debian libembree-dev).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,9 @@ class EmbreeScene {
   double build_seconds() const { return buildSeconds_; }  // rtcCommitScene alone
   // Closest hits of the rays, on all cores; returns the seconds spent tracing.
   double trace(const std::vector<shader::ShadowRay>& rays, std::vector<float>* t) const;
+  // Whether each ray's segment is blocked (rtcOccluded1), on all cores;
+  // returns the seconds spent tracing.
+  double occluded(const std::vector<shader::ShadowRay>& rays, std::vector<uint8_t>* blocked) const;
 
  private:
   void* device_ = nullptr;

@@ -136,7 +136,8 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
-      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, texprobe{nullptr};
+      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, occlude{nullptr},
+      occludeSingle{nullptr}, texprobe{nullptr};
   uint32_t tracingRays = 1;  // rays per invocation of prepare's sizing, extend, connect and raycast (rays_per_invocation)
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
@@ -380,26 +381,34 @@ struct WavefrontRenderer::Impl {
     return {{"generate", &generate}, {"prepare", &prepare},       {"extend", &extend},
             {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
             {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
-            {"raycast-single", &raycastSingle}, {"texprobe", &texprobe}};
+            {"raycast-single", &raycastSingle}, {"occlude", &occlude}, {"occlude-single", &occludeSingle},
+            {"texprobe", &texprobe}};
   }
 
-  // single: a tracing kernel that takes one ray per invocation, whatever
-  // tracingRays says; interleaved: its workgroups dealt out in columns.
-  vk::raii::Pipeline make_pipeline(Kernel k, bool single = false, bool interleaved = false) {
+  // How a pipeline specializes its kernel beyond the renderer's settings.
+  struct PipelineOptions {
+    bool single = false;       // a tracing kernel takes one ray per invocation, whatever tracingRays says
+    bool interleaved = false;  // workgroups dealt out in columns (workgroup_interleave)
+    bool anyHit = false;       // the ray caster looks for any hit, not the closest
+  };
+
+  vk::raii::Pipeline make_pipeline(Kernel k) { return make_pipeline(k, PipelineOptions()); }
+  vk::raii::Pipeline make_pipeline(Kernel k, PipelineOptions o) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
     // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
     // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
     // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
     // by material (bools: a 32-bit 0 or 1), 8 rays per invocation of the
-    // tracing kernels, 9 their workgroup interleave.
+    // tracing kernels, 9 their workgroup interleave, 10 the ray caster's any
+    // hit (raycast.comp).
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
     bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && !cpu_device());
     uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
-    constexpr uint32_t kConstants = 10;
+    constexpr uint32_t kConstants = 11;
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
                                          accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
-                                         single ? 1u : tracingRays, interleaved ? workgroup_interleave() : 1u};
+                                         o.single ? 1u : tracingRays, o.interleaved ? workgroup_interleave() : 1u, o.anyHit ? 1u : 0u};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -422,7 +431,8 @@ struct WavefrontRenderer::Impl {
     } else {
       connect = make_pipeline(kernel(connect_spv));
     }
-    raycast = make_pipeline(kernel(raycast_spv), false, true);
+    raycast = vk::raii::Pipeline(nullptr);  // the ray caster's multi-ray pipelines are remade on use (ray_caster)
+    occlude = vk::raii::Pipeline(nullptr);
   }
 
   void create_pipelines() {
@@ -460,8 +470,7 @@ struct WavefrontRenderer::Impl {
     if (settings.sortByMaterial) sort = make_pipeline(kernel(sort_spv));
     shade = make_pipeline(kernel(shade_spv));
     accumulate = make_pipeline(kernel(accumulate_spv));
-    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), false, true);
-    raycastSingle = make_pipeline(kernel(raycast_spv), true, true);
+    if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), {false, true, false});
     texprobe = make_pipeline(kernel(texprobe_spv));
   }
 
@@ -604,15 +613,28 @@ struct WavefrontRenderer::Impl {
     }
   }
 
-  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
-                                     bool coherent) {
-    return run_on_rays(coherent ? raycastSingle : raycast, rays, truncated, kernelSeconds);
+  // The ray caster (raycast.comp), made on first use: renders never need it.
+  // single: one ray per invocation; anyHit: the shadow rays' query. The
+  // closest-hit pipelines interleave their workgroups, for camera rays.
+  const vk::raii::Pipeline& ray_caster(bool single, bool anyHit) {
+    vk::raii::Pipeline& p = anyHit ? (single ? occludeSingle : occlude) : (single ? raycastSingle : raycast);
+    if (!*p) p = make_pipeline(kernel(raycast_spv), {single, !anyHit, anyHit});
+    return p;
   }
 
-  // Runs `kernel` (raycast or texprobe) over `rays` in chunks of the path
-  // capacity: each ray in the shadow-ray buffer, each result in the hit buffer.
-  std::vector<shader::Hit> run_on_rays(const vk::raii::Pipeline& kernel, const std::vector<shader::ShadowRay>& rays,
-                                       uint64_t* truncated, double* kernelSeconds) {
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
+                                     bool coherent, bool anyHit) {
+    if (coherent) return run_on_rays(ray_caster(true, anyHit), nullptr, rays, truncated, kernelSeconds);
+    return run_on_rays(ray_caster(false, anyHit), &ray_caster(true, anyHit), rays, truncated, kernelSeconds);
+  }
+
+  // Runs `kernel` (a ray caster or texprobe) over `rays` in chunks of the path
+  // capacity: each ray in the shadow-ray buffer, each result in the hit
+  // buffer. A ray caster taking tracingRays rays per invocation names
+  // `single`, its one-ray pipeline, for chunks where a ray outran its share
+  // of the loop budget.
+  std::vector<shader::Hit> run_on_rays(const vk::raii::Pipeline& kernel, const vk::raii::Pipeline* single,
+                                       const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds) {
     std::vector<shader::Hit> hits(rays.size());
     const bool timed = timestamps;
     reserve_queries(2);
@@ -651,14 +673,14 @@ struct WavefrontRenderer::Impl {
       }
       return static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
     };
-    const uint32_t perInvocation = &kernel == &raycast ? tracingRays : 1u;
+    const uint32_t perInvocation = single ? tracingRays : 1u;
     uint64_t lost = 0;
     for (size_t start = 0; start < rays.size(); start += capacity) {
       uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
       std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, n * sizeof(shader::ShadowRay));
       uint32_t chunkLost = run_chunk(kernel, n, perInvocation);
       // A ray past its share of the loop budget: the chunk again, one ray per invocation.
-      if (chunkLost > 0 && perInvocation > 1) chunkLost = run_chunk(raycastSingle, n, 1);
+      if (chunkLost > 0 && perInvocation > 1) chunkLost = run_chunk(*single, n, 1);
       std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
       lost += chunkLost;
     }
@@ -702,9 +724,14 @@ const StageTimes& WavefrontRenderer::stage_times() const {
   return impl_->times;
 }
 
+std::vector<shader::Hit> WavefrontRenderer::cast_shadow_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
+                                                             double* kernelSeconds) {
+  return impl_->cast_rays(rays, truncated, kernelSeconds, false, true);
+}
+
 std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
                                                       double* kernelSeconds, bool coherent) {
-  return impl_->cast_rays(rays, truncated, kernelSeconds, coherent);
+  return impl_->cast_rays(rays, truncated, kernelSeconds, coherent, false);
 }
 
 std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<TextureQuery>& queries) {
@@ -714,7 +741,7 @@ std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<Textur
     rays[i].dir = glm::vec3(queries[i].uv, 0.0f);
     rays[i].path = queries[i].texture;
   }
-  std::vector<shader::Hit> out = impl_->run_on_rays(impl_->texprobe, rays, nullptr, nullptr);
+  std::vector<shader::Hit> out = impl_->run_on_rays(impl_->texprobe, nullptr, rays, nullptr, nullptr);
   std::vector<glm::vec3> colors(out.size());
   for (size_t i = 0; i < out.size(); ++i) colors[i] = glm::vec3(out[i].t, out[i].u, out[i].v);
   return colors;

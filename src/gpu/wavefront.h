@@ -97,6 +97,10 @@ class WavefrontRenderer {
   // traced one per invocation.
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr,
                                      double* kernelSeconds = nullptr, bool coherent = false);
+  // The same for shadow rays: any hit, not the closest (a hit's prim is valid
+  // where the segment is blocked; its t is some hit's, not the nearest).
+  std::vector<shader::Hit> cast_shadow_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr,
+                                            double* kernelSeconds = nullptr);
 
   // The kernels' texture_eval at each query, for comparing GLSL with C++.
   struct TextureQuery {
