@@ -4,6 +4,7 @@
 // connect_multi.comp handles several light samples per vertex). The rays go
 // through trace_items.glsl.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "shared/kernel.glsl"
 
 #define TRACE_ANY_HIT true

@@ -4,6 +4,7 @@
 // their contributions are added with float atomics (VK_EXT_shader_atomic_float;
 // the renderer uses this kernel only when the device has them).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_EXT_shader_atomic_float : require
 #include "shared/kernel.glsl"
 

@@ -3,6 +3,7 @@
 // per invocation on CPU devices, each within its share of the loop budget).
 // When sorting by material, also counts each hit's sort key.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "shared/kernel.glsl"
 
 #define TRACE_ANY_HIT false

@@ -4,6 +4,7 @@
 // through the same loop as extend (trace_items.glsl). Used by the BVH tests
 // and the traversal benchmark.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "shared/kernel.glsl"
 
 // Constant 10: any hit instead of the closest (the benchmark's shadow rays):
