@@ -86,7 +86,7 @@ const std::vector<KernelVariant>& kernel_variants() {
          indexedStack, BvhLayout::Wide},
         {"gpu-oneray", "wavefront kernels, one ray per invocation of the tracing kernels (gpu: 16 on CPU devices, for trees of depth 4 or more)",
          oneRay, BvhLayout::Wide},
-        {"gpu-multiray", "wavefront kernels, 16 rays per invocation of the tracing kernels on every device and tree", multiRay,
+        {"gpu-multiray", "wavefront kernels, 16 rays per invocation of the tracing kernels (shared within subgroups) on every device and tree", multiRay,
          BvhLayout::Wide}};
     for (uint32_t size : {32u, 128u, 256u}) {
       WavefrontSettings s;
@@ -324,8 +324,9 @@ struct WavefrontRenderer::Impl {
   }
   static constexpr uint64_t kMegakernelMinimumCap = 256;
 
-  // Rays per invocation of the tracing kernels (trace_items.glsl): several
-  // where lanes of a SIMD group would wait for each other's rays (CPU
+  // Rays per invocation of the tracing kernels (trace_items.glsl; with
+  // several, a subgroup's lanes share theirs): several where lanes of a SIMD
+  // group would wait for each other's rays (CPU
   // devices, incoherent rays) and the walk can resume rays (the wide BVH;
   // with compaction, so every queued ray is live). Each gets the step cap's
   // share; where a ray needs more, the work is done again one ray per
