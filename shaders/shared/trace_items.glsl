@@ -75,10 +75,12 @@ void trace_items() {
   const uint rows = (blocks + subgroups - 1u) / subgroups;
   if (subgroup >= blocks) return;
   // While a subgroup's entries last its lanes are all busy, so a lane's loop
-  // runs at most rows + 1 rays' caps: each ray gets a (rows + 1)-th of the
-  // step cap (rows is kRaysPerInvocation, or one more where the dispatch
-  // rounds down).
-  uint cap = scene.counts.z / (rows + 1u);
+  // runs at most (its share of the entries + 1) rays' caps: with every lane
+  // present, rows + 1 (rows is kRaysPerInvocation, or one more where the
+  // dispatch rounds down). A subgroup cut short by the workgroup's size has
+  // fewer lanes to share the same entries.
+  const uint present = subgroupBallotBitCount(subgroupBallot(true));
+  uint cap = scene.counts.z / ((rows * lanes + present - 1u) / present + 1u);
   const bool anyHit = TRACE_ANY_HIT;
   vec3 o;
   vec3 d;
