@@ -326,9 +326,9 @@ struct WavefrontRenderer::Impl {
 
   // Rays per invocation of the tracing kernels (trace_items.glsl; with
   // several, a subgroup's lanes share theirs): several where lanes of a SIMD
-  // group would wait for each other's rays (CPU
-  // devices, incoherent rays) and the walk can resume rays (the wide BVH;
-  // with compaction, so every queued ray is live). Each gets the step cap's
+  // group would wait for each other's rays (CPU devices, incoherent rays)
+  // and the walk can resume rays (the wide BVH; with compaction, so every
+  // queued ray is live). Each gets the step cap's
   // share; where a ray needs more, the work is done again one ray per
   // invocation (render_samples, run_on_rays). Coherent rays (the ray-casting
   // benchmark's camera rays, cast_rays) finish together anyway: on the dragon
@@ -368,7 +368,10 @@ struct WavefrontRenderer::Impl {
     return (groups_for(n) + t - 1) / t * t;
   }
 
-  // Workgroups of the ray caster for n rays, perInvocation to an invocation.
+  // Workgroups of the ray caster (or texprobe) for n rays, perInvocation to
+  // an invocation. One ray to an invocation rounds up to whole rows of the
+  // interleave; pipelines that do not interleave take the extra workgroups'
+  // items as out of range.
   uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const {
     return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
   }

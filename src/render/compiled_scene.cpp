@@ -208,13 +208,13 @@ static std::vector<double> material_radiance(const Scene& scene) {
   return radiance;
 }
 
-BvhInput bvh_input(const Scene& scene) {
+// bvh_input with the scene's material_radiance already at hand.
+static BvhInput bvh_input(const Scene& scene, const std::vector<double>& radiance) {
   BvhInput input;
   const size_t count = scene.triangles.size() + scene.spheres.size();
   reserve_huge(input.bounds, count);
   for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
   for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
-  const std::vector<double> radiance = material_radiance(scene);
   if (std::any_of(radiance.begin(), radiance.end(), [](double r) { return r > 0.0; })) {
     reserve_huge(input.emits, count);
     for (const SceneTriangle& t : scene.triangles) {
@@ -228,13 +228,18 @@ BvhInput bvh_input(const Scene& scene) {
   return input;
 }
 
+BvhInput bvh_input(const Scene& scene) {
+  return bvh_input(scene, material_radiance(scene));
+}
+
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
   const size_t numSpheres = scene.spheres.size();
   if (numTris + numSpheres >= size_t(EMITTER_ENVIRONMENT)) throw InputError(scene.sourcePath + ": too many primitives");
 
-  BvhInput input = bvh_input(scene);
+  const std::vector<double> materialRadiance = material_radiance(scene);
+  BvhInput input = bvh_input(scene, materialRadiance);
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
   AcceleratorSettings accel = scene.accelerator;
@@ -336,7 +341,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // times pi times area; of the intensity times 4 pi).
   std::vector<double> power;
   std::vector<uint32_t> prims;
-  const std::vector<double> materialRadiance = material_radiance(scene);
   auto emits = [&](uint32_t material, float area) {
     double p = materialRadiance[material] * WP_PI * double(area);
     return p > 0.0 ? p : 0.0;
