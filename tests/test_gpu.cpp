@@ -143,12 +143,17 @@ TEST_F(Gpu, ShadowRaysAreBlockedExactlyWhereBruteForceHitsBeforeTheirEnd) {
     cutShort += shorten;
   }
   WavefrontRenderer renderer(*ctx_, compile_scene(scene, RenderOptions{}));
-  uint64_t truncated = 0;
-  const std::vector<Hit> hits = renderer.cast_shadow_rays(rays, &truncated);
-  EXPECT_EQ(truncated, 0u);
-  int mismatches = 0;
-  for (size_t i = 0; i < rays.size(); ++i) mismatches += (hits[i].prim != WP_INVALID) != blocked[i];
-  EXPECT_EQ(mismatches, 0);
+  // Incoherent rays share a subgroup's loop on CPU devices; coherent ones go
+  // one to an invocation, their workgroups interleaved.
+  for (bool coherent : {false, true}) {
+    SCOPED_TRACE(coherent ? "coherent" : "incoherent");
+    uint64_t truncated = 0;
+    const std::vector<Hit> hits = renderer.cast_shadow_rays(rays, &truncated, nullptr, coherent);
+    EXPECT_EQ(truncated, 0u);
+    int mismatches = 0;
+    for (size_t i = 0; i < rays.size(); ++i) mismatches += (hits[i].prim != WP_INVALID) != blocked[i];
+    EXPECT_EQ(mismatches, 0);
+  }
   EXPECT_GT(blockedCount, 2000);
   EXPECT_GT(cutShort, 2000);
 }

@@ -423,10 +423,11 @@ int run_raycast_bench(const BenchOptions& o) {
         std::vector<double> seconds;
       };
       std::vector<Timed> timedVariants;
-      // Camera rays are passed as coherent, the others not (cast_rays).
-      const bool coherent = rays == &sets.primary;
+      // Camera rays, and the shadow rays from their hits (in image order),
+      // are passed as coherent; bounce rays are not (cast_rays).
+      const bool coherent = rays != &sets.bounce;
       auto cast = [&](WavefrontRenderer& r, uint64_t* truncated, double* kernel) {
-        return anyHit ? r.cast_shadow_rays(*rays, truncated, kernel) : r.cast_rays(*rays, truncated, kernel, coherent);
+        return anyHit ? r.cast_shadow_rays(*rays, truncated, kernel, coherent) : r.cast_rays(*rays, truncated, kernel, coherent);
       };
       for (size_t vi = 0; vi < variants.size(); ++vi) {
         const KernelVariant* v = variants[vi];

@@ -99,8 +99,9 @@ class WavefrontRenderer {
                                      double* kernelSeconds = nullptr, bool coherent = false);
   // The same for shadow rays: any hit, not the closest (a hit's prim is valid
   // where the segment is blocked; its t is some hit's, not the nearest).
+  // Shadow rays from camera hits, in image order, are coherent.
   std::vector<shader::Hit> cast_shadow_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated = nullptr,
-                                            double* kernelSeconds = nullptr);
+                                            double* kernelSeconds = nullptr, bool coherent = false);
 
   // The kernels' texture_eval at each query, for comparing GLSL with C++.
   struct TextureQuery {
