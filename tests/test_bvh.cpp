@@ -3,6 +3,7 @@
 #include "test_support.h"
 
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <random>
 
@@ -424,17 +425,123 @@ TEST(Bvh, WideTreeFromTheBuildersSlotsIsTheCollapsedTree) {
   }
   // inputs[2]: empty.
   for (const BvhInput& in : inputs) {
-    for (SplitMethod split : {SplitMethod::Sah, SplitMethod::ClusteredSah, SplitMethod::Middle}) {
+    for (auto [split, how] : {std::pair{SplitMethod::Sah, WideCollapse::Sah}, {SplitMethod::ClusteredSah, WideCollapse::Sah},
+                              {SplitMethod::Middle, WideCollapse::Sah}, {SplitMethod::Sah, WideCollapse::Greedy},
+                              {SplitMethod::ClusteredSah, WideCollapse::Greedy}}) {
       const AcceleratorSettings accel{WIDE_MAX_LEAF_SIZE, split};
-      Bvh binary = build_bvh(in, accel);
-      WideBvh laidOut = collapse_to_wide(binary, in.emits);
-      WideBvh direct = build_wide_bvh(in, accel);
+      Bvh binary = build_bvh(in, binary_settings_for_wide(accel, how));
+      WideBvh laidOut = collapse_to_wide(binary, in.emits, how, accel.maxLeafSize);
+      WideBvh direct = build_wide_bvh(in, accel, how);
       ASSERT_EQ(direct.nodes.size(), laidOut.nodes.size());
       EXPECT_EQ(std::memcmp(direct.nodes.data(), laidOut.nodes.data(), direct.nodes.size() * sizeof(WideNode)), 0);
       EXPECT_EQ(direct.order, laidOut.order);
       EXPECT_EQ(direct.depth, laidOut.depth);
       EXPECT_NEAR(direct.sahCost, binary.sahCost, 1e-9 * binary.sahCost);
       EXPECT_EQ(laidOut.sahCost, binary.sahCost);
+    }
+  }
+}
+
+// Each primitive in exactly one leaf slot of the wide tree, every leaf slot
+// holding at most maxLeaf; returns the number of leaf slots.
+int expect_valid_leaves(const WideBvh& wide, size_t primitives, int maxLeaf) {
+  std::vector<int> seen(primitives, 0);
+  int leaves = 0;
+  for (const WideNode& node : wide.nodes) {
+    for (int slot = 0; slot < 8; ++slot) {
+      const uint32_t meta = ((slot < 4 ? node.meta0123 : node.meta4567) >> (8 * (slot % 4))) & 0xffu;
+      if (meta == 0 || ((node.exyzImask >> (24 + slot)) & 1u)) continue;  // empty or interior
+      ++leaves;
+      EXPECT_LE(__builtin_popcount(meta >> 5), maxLeaf);
+      for (uint32_t bits = meta >> 5, k = 0; bits != 0; bits >>= 1, ++k) seen.at(wide.order.at(node.primBase + (meta & 31u) + k))++;
+    }
+  }
+  for (int n : seen) EXPECT_EQ(n, 1);
+  return leaves;
+}
+
+// The SAH collapse finds the cheapest wide tree the binary tree's nodes can
+// form. Small trees of boxes with integer corners (which the wide nodes'
+// power-of-two grids quantize exactly, so wide_sah_cost sees the true
+// areas), against an exhaustive search over every choice of each wide node's
+// children (any cut of its subtree of at most eight nodes), each child a leaf
+// where it holds at most maxLeaf primitives or a wide node of its own.
+TEST(Bvh, SahCollapseFindsTheCheapestWideTree) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> primCount(5, 20);
+  for (int trial = 0; trial < 300; ++trial) {
+    // Spread out boxes, or boxes overlapping so much that leaves of several
+    // primitives are cheaper than nodes.
+    const bool crowded = trial % 2 == 1;
+    std::uniform_int_distribution<int> coord(0, crowded ? 3 : 24), size(crowded ? 3 : 0, crowded ? 8 : 6);
+    BvhInput in;
+    const int n = primCount(rng);
+    for (int i = 0; i < n; ++i) {
+      glm::vec3 lo(float(coord(rng)), float(coord(rng)), float(coord(rng)));
+      in.bounds.push_back(Aabb{lo, lo + glm::vec3(float(size(rng)), float(size(rng)), float(size(rng)))});
+    }
+    const int maxLeaf = 1 + (trial / 2) % WIDE_MAX_LEAF_SIZE;
+    const AcceleratorSettings accel{maxLeaf, SplitMethod::Sah};
+    const Bvh binary = build_bvh(in, binary_settings_for_wide(accel, WideCollapse::Sah));
+    const WideBvh wide = collapse_to_wide(binary, {}, WideCollapse::Sah, maxLeaf);
+    expect_valid_leaves(wide, in.bounds.size(), maxLeaf);
+
+    const std::vector<BvhNode>& nodes = binary.nodes;
+    auto area = [&](uint32_t i) { return double(node_box(nodes[i]).half_area()); };
+    std::function<uint32_t(uint32_t)> prims = [&](uint32_t i) -> uint32_t {
+      return nodes[i].count != 0 ? nodes[i].count : prims(nodes[i].leftFirst) + prims(nodes[i].leftFirst + 1);
+    };
+    // Every cut of i's subtree with at most eight nodes.
+    std::function<std::vector<std::vector<uint32_t>>(uint32_t)> cuts = [&](uint32_t i) {
+      std::vector<std::vector<uint32_t>> out{{i}};
+      if (nodes[i].count != 0) return out;
+      for (const auto& a : cuts(nodes[i].leftFirst))
+        for (const auto& b : cuts(nodes[i].leftFirst + 1)) {
+          if (a.size() + b.size() > 8) continue;
+          out.push_back(a);
+          out.back().insert(out.back().end(), b.begin(), b.end());
+        }
+      return out;
+    };
+    std::function<double(uint32_t)> asChild, asWide;
+    asChild = [&](uint32_t i) {  // the least cost of i as one child of a wide node
+      double best = nodes[i].count != 0 ? std::numeric_limits<double>::infinity() : asWide(i);
+      if (prims(i) <= uint32_t(maxLeaf)) best = std::min(best, area(i) * prims(i));
+      return best;
+    };
+    asWide = [&](uint32_t i) {  // the least cost of i as a wide node
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& cut : cuts(nodes[i].leftFirst))
+        for (const auto& other : cuts(nodes[i].leftFirst + 1)) {
+          if (cut.size() + other.size() > 8) continue;
+          double c = area(i);
+          for (uint32_t k : cut) c += asChild(k);
+          for (uint32_t k : other) c += asChild(k);
+          best = std::min(best, c);
+        }
+      return best;
+    };
+    const double cheapest = asWide(0) / area(0);
+    EXPECT_NEAR(wide_sah_cost(wide), cheapest, 1e-5 * cheapest) << "trial " << trial << ", " << n << " boxes";
+  }
+}
+
+// From the binary tree split down to single primitives, the SAH collapse
+// picks leaves of at most the scene's leaf size, and a wide tree no dearer
+// than the greedy collapse of the tree the scene's leaf size gives.
+TEST(Bvh, SahCollapseKeepsTheLeafSizeAndCostsLessThanGreedy) {
+  for (int maxLeaf : {1, 2, 3}) {
+    SCOPED_TRACE(maxLeaf);
+    const BvhInput in = bvh_input(bunny_with_spheres(AcceleratorSettings{maxLeaf, SplitMethod::Sah}));
+    const AcceleratorSettings accel{maxLeaf, SplitMethod::Sah};
+    const WideBvh sah = build_wide_bvh(in, accel, WideCollapse::Sah);
+    const WideBvh greedy = build_wide_bvh(in, accel, WideCollapse::Greedy);
+    const int sahLeaves = expect_valid_leaves(sah, in.bounds.size(), maxLeaf);
+    expect_valid_leaves(greedy, in.bounds.size(), maxLeaf);
+    EXPECT_LT(wide_sah_cost(sah), wide_sah_cost(greedy));
+    // Some leaves of several primitives where allowed.
+    if (maxLeaf > 1) {
+      EXPECT_LT(size_t(sahLeaves), in.bounds.size());
     }
   }
 }

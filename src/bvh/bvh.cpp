@@ -411,6 +411,11 @@ class Builder {
     }
     WorkArray<uint32_t> order(n_);
     build_tree(order.get());
+    // The references are not needed past the build: give their memory to
+    // the user of the slots (2 x 32 bytes per primitive).
+    refs0_.release();
+    refs1_.release();
+    refs_[0] = refs_[1] = nullptr;
     const double rootArea = std::max(double(node_box(nodes_[0]).half_area()), 1e-30);
     const Measure m = measure(0, 0, rootArea);
     use(BvhSlots{nodes_.get(), nodeCount_.load(), order.get(), n_, m.depth, m.sahCost});

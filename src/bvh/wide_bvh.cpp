@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include <tbb/task_group.h>
@@ -103,10 +104,11 @@ struct EmitterLeaves {
   const uint32_t* order = nullptr;  // the binary tree's leaf order
   const uint8_t* emits = nullptr;   // BvhInput::emits, or null: none emits
 
-  // The sides the leaf's primitives emit towards (BvhInput::emits' bits).
-  uint32_t sides(const BvhNode& leaf) const {
+  // The sides the primitives order[first, first + count) emit towards
+  // (BvhInput::emits' bits).
+  uint32_t sides(uint32_t first, uint32_t count) const {
     uint32_t s = 0;
-    for (uint32_t k = 0; k < leaf.count; ++k) s |= emits[order[leaf.leftFirst + k]];
+    for (uint32_t k = 0; k < count; ++k) s |= emits[order[first + k]];
     return s;
   }
 
@@ -129,24 +131,28 @@ struct EmitterLeaves {
 
   // Whether opening binary node `node` (a child of a wide node over `grid`)
   // would move an emitter leaf from the grid of its own box, which fits it,
-  // to `grid`, which widens it.
-  bool opening_widens(const BvhNode* nodes, const BvhNode& node, const Aabb& grid) const {
+  // to `grid`, which widens it. leaf_of(c, first, count) says whether child c
+  // becomes (or may become) a leaf, of the primitives order[first, first + count).
+  template <typename LeafOf>
+  bool opening_widens(const BvhNode* nodes, const BvhNode& node, const Aabb& grid, LeafOf leaf_of) const {
     if (!emits) return false;
     for (uint32_t k = 0; k < 2; ++k) {
-      const BvhNode& c = nodes[node.leftFirst + k];
-      if (!is_leaf(c)) continue;
-      const uint32_t s = sides(c);
-      if (s != 0 && grid_widens(node_box(c), s, grid) && !grid_widens(node_box(c), s, node_box(node))) return true;
+      uint32_t first = 0, count = 0;
+      if (!leaf_of(node.leftFirst + k, first, count)) continue;
+      const uint32_t s = sides(first, count);
+      const Aabb box = node_box(nodes[node.leftFirst + k]);
+      if (s != 0 && grid_widens(box, s, grid) && !grid_widens(box, s, node_box(node))) return true;
     }
     return false;
   }
 };
 
-// Up to eight descendants of binary node `root`, the children of one wide
-// node: starting from root's two children, the interior one of largest
-// surface area is replaced by its two children until there are eight or none
-// is interior, except where that would widen an emitter leaf (above). A root
-// that is itself a leaf becomes a wide node's only child.
+// The greedy collapse (WideCollapse::Greedy): up to eight descendants of
+// binary node `root`, the children of one wide node: starting from root's two
+// children, the interior one of largest surface area is replaced by its two
+// children until there are eight or none is interior, except where that would
+// widen an emitter leaf (above). A root that is itself a leaf becomes a wide
+// node's only child.
 int collapse_children(const BvhNode* nodes, uint32_t root, const EmitterLeaves& emitters, uint32_t out[8]) {
   const BvhNode& r = nodes[root];
   if (is_leaf(r)) {
@@ -170,7 +176,12 @@ int collapse_children(const BvhNode* nodes, uint32_t root, const EmitterLeaves& 
       }
     }
     if (best < 0) break;
-    if (emitters.opening_widens(nodes, nodes[out[best]], grid)) {
+    auto binary_leaf = [nodes](uint32_t c, uint32_t& first, uint32_t& count) {
+      first = nodes[c].leftFirst;
+      count = nodes[c].count;
+      return is_leaf(nodes[c]);
+    };
+    if (emitters.opening_widens(nodes, nodes[out[best]], grid, binary_leaf)) {
       kept |= 1u << best;
       continue;
     }
@@ -180,6 +191,14 @@ int collapse_children(const BvhNode* nodes, uint32_t root, const EmitterLeaves& 
   }
   return n;
 }
+
+// A wide node's child: a binary node that becomes a wide node of its own
+// (interior), or a leaf of the primitives order[first, first + count).
+struct WideChild {
+  uint32_t node;
+  bool interior;
+  uint32_t first, count;
+};
 
 void set_byte(uint32_t& word, int index, uint32_t value) {
   word |= (value & 0xffu) << (8 * index);
@@ -221,12 +240,23 @@ namespace {
 class Collapser {
  public:
   // A binary tree's nodes (slotCount slots; those no node points to are not
-  // read) and leaf order, and BvhInput::emits (or null).
-  Collapser(const BvhNode* nodes, size_t slotCount, const uint32_t* order, const uint8_t* emits)
-      : nodes_(nodes), order_(order), emitters_{order, emits}, wideCount_(slotCount), primCount_(slotCount) {}
+  // read) and leaf order, and BvhInput::emits (or null). The SAH collapse
+  // merges subtrees of at most maxLeafSize primitives into leaves.
+  Collapser(const BvhNode* nodes, size_t slotCount, const uint32_t* order, const uint8_t* emits, WideCollapse how,
+            uint32_t maxLeafSize)
+      : nodes_(nodes),
+        order_(order),
+        emitters_{order, emits},
+        how_(how),
+        maxLeafSize_(std::min<uint32_t>(maxLeafSize, WIDE_MAX_LEAF_SIZE)),
+        wideCount_(slotCount),
+        primCount_(slotCount),
+        cost_(how == WideCollapse::Sah ? slotCount * 8 : 0),
+        mergeable_(how == WideCollapse::Sah ? slotCount : 0) {}
 
   WideBvh run() {
     WideBvh out;
+    if (how_ == WideCollapse::Sah) solve(0, 0);
     out.depth = measure(0, 0);
     reserve_huge(out.nodes, wideCount_[0]);
     out.nodes.resize(wideCount_[0]);
@@ -266,18 +296,19 @@ class Collapser {
   // Sizes of the wide subtree rooted at the wide node that stands for binary
   // node b; returns its height in wide nodes.
   int measure(uint32_t b, int depth) {
+    WideChild child[8];
     uint32_t kids[8];
-    const int n = collapse_children(nodes_, b, emitters_, kids);
+    const int n = children_of(b, child);
     Interior interior;
     uint32_t wide = 1, prims = 0;
     for (int i = 0; i < n; ++i) {
-      const BvhNode& c = nodes_[kids[i]];
-      if (!is_leaf(c)) {
+      kids[i] = child[i].node;
+      if (child[i].interior) {
         interior.add(i);
-      } else if (c.count > WIDE_MAX_LEAF_SIZE) {
+      } else if (child[i].count > WIDE_MAX_LEAF_SIZE) {
         throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
       } else {
-        prims += c.count;
+        prims += child[i].count;
       }
     }
     int heights[8] = {};
@@ -297,8 +328,10 @@ class Collapser {
   // go to nodes [childBase, ...), its leaf children's primitives to order
   // [primBase, ...); then the children's subtrees, each in its own block.
   void emit(uint32_t wideIndex, uint32_t b, uint32_t childBase, uint32_t primBase, int depth) {
+    WideChild child[8];
     uint32_t kids[8];
-    const int n = collapse_children(nodes_, b, emitters_, kids);
+    const int n = children_of(b, child);
+    for (int i = 0; i < n; ++i) kids[i] = child[i].node;
     Aabb boxes[8], all;
     for (int i = 0; i < n; ++i) {
       boxes[i] = node_box(nodes_[kids[i]]);
@@ -331,16 +364,16 @@ class Collapser {
         set_byte(plane_words(node, a, false)[s / 4], s % 4, qlo);
         set_byte(plane_words(node, a, true)[s / 4], s % 4, qhi);
       }
-      const BvhNode& child = nodes_[kids[i]];
+      const WideChild& c = child[i];
       uint32_t meta;
-      if (!is_leaf(child)) {
+      if (c.interior) {
         imask |= 1u << s;
         meta = (1u << 5) | (24u + uint32_t(s));
         interior.add(i);
       } else {
-        meta = (((1u << child.count) - 1u) << 5) | offset;
-        std::copy(order_ + child.leftFirst, order_ + child.leftFirst + child.count, out_->order.begin() + primBase + offset);
-        offset += child.count;
+        meta = (((1u << c.count) - 1u) << 5) | offset;
+        std::copy(order_ + c.first, order_ + c.first + c.count, out_->order.begin() + primBase + offset);
+        offset += c.count;
       }
       set_byte(s < 4 ? node.meta0123 : node.meta4567, s % 4, meta);
     }
@@ -362,10 +395,147 @@ class Collapser {
     for_children(depth, interior, [&](int i) { emit(indexOf[i], kids[i], nodeAt[i], primAt[i], depth + 1); });
   }
 
+
+  // The SAH collapse (Ylitie, Karras and Laine 2017, "Efficient incoherent
+  // ray traversal on GPUs through compressed wide BVHs"): the wide tree of
+  // least SAH cost that the binary tree's nodes can form, by dynamic
+  // programming over it. cost(n, j) is the least cost of binary node n's
+  // subtree as a forest of at most j roots, each a leaf (a subtree of at most
+  // maxLeafSize primitives, merged) or a wide node (kNodeCost times its area,
+  // plus its children as a forest of at most 8). Unlike the greedy collapse,
+  // it weighs leaves against nodes: from a binary tree split down to single
+  // primitives it picks the leaves too. Walk steps per ray barely moved with
+  // the ratio of the two costs (0.5 to 2; docs/benchmarks.md).
+  static constexpr float kNodeCost = 1.0f;
+  static constexpr float kPrimCost = 1.0f;
+
+  float cost(uint32_t n, int j) const { return cost_[size_t(n) * 8 + size_t(j - 1)]; }
+
+  // The least cost of n's two children as a forest of at most j roots, and
+  // how many of those roots the left child takes.
+  float distribute(uint32_t n, int j, int* leftRoots) const {
+    const uint32_t l = nodes_[n].leftFirst, r = l + 1;
+    float best = std::numeric_limits<float>::infinity();
+    int bestK = 1;
+    for (int k = 1; k < j; ++k) {
+      const float c = cost(l, k) + cost(r, j - k);
+      if (c < best) {
+        best = c;
+        bestK = k;
+      }
+    }
+    if (leftRoots) *leftRoots = bestK;
+    return best;
+  }
+
+  // Whether interior node n is cheaper as one merged leaf than as a wide node.
+  bool merge_wins(uint32_t n) const {
+    const float area = node_box(nodes_[n]).half_area();
+    return mergeable_[n] != 0 && kPrimCost * area * float(mergeable_[n]) <= kNodeCost * area + distribute(n, 8, nullptr);
+  }
+
+  // Fills cost(n, 1..8) for n's subtree, and mergeable_: the primitive count
+  // of subtrees of at most maxLeafSize primitives whose leaves are contiguous
+  // in the order (tree rotations can interleave them), 0 for the others.
+  void solve(uint32_t n, int depth) {
+    const BvhNode& node = nodes_[n];
+    float* c = &cost_[size_t(n) * 8];
+    const float area = node_box(node).half_area();
+    if (is_leaf(node)) {
+      if (node.count > WIDE_MAX_LEAF_SIZE) throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
+      mergeable_[n] = node.count <= maxLeafSize_ ? uint8_t(node.count) : 0;
+      std::fill(c, c + 8, kPrimCost * area * float(node.count));
+      return;
+    }
+    const uint32_t l = node.leftFirst, r = l + 1;
+    if (depth < kParallelSolveDepth) {
+      tbb::task_group tasks;
+      tasks.run([&] { solve(l, depth + 1); });
+      solve(r, depth + 1);
+      tasks.wait();
+    } else {
+      solve(l, depth + 1);
+      solve(r, depth + 1);
+    }
+    const uint32_t prims = uint32_t(mergeable_[l]) + mergeable_[r];
+    const bool contiguous = mergeable_[l] != 0 && mergeable_[r] != 0 && first_prim(r) == first_prim(l) + mergeable_[l];
+    mergeable_[n] = contiguous && prims <= maxLeafSize_ ? uint8_t(prims) : 0;
+    float single = kNodeCost * area + distribute(n, 8, nullptr);
+    if (mergeable_[n] != 0) single = std::min(single, kPrimCost * area * float(prims));
+    c[0] = single;
+    for (int j = 2; j <= 8; ++j) c[j - 1] = std::min(single, distribute(n, j, nullptr));
+  }
+  static constexpr int kParallelSolveDepth = 8;
+
+  // The first primitive (in the order) of a subtree with mergeable_ set.
+  uint32_t first_prim(uint32_t n) const {
+    while (!is_leaf(nodes_[n])) n = nodes_[n].leftFirst;
+    return nodes_[n].leftFirst;
+  }
+
+  // Appends to `out` the roots of n's subtree as the forest of at most j
+  // roots that cost(n, j) found, inside a wide node over `grid`. A node the
+  // forest would open stays whole where opening it would widen an emitter
+  // leaf (EmitterLeaves), as in the greedy collapse.
+  void forest(uint32_t n, int j, const Aabb& grid, WideChild* out, int& count) const {
+    const BvhNode& node = nodes_[n];
+    if (is_leaf(node)) {
+      out[count++] = WideChild{n, false, node.leftFirst, node.count};
+      return;
+    }
+    int leftRoots = 1;
+    // A child of a subtree that the SAH may merge into a leaf counts as one.
+    auto may_be_leaf = [this](uint32_t c, uint32_t& first, uint32_t& count) {
+      if (is_leaf(nodes_[c])) {
+        first = nodes_[c].leftFirst;
+        count = nodes_[c].count;
+        return true;
+      }
+      first = first_prim(c);
+      count = mergeable_[c];
+      return count != 0;
+    };
+    const bool whole = j == 1 || cost(n, 1) <= distribute(n, j, &leftRoots);
+    // Kept whole for an emitter, it becomes a wide node over its own box.
+    const bool forEmitter = !whole && emitters_.opening_widens(nodes_, node, grid, may_be_leaf);
+    if (whole || forEmitter) {
+      const bool merged = !forEmitter && merge_wins(n);
+      out[count++] = merged ? WideChild{n, false, first_prim(n), mergeable_[n]} : WideChild{n, true, 0, 0};
+      return;
+    }
+    forest(node.leftFirst, leftRoots, grid, out, count);
+    forest(node.leftFirst + 1, j - leftRoots, grid, out, count);
+  }
+
+  // The children of the wide node that stands for binary node b.
+  int children_of(uint32_t b, WideChild out[8]) const {
+    const BvhNode& node = nodes_[b];
+    int count = 0;
+    if (how_ == WideCollapse::Sah && !is_leaf(node)) {
+      int leftRoots = 1;
+      distribute(b, 8, &leftRoots);
+      const Aabb grid = node_box(node);
+      forest(node.leftFirst, leftRoots, grid, out, count);
+      forest(node.leftFirst + 1, 8 - leftRoots, grid, out, count);
+      return count;
+    }
+    uint32_t kids[8];
+    count = collapse_children(nodes_, b, emitters_, kids);
+    for (int i = 0; i < count; ++i) {
+      const BvhNode& c = nodes_[kids[i]];
+      out[i] = is_leaf(c) ? WideChild{kids[i], false, c.leftFirst, c.count} : WideChild{kids[i], true, 0, 0};
+    }
+    return count;
+  }
+
   const BvhNode* nodes_;
   const uint32_t* order_;
   EmitterLeaves emitters_;
+  WideCollapse how_;
+  uint32_t maxLeafSize_;
   WorkArray<uint32_t> wideCount_, primCount_;  // per binary node that becomes a wide node
+  WorkArray<float> cost_;                      // the SAH collapse's cost(n, 1..8) per binary node
+  WorkArray<uint8_t> mergeable_;
   WideBvh* out_ = nullptr;
 };
 
@@ -374,14 +544,14 @@ class Collapser {
 namespace {
 
 WideBvh collapse(const BvhNode* nodes, size_t slotCount, const uint32_t* order, size_t primitives, const std::vector<uint8_t>& emits,
-                 double sahCost) {
+                 double sahCost, WideCollapse how, int maxLeafSize) {
   if (!emits.empty() && emits.size() != primitives) throw RenderError("internal error: emitter flags for a different set of primitives");
   WideBvh out;
   if (primitives == 0) {
     out.nodes.resize(1);  // a root without children: every ray misses
     out.depth = 1;
   } else {
-    out = Collapser(nodes, slotCount, order, emits.empty() ? nullptr : emits.data()).run();
+    out = Collapser(nodes, slotCount, order, emits.empty() ? nullptr : emits.data(), how, uint32_t(std::max(maxLeafSize, 1))).run();
   }
   out.sahCost = sahCost;
   return out;
@@ -389,16 +559,45 @@ WideBvh collapse(const BvhNode* nodes, size_t slotCount, const uint32_t* order, 
 
 }  // namespace
 
-WideBvh collapse_to_wide(const Bvh& binary, const std::vector<uint8_t>& emits) {
-  return collapse(binary.nodes.data(), binary.nodes.size(), binary.order.data(), binary.order.size(), emits, binary.sahCost);
+WideBvh collapse_to_wide(const Bvh& binary, const std::vector<uint8_t>& emits, WideCollapse how, int maxLeafSize) {
+  return collapse(binary.nodes.data(), binary.nodes.size(), binary.order.data(), binary.order.size(), emits, binary.sahCost,
+                  how, maxLeafSize);
 }
 
-WideBvh build_wide_bvh(const BvhInput& input, const AcceleratorSettings& settings) {
+AcceleratorSettings binary_settings_for_wide(const AcceleratorSettings& settings, WideCollapse how) {
+  AcceleratorSettings binary = settings;
+  binary.maxLeafSize = how == WideCollapse::Sah ? 1 : std::min(settings.maxLeafSize, WIDE_MAX_LEAF_SIZE);
+  return binary;
+}
+
+WideBvh build_wide_bvh(const BvhInput& input, const AcceleratorSettings& settings, WideCollapse how) {
   WideBvh out;
-  build_bvh_slots(input, settings, [&](const BvhSlots& tree) {
-    out = collapse(tree.nodes, tree.slotCount, tree.order, tree.primitiveCount, input.emits, tree.sahCost);
+  build_bvh_slots(input, binary_settings_for_wide(settings, how), [&](const BvhSlots& tree) {
+    out = collapse(tree.nodes, tree.slotCount, tree.order, tree.primitiveCount, input.emits, tree.sahCost, how,
+                   settings.maxLeafSize);
   });
   return out;
+}
+
+double wide_sah_cost(const WideBvh& wide) {
+  // Each node's box is the union of its children's (the root's too).
+  auto node_area = [&](const WideNode& n) {
+    Aabb all;
+    for (int slot = 0; slot < 8; ++slot)
+      if (get_byte(slot < 4 ? n.meta0123 : n.meta4567, slot % 4) != 0) all.grow(wide_child_box(n, slot));
+    return all.empty() ? 0.0 : double(all.half_area());
+  };
+  const double rootArea = std::max(node_area(wide.nodes[0]), 1e-30);
+  double cost = 0.0;
+  for (const WideNode& n : wide.nodes) {
+    cost += node_area(n) / rootArea;
+    for (int slot = 0; slot < 8; ++slot) {
+      const uint32_t meta = get_byte(slot < 4 ? n.meta0123 : n.meta4567, slot % 4);
+      if (meta == 0 || ((n.exyzImask >> (24 + slot)) & 1u)) continue;  // empty or interior
+      cost += double(wide_child_box(n, slot).half_area()) * double(__builtin_popcount(meta >> 5)) / rootArea;
+    }
+  }
+  return cost;
 }
 
 }  // namespace wp

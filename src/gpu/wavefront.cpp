@@ -69,6 +69,8 @@ const std::vector<KernelVariant>& kernel_variants() {
     multiRay.raysPerInvocation = 16;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
+        {"gpu-greedy", "wavefront kernels, wide BVH collapsed greedily (largest child opened first) instead of by SAH",
+         WavefrontSettings{}, BvhLayout::Wide, false, false, WideCollapse::Greedy},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
         {"gpu-nocompact", "wavefront kernels without path compaction: every bounce runs over every path", noCompaction,
          BvhLayout::Wide},
@@ -105,6 +107,7 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
   options.bvhLayout = v.bvhLayout;
   options.bvhRotations = v.bvhRotations;
   options.clusteredBuild = v.clusteredBuild;
+  options.wideCollapse = v.wideCollapse;
   return options;
 }
 

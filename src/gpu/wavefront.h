@@ -71,6 +71,7 @@ struct KernelVariant {
   BvhLayout bvhLayout = BvhLayout::Wide;
   bool bvhRotations = false;    // the BVH improved by tree rotations
   bool clusteredBuild = false;  // the BVH built by SplitMethod::ClusteredSah where the scene asks for SAH
+  WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide BVH's nodes are picked from the binary tree
 };
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.

@@ -245,7 +245,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   AcceleratorSettings accel = scene.accelerator;
   if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
   const bool wide = options.bvhLayout == BvhLayout::Wide;
-  if (wide) accel.maxLeafSize = std::min(accel.maxLeafSize, WIDE_MAX_LEAF_SIZE);  // a wide node's slot holds at most that
   out.bvhLayout = options.bvhLayout;
   uint32_t stackSlots;
   std::vector<uint32_t> order;
@@ -253,14 +252,15 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (wide) {
     WideBvh w;
     if (options.bvhRotations) {
-      Bvh bvh = build_bvh(input, accel);
+      Bvh bvh = build_bvh(input, binary_settings_for_wide(accel, options.wideCollapse));
       rotate_bvh(bvh);
-      w = collapse_to_wide(bvh, input.emits);
+      w = collapse_to_wide(bvh, input.emits, options.wideCollapse, accel.maxLeafSize);
     } else {
-      w = build_wide_bvh(input, accel);  // collapsed from the builder's arrays, without laying out the binary tree
+      // Collapsed from the builder's arrays, without laying out the binary tree.
+      w = build_wide_bvh(input, accel, options.wideCollapse);
     }
     out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.bvhSahCost = w.sahCost;
+    out.bvhSahCost = wide_sah_cost(w);  // the binary tree it came from is split down to single primitives
     out.wideNodes = std::move(w.nodes);
     order = std::move(w.order);
     out.bvhDepth = w.depth;

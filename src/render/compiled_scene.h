@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "bvh/wide_bvh.h"
 #include "render/adaptive.h"
 #include "render/shader_cpp.h"
 #include "scene/scene.h"
@@ -38,6 +39,7 @@ struct RenderOptions {
   BvhLayout bvhLayout = BvhLayout::Wide;
   bool bvhRotations = false;  // improve the binned-SAH tree with tree rotations (rotate_bvh) before use
   bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene asks for SAH
+  WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide layout's nodes are picked from the binary tree
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
@@ -64,7 +66,7 @@ struct CompiledScene {
   int spp = 0;  // samples per pixel (with adaptive sampling: at most)
   AdaptiveSampling adaptive;
   int bvhDepth = 0;      // levels of the traversed layout's tree
-  double bvhSahCost = 0.0;  // of the binary tree
+  double bvhSahCost = 0.0;  // of the tree in its layout (wide_sah_cost for the 8-wide one)
   double bvhBuildSeconds = 0.0;
 
   shader::SceneView view() const;

@@ -51,6 +51,11 @@ class WorkArray {
   WorkArray& operator=(const WorkArray&) = delete;
   T* get() const { return data_; }
   T& operator[](size_t i) const { return data_[i]; }
+  // Frees the array before the owner goes (get() is then null).
+  void release() {
+    std::free(data_);
+    data_ = nullptr;
+  }
 
  private:
   T* data_ = nullptr;
