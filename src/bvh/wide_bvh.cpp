@@ -251,7 +251,7 @@ class Collapser {
         maxLeafSize_(std::min<uint32_t>(maxLeafSize, WIDE_MAX_LEAF_SIZE)),
         wideCount_(slotCount),
         primCount_(slotCount),
-        cost_(how == WideCollapse::Sah ? slotCount * 8 : 0),
+        cost_(how == WideCollapse::Sah ? slotCount * kMaxRoots : 0),
         mergeable_(how == WideCollapse::Sah ? slotCount : 0) {}
 
   WideBvh run() {
@@ -409,7 +409,10 @@ class Collapser {
   static constexpr float kNodeCost = 1.0f;
   static constexpr float kPrimCost = 1.0f;
 
-  float cost(uint32_t n, int j) const { return cost_[size_t(n) * 8 + size_t(j - 1)]; }
+  // cost(n, j) is kept for j up to 7 only: a node shares its wide node's
+  // eight slots with at least its sibling's subtree.
+  static constexpr int kMaxRoots = 7;
+  float cost(uint32_t n, int j) const { return cost_[size_t(n) * kMaxRoots + size_t(j - 1)]; }
 
   // The least cost of n's two children as a forest of at most j roots, and
   // how many of those roots the left child takes.
@@ -434,17 +437,17 @@ class Collapser {
     return mergeable_[n] != 0 && kPrimCost * area * float(mergeable_[n]) <= kNodeCost * area + distribute(n, 8, nullptr);
   }
 
-  // Fills cost(n, 1..8) for n's subtree, and mergeable_: the primitive count
+  // Fills cost(n, 1..7) for n's subtree, and mergeable_: the primitive count
   // of subtrees of at most maxLeafSize primitives whose leaves are contiguous
   // in the order (tree rotations can interleave them), 0 for the others.
   void solve(uint32_t n, int depth) {
     const BvhNode& node = nodes_[n];
-    float* c = &cost_[size_t(n) * 8];
+    float* c = &cost_[size_t(n) * kMaxRoots];
     const float area = node_box(node).half_area();
     if (is_leaf(node)) {
       if (node.count > WIDE_MAX_LEAF_SIZE) throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
       mergeable_[n] = node.count <= maxLeafSize_ ? uint8_t(node.count) : 0;
-      std::fill(c, c + 8, kPrimCost * area * float(node.count));
+      std::fill(c, c + kMaxRoots, kPrimCost * area * float(node.count));
       return;
     }
     const uint32_t l = node.leftFirst, r = l + 1;
@@ -463,7 +466,7 @@ class Collapser {
     float single = kNodeCost * area + distribute(n, 8, nullptr);
     if (mergeable_[n] != 0) single = std::min(single, kPrimCost * area * float(prims));
     c[0] = single;
-    for (int j = 2; j <= 8; ++j) c[j - 1] = std::min(single, distribute(n, j, nullptr));
+    for (int j = 2; j <= kMaxRoots; ++j) c[j - 1] = std::min(single, distribute(n, j, nullptr));
   }
   static constexpr int kParallelSolveDepth = 8;
 
@@ -534,7 +537,7 @@ class Collapser {
   WideCollapse how_;
   uint32_t maxLeafSize_;
   WorkArray<uint32_t> wideCount_, primCount_;  // per binary node that becomes a wide node
-  WorkArray<float> cost_;                      // the SAH collapse's cost(n, 1..8) per binary node
+  WorkArray<float> cost_;                      // the SAH collapse's cost(n, 1..7) per binary node
   WorkArray<uint8_t> mergeable_;
   WideBvh* out_ = nullptr;
 };
