@@ -395,7 +395,6 @@ class Collapser {
     for_children(depth, interior, [&](int i) { emit(indexOf[i], kids[i], nodeAt[i], primAt[i], depth + 1); });
   }
 
-
   // The SAH collapse (Ylitie, Karras and Laine 2017, "Efficient incoherent
   // ray traversal on GPUs through compressed wide BVHs"): the wide tree of
   // least SAH cost that the binary tree's nodes can form, by dynamic
@@ -538,7 +537,7 @@ class Collapser {
   uint32_t maxLeafSize_;
   WorkArray<uint32_t> wideCount_, primCount_;  // per binary node that becomes a wide node
   WorkArray<float> cost_;                      // the SAH collapse's cost(n, 1..7) per binary node
-  WorkArray<uint8_t> mergeable_;
+  WorkArray<uint8_t> mergeable_;              // per binary node: its primitives if it may become one leaf, else 0
   WideBvh* out_ = nullptr;
 };
 
