@@ -7,8 +7,8 @@ Render benchmarks give two charts: samples per second per variant and scene
 (median, with the min-max range as error bars), and the per-stage GPU time of
 each variant. Ray-casting benchmarks give Mrays/s of wavepath and Embree side
 by side for the primary, bounce and shadow rays of each scene; build benchmarks, the
-BVH build rate of wavepath (binary tree, all of it, and the clustered SAH
-build) and Embree. Uses Debian's
+BVH build rate of wavepath (binary tree, all of it, the greedy collapse and
+the clustered SAH build) and Embree. Uses Debian's
 python3-numpy and python3-matplotlib (hence /usr/bin/python3).
 """
 import argparse
@@ -105,6 +105,8 @@ def plot_build(results, out_dir):
     rows = results["build"]
     series = [("wavepath, 8-wide (the renderer's)", lambda r: r["mprims_per_second"]),
               ("wavepath, binary layout", lambda r: r["primitives"] / r["binary_seconds"]["median"] / 1e6)]
+    if any("greedy_mprims_per_second" in r for r in rows):
+        series.append(("wavepath, 8-wide, greedy collapse", lambda r: r.get("greedy_mprims_per_second", 0)))
     if any("clustered_mprims_per_second" in r for r in rows):
         series.append(("wavepath clustered SAH, 8-wide", lambda r: r.get("clustered_mprims_per_second", 0)))
     if any("embree_mprims_per_second" in r for r in rows):

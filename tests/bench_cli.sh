@@ -58,6 +58,8 @@ fi
 check "build bench exits 0" $?
 check "build bench reports the rate and the SAH cost of every scene" $([ "$(grep -c '"mprims_per_second"' "$work/b.json")" -ge 2 ] &&
   [ "$(grep -c '"sah_cost"' "$work/b.json")" -ge 2 ]; echo $?)
+check "build bench times the greedy collapse of every scene" $(
+  [ "$(grep -c '"greedy_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath, 8-wide, greedy collapse" "$work/out"; echo $?)
 check "build bench times the clustered SAH build of every (binned-SAH) scene" $(
   [ "$(grep -c '"clustered_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath clustered SAH, 8-wide" "$work/out"; echo $?)
 if [ $embree = 1 ]; then

@@ -507,14 +507,16 @@ namespace {
 // One round of a scene's builds: the default layout as compile_scene makes
 // it (the primitives' bounds, then the binary tree collapsed into the 8-wide
 // layout from the builder's arrays), the binary layout alone (gpu-bvh2 and
-// the CPU reference: the tree laid out depth-first), and, for binned-SAH
-// scenes, the 8-wide layout from the clustered SAH build (gpu-clustered).
+// the CPU reference: the tree laid out depth-first), the 8-wide layout
+// collapsed greedily (gpu-greedy), and, for binned-SAH scenes, the 8-wide
+// layout from the clustered SAH build (gpu-clustered).
 struct TimedBuild {
-  double bounds = 0.0, wide = 0.0, binary = 0.0, clustered = 0.0;
+  double bounds = 0.0, wide = 0.0, binary = 0.0, greedy = 0.0, clustered = 0.0;
   bool hasClustered = false;  // the scene asks for binned SAH, so the clustered build was timed too
-  WideBvh wideBvh, clusteredBvh;
+  WideBvh wideBvh, greedyBvh, clusteredBvh;
   Bvh bvh;
   double total() const { return bounds + wide; }
+  double greedyTotal() const { return bounds + greedy; }
   double clusteredTotal() const { return bounds + clustered; }
 };
 
@@ -529,14 +531,17 @@ TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
   auto t2 = Clock::now();
   b.bvh = build_bvh(input, accel);
   auto t3 = Clock::now();
+  b.greedyBvh = build_wide_bvh(input, accel, WideCollapse::Greedy);
+  auto t4 = Clock::now();
   b.bounds = seconds(t0, t1);
   b.wide = seconds(t1, t2);
   b.binary = seconds(t2, t3);
+  b.greedy = seconds(t3, t4);
   if (accel.split == SplitMethod::Sah) {
     AcceleratorSettings clustered = accel;
     clustered.split = SplitMethod::ClusteredSah;
     b.clusteredBvh = build_wide_bvh(input, clustered);
-    b.clustered = seconds(t3, Clock::now());
+    b.clustered = seconds(t4, Clock::now());
     b.hasClustered = true;
   }
   return b;
@@ -544,7 +549,7 @@ TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
 
 // Whether the trees' leaves hold every primitive exactly once.
 bool places_every_primitive_once(const TimedBuild& b, size_t primitives) {
-  std::vector<const std::vector<uint32_t>*> orders{&b.bvh.order, &b.wideBvh.order};
+  std::vector<const std::vector<uint32_t>*> orders{&b.bvh.order, &b.wideBvh.order, &b.greedyBvh.order};
   if (b.hasClustered) orders.push_back(&b.clusteredBvh.order);
   for (const std::vector<uint32_t>* order : orders) {
     if (order->size() != primitives) return false;
@@ -590,7 +595,7 @@ int run_build_bench(const BenchOptions& o) {
     }
     // A warm-up round, then the timed ones, wavepath and Embree interleaved so
     // that a change in the machine's speed affects both alike.
-    std::vector<double> total, bounds, wide, binary, clustered, embreeSeconds;
+    std::vector<double> total, bounds, wide, binary, greedy, clustered, embreeSeconds;
     TimedBuild last;
     for (int r = 0; r <= o.repeats; ++r) {
       last = time_build(scene, accel);
@@ -600,6 +605,7 @@ int run_build_bench(const BenchOptions& o) {
       bounds.push_back(last.bounds);
       wide.push_back(last.wide);
       binary.push_back(last.binary);
+      greedy.push_back(last.greedyTotal());
       clustered.push_back(last.clusteredTotal());
       embreeSeconds.push_back(e);
     }
@@ -624,6 +630,10 @@ int run_build_bench(const BenchOptions& o) {
     row("  bounds", spread(bounds), 0.0);
     row("  binary tree collapsed to 8-wide", spread(wide), double(primitives));
     row("wavepath, binary layout alone", spread(binary), double(primitives));
+    row("wavepath, 8-wide, greedy collapse", spread(greedy), double(primitives));
+    const double greedyRate = double(primitives) / std::max(spread(greedy).median, 1e-12);
+    std::printf("  greedy collapse: 8-wide SAH cost %.3f (SAH collapse %.3f), %.2fx the SAH collapse's rate\n",
+                wide_sah_cost(last.greedyBvh), wideSah, greedyRate / rate);
     const bool hasClustered = last.hasClustered;
     const double clusteredRate = hasClustered ? double(primitives) / std::max(spread(clustered).median, 1e-12) : 0.0;
     if (hasClustered) {
@@ -643,6 +653,9 @@ int run_build_bench(const BenchOptions& o) {
                         {"bounds_seconds", to_json(spread(bounds))},
                         {"wide_seconds", to_json(spread(wide))},
                         {"binary_seconds", to_json(spread(binary))},
+                        {"greedy_seconds", to_json(spread(greedy))},
+                        {"greedy_mprims_per_second", greedyRate * 1e-6},
+                        {"greedy_sah_cost", wide_sah_cost(last.greedyBvh)},
                         {"mprims_per_second", rate * 1e-6}};
     if (hasClustered) {
       j["clustered_seconds"] = to_json(spread(clustered));
