@@ -9,7 +9,8 @@
 // subgroup's next item in the next iteration (subgroupBallot hands them out
 // in lane order). The host asks for one ray per invocation on GPUs, and
 // where it knows the rays are coherent (the ray-casting benchmark's camera
-// rays: their lanes finish together anyway).
+// rays and the shadow rays from their hits: their lanes finish together
+// anyway).
 //
 // lavapipe's loop budget (65,535 iterations per invocation, all loops
 // together) is shared: each ray gets a share of scene.counts.z (see

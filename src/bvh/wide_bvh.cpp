@@ -581,23 +581,29 @@ WideBvh build_wide_bvh(const BvhInput& input, const AcceleratorSettings& setting
   return out;
 }
 
-double wide_sah_cost(const WideBvh& wide) {
-  // Each node's box is the union of its children's (the root's too).
-  auto node_area = [&](const WideNode& n) {
+double wide_sah_cost(const std::vector<WideNode>& nodes) {
+  // A node's area (its box is the union of its children's, the root's too)
+  // and its leaves' areas times their primitives, each child decoded once.
+  auto node_terms = [](const WideNode& n, double& area, double& leaves) {
     Aabb all;
-    for (int slot = 0; slot < 8; ++slot)
-      if (get_byte(slot < 4 ? n.meta0123 : n.meta4567, slot % 4) != 0) all.grow(wide_child_box(n, slot));
-    return all.empty() ? 0.0 : double(all.half_area());
-  };
-  const double rootArea = std::max(node_area(wide.nodes[0]), 1e-30);
-  double cost = 0.0;
-  for (const WideNode& n : wide.nodes) {
-    cost += node_area(n) / rootArea;
+    leaves = 0.0;
     for (int slot = 0; slot < 8; ++slot) {
       const uint32_t meta = get_byte(slot < 4 ? n.meta0123 : n.meta4567, slot % 4);
-      if (meta == 0 || ((n.exyzImask >> (24 + slot)) & 1u)) continue;  // empty or interior
-      cost += double(wide_child_box(n, slot).half_area()) * double(__builtin_popcount(meta >> 5)) / rootArea;
+      if (meta == 0) continue;  // empty
+      const Aabb box = wide_child_box(n, slot);
+      all.grow(box);
+      if (((n.exyzImask >> (24 + slot)) & 1u) == 0u) leaves += double(box.half_area()) * double(__builtin_popcount(meta >> 5));
     }
+    area = all.empty() ? 0.0 : double(all.half_area());
+  };
+  double rootArea, rootLeaves;
+  node_terms(nodes[0], rootArea, rootLeaves);
+  rootArea = std::max(rootArea, 1e-30);
+  double cost = 0.0;
+  for (const WideNode& n : nodes) {
+    double area, leaves;
+    node_terms(n, area, leaves);
+    cost += (area + leaves) / rootArea;
   }
   return cost;
 }

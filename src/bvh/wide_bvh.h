@@ -49,10 +49,10 @@ AcceleratorSettings binary_settings_for_wide(const AcceleratorSettings& settings
 // instead of a laid-out copy. The same wide tree.
 WideBvh build_wide_bvh(const BvhInput& input, const AcceleratorSettings& settings, WideCollapse how = WideCollapse::Sah);
 
-// The wide tree's own SAH cost, from its quantized boxes: each node's area
+// A wide tree's own SAH cost, from its quantized boxes: each node's area
 // plus each leaf's area times its primitives, over the root's area (node and
 // primitive both cost 1, as in the SAH collapse).
-double wide_sah_cost(const WideBvh& wide);
+double wide_sah_cost(const std::vector<shader::WideNode>& nodes);
 
 // The box a wide node's slot decodes to (origin + q * 2^(e-127) per plane),
 // for the tests; empty slots decode to whatever their bytes say.

@@ -334,8 +334,9 @@ struct WavefrontRenderer::Impl {
   // queued ray is live). Each gets the step cap's
   // share; where a ray needs more, the work is done again one ray per
   // invocation (render_samples, run_on_rays). Coherent rays (the ray-casting
-  // benchmark's camera rays, cast_rays) finish together anyway: on the dragon
-  // they ran 16 % slower several to an invocation. (A render's camera rays
+  // benchmark's camera rays and the shadow rays from their hits, cast_rays)
+  // finish together anyway: on the dragon they ran 16 % slower several to an
+  // invocation. (A render's camera rays
   // are a ninth of its closest-hit rays at 8 bounces: not worth a second
   // extend kernel.) Nor do the short walks of a shallow tree need balancing:
   // on the Cornell box (depth 2) renders lost 9 % to the per-ray start and
@@ -373,8 +374,8 @@ struct WavefrontRenderer::Impl {
 
   // Workgroups of the ray caster (or texprobe) for n rays, perInvocation to
   // an invocation. One ray to an invocation rounds up to whole rows of the
-  // interleave; pipelines that do not interleave take the extra workgroups'
-  // items as out of range.
+  // interleave; texprobe, which does not interleave, takes the extra
+  // workgroups' items as out of range.
   uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const {
     return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
   }

@@ -101,6 +101,12 @@ shader::SceneView CompiledScene::view() const {
   return v;
 }
 
+double CompiledScene::bvh_sah_cost() const {
+  // The 8-wide tree's own cost: the binary tree it came from is split down to
+  // single primitives, so that tree's cost says little.
+  return bvhLayout == BvhLayout::Wide ? wide_sah_cost(wideNodes) : binarySahCost;
+}
+
 size_t CompiledScene::gpu_bytes() const {
   size_t nodeBytes = bvhLayout == BvhLayout::Wide ? wideNodes.size() * sizeof(shader::WideNode) : nodes.size() * sizeof(shader::BvhNode);
   return nodeBytes + triangles.size() * sizeof(shader::Triangle) +
@@ -260,7 +266,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       w = build_wide_bvh(input, accel, options.wideCollapse);
     }
     out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.bvhSahCost = wide_sah_cost(w);  // the binary tree it came from is split down to single primitives
     out.wideNodes = std::move(w.nodes);
     order = std::move(w.order);
     out.bvhDepth = w.depth;
@@ -270,7 +275,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     Bvh bvh = build_bvh(input, accel);
     if (options.bvhRotations) rotate_bvh(bvh);
     out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.bvhSahCost = bvh.sahCost;
+    out.binarySahCost = bvh.sahCost;
     out.nodes = std::move(bvh.nodes);
     order = std::move(bvh.order);
     out.bvhDepth = bvh.depth;
