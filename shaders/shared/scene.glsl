@@ -175,10 +175,9 @@ float cdf_at(uint i) {
 // (below the budget). A walk that reaches the cap returns TRACE_TRUNCATED,
 // which the host turns into an error.
 
-// Tests primitive record i (a triangle, or a sphere's placeholder) and keeps
-// the nearer hit.
-void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
-  Triangle tri = load_triangle(i);
+// Tests primitive record i (a triangle, or a sphere's placeholder), loaded as
+// tri, and keeps the nearer hit.
+void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
   float t;
   if (tri.material != WP_INVALID) {
     float u;
@@ -200,6 +199,11 @@ void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
       hit.v = 0.0f;
     }
   }
+}
+
+// Tests primitive record i and keeps the nearer hit.
+void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
+  intersect_loaded_prim(i, load_triangle(i), o, d, sh, hit);
 }
 
 // The binary BVH (BvhNode), ordered and stack-based: each iteration visits one

@@ -5,16 +5,21 @@
 // several rays per invocation, so both run the same code. It reads and writes
 // the locals of wide_walk_state.glsl, reads o, d and anyHit, updates hit, and
 // sets walkDone once the walk is over (with anyHit: at the first hit).
+// This iteration's two loads come first, before either test, so that their
+// cache misses overlap: on lavapipe the walk spent about a quarter of its time
+// waiting on the node's and the primitive's loads, one after the other. (A
+// lane with nothing to test or visit loads record 0.)
+uint stepPrim = primGroup.x + uint(findLSB(primGroup.y));
+Triangle stepTri = load_triangle(primGroup.y != 0u ? stepPrim : 0u);
+WideNode n = load_wide_node(visit != WP_INVALID ? visit : 0u);
 if (primGroup.y != 0u) {
-  uint bit = uint(findLSB(primGroup.y));
   primGroup.y &= primGroup.y - 1u;
-  intersect_prim(primGroup.x + bit, o, d, sh, hit);
+  intersect_loaded_prim(stepPrim, stepTri, o, d, sh, hit);
   walkDone = anyHit && hit.prim != WP_INVALID;
 }
 // A node waits while it might bring a primitive group that there is no
 // room to set aside.
 if (!walkDone && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
-  WideNode n = load_wide_node(visit);
   vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
                    uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
   vec3 scale = cell * invDir;
