@@ -22,6 +22,7 @@ import argparse
 import collections
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -87,6 +88,9 @@ def main():
     command = args.command[1:] if args.command[:1] == ["--"] else args.command
     if not command:
         parser.error("no command given (put it after --)")
+    for tool, package in (("perf", "linux-perf"), ("objdump", "binutils")):
+        if shutil.which(tool) is None:
+            sys.exit(f"{tool} not found (Debian: apt-get install {package})")
     os.makedirs(args.out, exist_ok=True)
     perf_data = os.path.join(args.out, "perf.data")
 
@@ -101,12 +105,15 @@ def main():
             sys.exit("the command ended while it was sampled: its code is gone; give it more work")
         counts = sampled_ips(perf_data)
         regions = []
-        with open(f"/proc/{proc.pid}/mem", "rb") as mem:
-            for lo, hi in anonymous_mappings(proc.pid):
-                hits = sum(c for a, c in counts.items() if lo <= a < hi)
-                if hits:
-                    mem.seek(lo)
-                    regions.append((lo, mem.read(hi - lo), hits))
+        try:
+            with open(f"/proc/{proc.pid}/mem", "rb") as mem:
+                for lo, hi in anonymous_mappings(proc.pid):
+                    hits = sum(c for a, c in counts.items() if lo <= a < hi)
+                    if hits:
+                        mem.seek(lo)
+                        regions.append((lo, mem.read(hi - lo), hits))
+        except PermissionError:
+            sys.exit("cannot read the process's memory: run as root, or allow ptrace (kernel.yama.ptrace_scope)")
     finally:
         proc.send_signal(signal.SIGTERM)
         proc.wait()
