@@ -126,6 +126,7 @@ def main():
     print(f"{all_samples} samples, {jit} ({100.0 * jit / max(all_samples, 1):.1f} %) in lavapipe's compiled kernels")
 
     hottest = []
+    listed = []  # (samples, line) per function
     with open(os.path.join(args.out, "annotated.s"), "w") as f:
         for lo, code, hits in regions:
             rows = disassemble(code, lo)
@@ -161,12 +162,19 @@ def main():
                     continue
                 memory = sum(1 for _, text, _ in fn if "(%rsp" in text)
                 calls = referenced.get(fn[0][0], 0)
-                print(f"  function {fn[0][0]:#x}: {len(fn):5d} instructions ({memory} on the stack), "
-                      f"{100.0 * n / jit:5.1f} % of the kernels' samples" + (f", called from {calls} places" if calls else ""))
+                listed.append((n, f"  {100.0 * n / jit:5.1f} %  function {fn[0][0]:#x}: {len(fn):5d} instructions "
+                                  f"({memory} on the stack)" + (f", called from {calls} places" if calls else "")))
                 f.write(f"# function {fn[0][0]:#x}, {n} samples\n")
                 for address, text, c in fn:
                     f.write(f"{c:6d}  {address:#x}  {text}\n")
                     hottest.append((c, address, text))
+    listed.sort(reverse=True)
+    shown = [line for n, line in listed if n >= 0.005 * jit]
+    print("functions (a kernel's body, or a helper it calls: a texel fetch is one):")
+    print("\n".join(shown))
+    rest = listed[len(shown):]
+    if rest:
+        print(f"  {100.0 * sum(n for n, _ in rest) / jit:5.1f} %  in {len(rest)} functions of under 0.5 % each")
     print("hottest instructions (a load's latency shows on the first instruction that waits for it):")
     for c, address, text in sorted(hottest, reverse=True)[:args.top]:
         print(f"  {100.0 * c / jit:5.1f} %  {address:#x}  {text}")
