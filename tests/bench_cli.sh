@@ -28,8 +28,16 @@ check "JSON records the failed checks and no timings" $([ "$(grep -c '"check_pas
 # Ray casting: the GPU's hits are checked against the CPU traversal, then timed;
 # Embree (installed by scripts/install-deps.sh) traces the same rays.
 "$wavepath" bench --raycast --scenes "$data/furnace.json" --variants gpu --resolution 32 32 --repeats 1 \
-  --out "$work/rc.json" >"$work/out" 2>&1
+  --out "$work/rc.json" --csv "$work/rc.csv" >"$work/out" 2>&1
 check "ray casting bench exits 0" $?
+check "ray casting writes a CSV row for each JSON row, with the same rates" $(python3 -c '
+import csv, json, sys
+rows = json.load(open(sys.argv[1]))["raycast"]
+table = list(csv.DictReader(open(sys.argv[2])))
+same = len(table) == len(rows) and all(
+    t["rays"] == r["rays"] and t["variant"] == r["variant"] and float(t["mrays_per_second"]) == r["mrays_per_second"]
+    and float(t["cpu_walk_steps_per_ray"]) == r["cpu_walk_steps_per_ray"] for t, r in zip(table, rows))
+sys.exit(0 if same else 1)' "$work/rc.json" "$work/rc.csv"; echo $?)
 check "ray casting checks and times the camera, bounce and shadow rays" $(python3 -c '
 import json, sys
 rows = json.load(open(sys.argv[1]))["raycast"]
@@ -45,6 +53,14 @@ embree=1
 grep -q "Embree baseline: not built in" "$work/out" && embree=0
 if [ $embree = 1 ]; then
   check "ray casting reports the ratio to Embree" $(grep -q '"ratio_to_embree"' "$work/rc.json"; echo $?)
+  check "ray casting reports each repeat's ratio to Embree, which holds the headline ratio" $(python3 -c '
+import json, sys
+rows = json.load(open(sys.argv[1]))["raycast"]
+def ok(r):
+    p = r["ratio_to_embree_per_repeat"]
+    # With one repeat, the ratio of the medians is the one paired ratio.
+    return 0 < p["min"] <= p["median"] <= p["max"] and abs(r["ratio_to_embree"] - p["median"]) <= 1e-9 * p["median"]
+sys.exit(0 if rows and all(ok(r) for r in rows) else 1)' "$work/rc.json"; echo $?)
   "$wavepath" bench --raycast --scenes "$data/quad-light.json" --variants gpu --resolution 16 16 --repeats 1 >"$work/out" 2>&1
   check "a scene with spheres is timed without the Embree baseline" $([ $? -eq 0 ] && grep -q "triangle scenes only" "$work/out"; echo $?)
 else

@@ -407,7 +407,8 @@ int run_raycast_bench(const BenchOptions& o) {
                 cs.bvhBuildSeconds,
                 embree ? (", Embree build " + std::to_string(embree->build_seconds()) + " s").c_str() : "");
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
-    std::printf("  %-8s %-14s %12s %14s %8s %11s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio", "walk steps");
+    std::printf("  %-8s %-14s %12s %14s %8s %13s %11s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio",
+                "per repeat", "walk steps");
     for (const auto& [setName, rays] : {std::pair<const char*, const std::vector<shader::ShadowRay>*>{"primary", &sets.primary},
                                         {"bounce", &sets.bounce},
                                         {"shadow", &sets.shadow}}) {
@@ -481,13 +482,22 @@ int run_raycast_bench(const BenchOptions& o) {
         const double steps = walk_steps_per_ray(variantScenes[t.variant], *rays, anyHit);
         row["cpu_walk_steps_per_ray"] = steps;
         if (embree) {
+          // Each repeat's ratio, from the Embree run beside it: on a machine
+          // whose speed drifts, their spread shows how far the headline
+          // ratio (of the medians) can be trusted.
+          std::vector<double> paired(t.seconds.size());
+          for (size_t r = 0; r < paired.size(); ++r) paired[r] = embreeSeconds[r] / std::max(t.seconds[r], 1e-12);
+          const Spread pairedSpread = spread(paired);
           row["embree_mrays_per_second"] = embreeRate * 1e-6;
           row["ratio_to_embree"] = rate / embreeRate;
+          row["ratio_to_embree_per_repeat"] = to_json(pairedSpread);
           row["embree_mismatches"] = mismatches(embreeHits, reference);
-          std::printf("  %-8s %-14s %12.2f %14.2f %8.3f %11.2f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6,
-                      rate / embreeRate, steps);
+          char range[32];
+          std::snprintf(range, sizeof range, "%.3f-%.3f", pairedSpread.min, pairedSpread.max);
+          std::printf("  %-8s %-14s %12.2f %14.2f %8.3f %13s %11.2f\n", setName, v->name.c_str(), rate * 1e-6, embreeRate * 1e-6,
+                      rate / embreeRate, range, steps);
         } else {
-          std::printf("  %-8s %-14s %12.2f %14s %8s %11.2f\n", setName, v->name.c_str(), rate * 1e-6, "-", "-", steps);
+          std::printf("  %-8s %-14s %12.2f %14s %8s %13s %11.2f\n", setName, v->name.c_str(), rate * 1e-6, "-", "-", "-", steps);
         }
         results.push_back(row);
       }
@@ -498,6 +508,29 @@ int run_raycast_bench(const BenchOptions& o) {
     nlohmann::json j = {{"device", {{"name", ctx.info().name}, {"driver", ctx.info().driver}}},
                         {"embree", embree_available()}, {"repeats", o.repeats}, {"raycast", results}};
     write_json(o.jsonPath, j);
+  }
+  if (!o.csvPath.empty()) {
+    std::ofstream out(o.csvPath);
+    out << "scene,rays,count,variant,check_passed,mismatches,truncated,mrays_per_second,embree_mrays_per_second,ratio_to_embree,"
+           "ratio_per_repeat_min,ratio_per_repeat_median,ratio_per_repeat_max,cpu_walk_steps_per_ray\n";
+    // A variant that failed its check, or a run without Embree, leaves its
+    // figures empty.
+    auto field = [&out](const nlohmann::json& v) {
+      out << ",";
+      if (!v.is_null()) out << v;
+    };
+    const nlohmann::json none;
+    for (const nlohmann::json& r : results) {
+      out << r["scene"].get<std::string>() << "," << r["rays"].get<std::string>() << "," << r["count"] << ","
+          << r["variant"].get<std::string>() << "," << (r["check_passed"].get<bool>() ? 1 : 0) << "," << r["mismatches"] << ","
+          << r["truncated"];
+      for (const char* key : {"mrays_per_second", "embree_mrays_per_second", "ratio_to_embree"}) field(r.value(key, none));
+      const nlohmann::json paired = r.value("ratio_to_embree_per_repeat", none);
+      for (const char* key : {"min", "median", "max"}) field(paired.is_null() ? none : paired[key]);
+      field(r.value("cpu_walk_steps_per_ray", none));
+      out << "\n";
+    }
+    if (!out) throw InputError(o.csvPath + ": cannot write the results");
   }
   return allChecked ? 0 : 1;
 }
