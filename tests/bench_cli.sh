@@ -86,6 +86,17 @@ else
   check "built without Embree, the build bench reports no ratio" $(! grep -q '"ratio_to_embree"' "$work/b.json"; echo $?)
 fi
 check "build bench CSV has a header and a row per scene" $([ "$(wc -l <"$work/b.csv")" -eq 3 ]; echo $?)
+check "build bench CSV rows fill the header's columns, with the JSON's figures" $(python3 -c '
+import csv, json, sys
+rows = json.load(open(sys.argv[1]))["build"]
+with open(sys.argv[2]) as f:
+    header = next(csv.reader(f))
+    f.seek(0)
+    table = list(csv.DictReader(f))
+same = len(table) == len(rows) and all(
+    None not in t and float(t["greedy_sah_cost"]) == r["greedy_sah_cost"] and float(t["wide_sah_cost"]) == r["wide_sah_cost"]
+    and float(t["mprims_per_second"]) == r["mprims_per_second"] for t, r in zip(table, rows))
+sys.exit(0 if same and all(len(t) == len(header) for t in table) else 1)' "$work/b.json" "$work/b.csv"; echo $?)
 "$wavepath" bench --build --raycast >"$work/out" 2>"$work/err"
 check "--build with --raycast: exit 2" $([ $? -eq 2 ]; echo $?)
 

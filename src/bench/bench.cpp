@@ -714,11 +714,14 @@ int run_build_bench(const BenchOptions& o) {
   }
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);
-    out << "scene,primitives,sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,clustered_seconds,"
-           "clustered_mprims_per_second,clustered_sah_cost,embree_seconds,embree_mprims_per_second,ratio_to_embree\n";
+    out << "scene,primitives,sah_cost,wide_sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,greedy_seconds,"
+           "greedy_mprims_per_second,greedy_sah_cost,clustered_seconds,clustered_mprims_per_second,clustered_sah_cost,"
+           "embree_seconds,embree_mprims_per_second,ratio_to_embree\n";
     for (const nlohmann::json& r : results) {
-      out << r["scene"].get<std::string>() << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["seconds"]["median"]
-          << "," << r["wide_seconds"]["median"] << "," << r["binary_seconds"]["median"] << "," << r["mprims_per_second"];
+      out << r["scene"].get<std::string>() << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["wide_sah_cost"] << ","
+          << r["seconds"]["median"] << "," << r["wide_seconds"]["median"] << "," << r["binary_seconds"]["median"] << ","
+          << r["mprims_per_second"] << "," << r["greedy_seconds"]["median"] << "," << r["greedy_mprims_per_second"] << ","
+          << r["greedy_sah_cost"];
       if (r.contains("clustered_seconds"))
         out << "," << r["clustered_seconds"]["median"] << "," << r["clustered_mprims_per_second"] << "," << r["clustered_sah_cost"];
       else
