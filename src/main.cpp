@@ -139,19 +139,22 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   return scene;
 }
 
+// Checks where an output file goes before any time is spent on the work
+// whose result it holds.
+void require_output_directory(const std::string& path) {
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) throw InputError(path + ": the output directory does not exist");
+  if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
+}
+
 int run_render(const RenderArgs& a) {
   std::string out = a.output.empty() ? default_output(a.scene) : a.output;
   if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
   std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
   if (!a.cpu) kernel_variant(a.variant);  // an unknown variant fails before any work
-  // Check where the images go before spending time on the render.
-  for (const std::string& path : {out, exr}) {
-    std::filesystem::path dir = std::filesystem::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) throw InputError(path + ": the output directory does not exist");
-    if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
-  }
+  for (const std::string& path : {out, exr}) require_output_directory(path);
 
   CompiledScene compiled = compile_scene(load_scene_with_overrides(a), variant_options(options_from(a, a.seed), a.cpu ? "cpu" : a.variant));
   auto start = std::chrono::steady_clock::now();
@@ -261,6 +264,7 @@ struct ConvergenceArgs {
 };
 
 int run_convergence(const ConvergenceArgs& c) {
+  if (!c.csv.empty()) require_output_directory(c.csv);
   Scene scene = load_scene_with_overrides(c.render);
   Progress quiet("", 0, false);
   RenderOptions ro = options_from(c.render, 1000);
@@ -484,6 +488,8 @@ int main(int argc, char** argv) {
       if (bench.scenes.empty()) bench.scenes.push_back("scenes/cornell-box.json");
       if (bench.variants.empty())
         for (const KernelVariant& v : kernel_variants()) bench.variants.push_back(v.name);
+      for (const std::string* path : {&bench.jsonPath, &bench.csvPath})
+        if (!path->empty()) require_output_directory(*path);
       if (bench.build) return run_build_bench(bench);
       return bench.raycast ? run_raycast_bench(bench) : run_bench(bench);
     }

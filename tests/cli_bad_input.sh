@@ -42,6 +42,10 @@ expect_error "OBJ that does not parse" 2 "bad-token.obj:4|not a vertex index" --
 expect_error "missing OBJ" 2 "no-such-mesh.obj|no such file|mesh-missing.json" -- "$wavepath" render "$data/mesh-missing.json" -o "$out"
 expect_error "output is not a PNG" 2 "out.jpg|.png" -- "$wavepath" render "$data/furnace.json" -o "$work/out.jpg"
 expect_error "output directory missing" 2 "no-dir/out.png|does not exist" -- "$wavepath" render "$data/furnace.json" -o "$work/no-dir/out.png"
+# Benchmark and convergence results: refused before the (long) runs begin.
+expect_error "bench JSON directory missing" 2 "no-dir/r.json|does not exist" -- "$wavepath" bench --scenes "$data/furnace.json" --out "$work/no-dir/r.json"
+expect_error "ray-casting CSV directory missing" 2 "no-dir/r.csv|does not exist" -- "$wavepath" bench --raycast --scenes "$data/furnace.json" --csv "$work/no-dir/r.csv"
+expect_error "convergence CSV directory missing" 2 "no-dir/c.csv|does not exist" -- "$wavepath" convergence "$data/furnace.json" --csv "$work/no-dir/c.csv"
 expect_error "bad option value" 2 "spp" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 0
 expect_error "no Vulkan device" 3 "no Vulkan device" -- env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json "$wavepath" render "$data/furnace.json" -o "$out" --spp 1
 expect_error "no such device" 2 "--device no-such-gpu" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 1 --device no-such-gpu
