@@ -26,6 +26,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 
 
@@ -60,21 +61,84 @@ def anonymous_mappings(pid):
 
 
 def disassemble(code, start):
-    """[(address, text)] for the bytes `code` loaded at `start`."""
-    path = f"/tmp/wavepath-profile-{os.getpid()}.bin"
-    with open(path, "wb") as f:
+    """[(address, text)] of the instructions in the bytes `code` loaded at `start`."""
+    with tempfile.NamedTemporaryFile(suffix=".bin") as f:
         f.write(code)
-    try:
-        out = subprocess.run(["objdump", "-D", "-b", "binary", "-m", "i386:x86-64", f"--adjust-vma={start:#x}", path],
+        f.flush()
+        out = subprocess.run(["objdump", "-D", "-b", "binary", "-m", "i386:x86-64", f"--adjust-vma={start:#x}", f.name],
                              capture_output=True, text=True, check=True).stdout
-    finally:
-        os.unlink(path)
     rows = []
     for line in out.splitlines():
         m = re.match(r"\s*([0-9a-f]+):\t(?:[0-9a-f]{2} )+\s*\t?(.*)", line)
-        if m:
+        # A long instruction's last bytes come on a line of their own, without text.
+        if m and m.group(2).strip():
             rows.append((int(m.group(1), 16), m.group(2).strip()))
     return rows
+
+
+def split_functions(rows, counts):
+    """The instructions grouped into functions, each ending at a return, as
+    [(address, text, samples)]; the padding between functions left out."""
+    functions, current = [], []
+    for address, text in rows:
+        if not current and text.startswith(("nop", "data16", "cs nop", "xchg   %ax,%ax", "int3")):
+            continue
+        current.append((address, text, counts.get(address, 0)))
+        if text.startswith("ret"):
+            functions.append(current)
+            current = []
+    if current:
+        functions.append(current)
+    return functions
+
+
+def call_sites(rows):
+    """Calls per function address. lavapipe calls its helpers through a
+    register loaded by movabs: each register is followed from its movabs to
+    the calls through it, until something else writes it."""
+    calls = collections.Counter()
+    held = {}
+    for _, text in rows:
+        load = re.match(r"movabs \$(0x[0-9a-f]+),(%\w+)$", text)
+        call = re.match(r"call\s+\*(%\w+)$", text)
+        if load:
+            held[load.group(2)] = int(load.group(1), 16)
+        elif call and call.group(1) in held:
+            calls[held[call.group(1)]] += 1
+        else:
+            written = re.search(r",(%\w+)$", text)
+            if written:
+                held.pop(written.group(1), None)
+    return calls
+
+
+def sample(command, delay, seconds, perf_data):
+    """Runs `command`, samples it, and returns the sample counts by address
+    and the sampled JIT code as [(start, bytes, samples)]."""
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        time.sleep(delay)
+        if proc.poll() is not None:
+            sys.exit(f"the command ended after {delay} s, before sampling began: give it more work")
+        subprocess.run(["perf", "record", "-q", "-F", "2000", "-p", str(proc.pid), "-o", perf_data, "--", "sleep",
+                        str(seconds)], check=True, stderr=subprocess.DEVNULL)
+        if proc.poll() is not None:
+            sys.exit("the command ended while it was sampled: its code is gone; give it more work")
+        counts = sampled_ips(perf_data)
+        regions = []
+        try:
+            with open(f"/proc/{proc.pid}/mem", "rb") as mem:
+                for lo, hi in anonymous_mappings(proc.pid):
+                    hits = sum(c for a, c in counts.items() if lo <= a < hi)
+                    if hits:
+                        mem.seek(lo)
+                        regions.append((lo, mem.read(hi - lo), hits))
+        except PermissionError:
+            sys.exit("cannot read the process's memory: run as root, or allow ptrace (kernel.yama.ptrace_scope)")
+        return counts, regions
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait()
 
 
 def main():
@@ -94,30 +158,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     perf_data = os.path.join(args.out, "perf.data")
 
-    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        time.sleep(args.delay)
-        if proc.poll() is not None:
-            sys.exit(f"the command ended after {args.delay} s, before sampling began: give it more work")
-        subprocess.run(["perf", "record", "-q", "-F", "2000", "-p", str(proc.pid), "-o", perf_data, "--", "sleep",
-                        str(args.seconds)], check=True, stderr=subprocess.DEVNULL)
-        if proc.poll() is not None:
-            sys.exit("the command ended while it was sampled: its code is gone; give it more work")
-        counts = sampled_ips(perf_data)
-        regions = []
-        try:
-            with open(f"/proc/{proc.pid}/mem", "rb") as mem:
-                for lo, hi in anonymous_mappings(proc.pid):
-                    hits = sum(c for a, c in counts.items() if lo <= a < hi)
-                    if hits:
-                        mem.seek(lo)
-                        regions.append((lo, mem.read(hi - lo), hits))
-        except PermissionError:
-            sys.exit("cannot read the process's memory: run as root, or allow ptrace (kernel.yama.ptrace_scope)")
-    finally:
-        proc.send_signal(signal.SIGTERM)
-        proc.wait()
-
+    counts, regions = sample(command, args.delay, args.seconds, perf_data)
     all_samples = subprocess.run(["perf", "script", "-i", perf_data, "-F", "ip"], capture_output=True, text=True,
                                  check=True).stdout.count("\n")
     jit = sum(h for _, _, h in regions)
@@ -127,43 +168,19 @@ def main():
 
     hottest = []
     listed = []  # (samples, line) per function
-    with open(os.path.join(args.out, "annotated.s"), "w") as f:
-        for lo, code, hits in regions:
+    annotated = os.path.join(args.out, "annotated.s")
+    with open(annotated, "w") as f:
+        for lo, code, _ in regions:
             rows = disassemble(code, lo)
-            # Functions end at a return; lavapipe's helpers are small ones.
-            functions, current = [], []
-            for address, text in rows:
-                if not current and (text.startswith(("nop", "data16", "cs nop", "xchg   %ax,%ax", "int3")) or not text):
-                    continue  # padding between functions
-                current.append((address, text, counts.get(address, 0)))
-                if text.startswith("ret"):
-                    functions.append(current)
-                    current = []
-            if current:
-                functions.append(current)
-            # lavapipe calls its helpers through a register loaded by movabs:
-            # follow each register from its movabs to the calls through it.
-            referenced = collections.Counter()
-            held = {}
-            for _, text in rows:
-                m = re.match(r"movabs \$(0x[0-9a-f]+),(%\w+)$", text)
-                call = re.match(r"call\s+\*(%\w+)$", text)
-                if m:
-                    held[m.group(2)] = int(m.group(1), 16)
-                elif call and call.group(1) in held:
-                    referenced[held[call.group(1)]] += 1
-                else:
-                    written = re.search(r",(%\w+)$", text)
-                    if written:
-                        held.pop(written.group(1), None)
-            for fn in functions:
+            calls = call_sites(rows)
+            for fn in split_functions(rows, counts):
                 n = sum(c for _, _, c in fn)
                 if n == 0:
                     continue
-                memory = sum(1 for _, text, _ in fn if "(%rsp" in text)
-                calls = referenced.get(fn[0][0], 0)
+                on_stack = sum(1 for _, text, _ in fn if "(%rsp" in text)
+                called = calls.get(fn[0][0], 0)
                 listed.append((n, f"  {100.0 * n / jit:5.1f} %  function {fn[0][0]:#x}: {len(fn):5d} instructions "
-                                  f"({memory} on the stack)" + (f", called from {calls} places" if calls else "")))
+                                  f"({on_stack} reach the stack)" + (f", called from {called} places" if called else "")))
                 f.write(f"# function {fn[0][0]:#x}, {n} samples\n")
                 for address, text, c in fn:
                     f.write(f"{c:6d}  {address:#x}  {text}\n")
@@ -178,7 +195,7 @@ def main():
     print("hottest instructions (a load's latency shows on the first instruction that waits for it):")
     for c, address, text in sorted(hottest, reverse=True)[:args.top]:
         print(f"  {100.0 * c / jit:5.1f} %  {address:#x}  {text}")
-    print(f"annotated disassembly: {os.path.join(args.out, 'annotated.s')}")
+    print(f"annotated disassembly: {annotated}")
 
 
 if __name__ == "__main__":
