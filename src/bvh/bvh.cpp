@@ -364,7 +364,7 @@ class Builder {
         n_(in.bounds.size()),
         refs0_(n_),
         refs1_(n_),
-        nodes_(2 * n_ + max_chains(n_) * kNodeBlock) {
+        nodes_(kFirstPair + 2 * n_ + max_chains(n_) * kNodeBlock) {
     // The reference arrays stay untouched (their pages unmapped) until a
     // build writes them: the clustered build needs little of them.
     refs_[0] = refs0_.get();
@@ -435,6 +435,10 @@ class Builder {
   // one partly used block: nodes_ has room for 2n nodes and one block more
   // per chain. The unused slots are dropped by compact_nodes.
   static constexpr uint32_t kNodeBlock = 32;
+  // The first pair of children goes to slots 2 and 3 (slot 1 stays unused),
+  // so that every pair of 32-byte siblings shares one 64-byte cache line:
+  // whoever reads a node's children reads both.
+  static constexpr uint32_t kFirstPair = 2;
   // Chains: the root's, and one per node of at least kParallelThreshold
   // primitives that is split. Such nodes at one depth are disjoint, so there
   // are at most n / kParallelThreshold per depth, and BVH_MAX_DEPTH depths.
@@ -445,7 +449,7 @@ class Builder {
   // Builds the tree into nodes_, writing the leaves' primitive ids to `order`.
   void build_tree(uint32_t* order) {
     order_ = order;
-    nodeCount_ = 1;
+    nodeCount_ = kFirstPair;
     if (settings_.split == SplitMethod::ClusteredSah && n_ > kBottomMax) return build_clustered();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n_, kChunk), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) ref_of(i, refs_[0][i]);
@@ -958,11 +962,18 @@ class Builder {
                     NodeBlock& block) {
     bt.first = first;
     for (int a = 0; a < 3; ++a) {
-      uint64_t key[kBottomMax];
-      // + 0: -0 becomes +0; ties stay in reference order.
-      for (uint32_t i = 0; i < count; ++i) key[i] = uint64_t(sort_key(bt.refs[i].lo[a] + bt.refs[i].hi[a] + 0.0f)) << 8 | i;
-      std::sort(key, key + count);
-      for (uint32_t i = 0; i < count; ++i) bt.order[a][i] = uint8_t(key[i]);
+      uint32_t key[kBottomMax];
+      // + 0: -0 becomes +0.
+      for (uint32_t i = 0; i < count; ++i) key[i] = sort_key(bt.refs[i].lo[a] + bt.refs[i].hi[a] + 0.0f);
+      // Each reference's place is the number of those before it, ties in
+      // reference order: count x count comparisons in loops the compiler
+      // vectorizes, where a comparison sort's branches mispredict.
+      for (uint32_t i = 0; i < count; ++i) {
+        uint32_t place = 0;
+        for (uint32_t j = 0; j < i; ++j) place += key[j] <= key[i] ? 1u : 0u;
+        for (uint32_t j = i + 1; j < count; ++j) place += key[j] < key[i] ? 1u : 0u;
+        bt.order[a][place] = uint8_t(i);
+      }
     }
     bottom_node(bt, node, 0, count, depth, bounds, block);
   }
@@ -985,6 +996,23 @@ class Builder {
     int axis = -1;
     uint32_t split = 0;
     Box4 left, right;
+    if (count == 2 && depth < BVH_MAX_DEPTH - 33) {
+      // Two references: every axis splits them one from the other, at the
+      // same cost (the sum of their areas), so the sweep would take axis 0.
+      // A quarter of the nodes; the sweep and the partition cost them more
+      // than the rest of the node.
+      grow(left, 0, begin);
+      grow(right, 0, begin + 1);
+      best = left.sweep_area() + right.sweep_area();
+      // (Without a finite cost, as below: a leaf if allowed.)
+      if (best < WP_INF ? leaf_is_better(count, bounds, best) : count <= uint32_t(settings_.maxLeafSize)) return leaf();
+      const uint32_t children = allocate_pair(block);
+      nodes_[node].leftFirst = children;
+      nodes_[node].count = 0;
+      bottom_node(bt, children, begin, begin + 1, depth + 1, left, block);
+      bottom_node(bt, children + 1, begin + 1, end, depth + 1, right, block);
+      return;
+    }
     // Near the depth limit only halving splits (see build_node).
     if (depth < BVH_MAX_DEPTH - 33) {
       // The three axes swept side by side: three independent chains of

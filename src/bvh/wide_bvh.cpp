@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -23,45 +24,62 @@ bool is_leaf(const BvhNode& n) {
 
 // Slot of each child. Slot s stands for the octant with sign bits s (bit a
 // set: towards -a); the child lying furthest towards an octant, seen from the
-// node's centre, takes that octant's slot, greedily, best pair first. The
-// walk visits slots in an order its ray's octant gives (see WideNode).
+// node's centre, takes that octant's slot, greedily, best pair first: of the
+// children and slots still free, the pair of highest score, the lower child
+// and then the lower slot on ties. The walk visits slots in an order its
+// ray's octant gives (see WideNode).
+//
+// Each (child, slot) pair is one key that orders pairs so: the score's bits
+// made monotonic, then the child's and the slot's indices reversed. Keys are
+// doubles (exact below 2^53) for two reasons: a taken child or slot is masked
+// by a product with 0, without branches, and the compiler keeps floating-point
+// maxima in the independent chains written below. Integer maxima it chained
+// into one run of 64 dependent steps per pick, and the branchy search before
+// (each child's best free slot, kept current) mispredicted: either way the
+// slots took half of the collapse's time.
 void assign_slots(const Aabb* boxes, int n, int slotOf[8]) {
   Aabb all;
   for (int i = 0; i < n; ++i) all.grow(boxes[i]);
-  glm::vec3 centre = 0.5f * (all.lo + all.hi);
-  float score[8][8];
-  for (int c = 0; c < n; ++c) {
-    glm::vec3 offset = 0.5f * (boxes[c].lo + boxes[c].hi) - centre;
+  const glm::vec3 centre = 0.5f * (all.lo + all.hi);
+  double key[64];  // 0 for the pairs of absent children
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 offset = c < n ? 0.5f * (boxes[c].lo + boxes[c].hi) - centre : glm::vec3(0.0f);
     for (int s = 0; s < 8; ++s) {
-      glm::vec3 dir((s & 1) ? -1.0f : 1.0f, (s & 2) ? -1.0f : 1.0f, (s & 4) ? -1.0f : 1.0f);
-      score[c][s] = glm::dot(offset, dir);
+      // + 0: -0 becomes +0, equal to it as a score.
+      const float score = ((s & 1) ? -offset.x : offset.x) + ((s & 2) ? -offset.y : offset.y) + ((s & 4) ? -offset.z : offset.z) + 0.0f;
+      uint32_t bits;
+      std::memcpy(&bits, &score, sizeof bits);
+      bits ^= uint32_t(int32_t(bits) >> 31) | 0x80000000u;  // ordered as unsigned integers
+      key[c * 8 + s] = c < n ? double((uint64_t(bits) << 6) | uint64_t((7 - c) << 3) | uint64_t(7 - s)) : 0.0;
     }
   }
-  // Each child's best free slot (the first on ties), kept current: a taken
-  // slot sends only the children whose best it was back to the search. The
-  // best pair overall is the best child's, the first child on ties: the same
-  // pair as scanning all of them each time, in an eighth of the work (that
-  // scan was half of the collapse's time).
-  uint32_t childDone = 0, slotTaken = 0;  // bit masks
-  int bestSlot[8];
-  auto find_slot = [&](int c) {
-    int best = -1;
-    for (int s = 0; s < 8; ++s)
-      if (((slotTaken >> s) & 1u) == 0u && (best < 0 || score[c][s] > score[c][best])) best = s;
-    bestSlot[c] = best;
-  };
-  for (int c = 0; c < n; ++c) find_slot(c);
-  for (int k = 0; k < n; ++k) {
-    int bestC = -1;
-    for (int c = 0; c < n; ++c)
-      if (((childDone >> c) & 1u) == 0u && (bestC < 0 || score[c][bestSlot[c]] > score[bestC][bestSlot[bestC]])) bestC = c;
-    const int taken = bestSlot[bestC];
-    slotOf[bestC] = taken;
-    childDone |= 1u << bestC;
-    slotTaken |= 1u << taken;
-    for (int c = 0; c < n; ++c)
-      if (((childDone >> c) & 1u) == 0u && bestSlot[c] == taken) find_slot(c);
+  auto larger = [](double a, double b) { return a > b ? a : b; };
+  double childFree[8], slotFree[8];
+  for (int i = 0; i < 8; ++i) {
+    childFree[i] = 1.0;
+    slotFree[i] = 1.0;
   }
+  for (int k = 0; k < n; ++k) {
+    double row[8];  // per child, its best pair with a free slot
+    for (int c = 0; c < 8; ++c) {
+      const double* r = key + 8 * c;
+      row[c] = childFree[c] * larger(larger(larger(r[0] * slotFree[0], r[1] * slotFree[1]), larger(r[2] * slotFree[2], r[3] * slotFree[3])),
+                                     larger(larger(r[4] * slotFree[4], r[5] * slotFree[5]), larger(r[6] * slotFree[6], r[7] * slotFree[7])));
+    }
+    const uint64_t m = uint64_t(larger(larger(larger(row[0], row[1]), larger(row[2], row[3])), larger(larger(row[4], row[5]), larger(row[6], row[7]))));
+    const int c = 7 - int((m >> 3) & 7u), s = 7 - int(m & 7u);
+    slotOf[c] = s;
+    childFree[c] = 0.0;
+    slotFree[s] = 0.0;
+  }
+}
+
+// 2^e as a double, for e within the range of normal doubles.
+double power_of_two(int e) {
+  const uint64_t bits = uint64_t(e + 1023) << 52;
+  double p;
+  std::memcpy(&p, &bits, sizeof p);
+  return p;
 }
 
 // The power-of-two cell size per axis (as the biased exponent stored in the
@@ -70,22 +88,36 @@ uint32_t cell_exponent(float lo, float hi) {
   double extent = double(hi) - double(lo);
   int e = -126;
   if (extent > 0.0) {
-    e = std::max(-126, int(std::ceil(std::log2(extent / 255.0))));
-    while (std::ldexp(255.0, e) < extent) ++e;  // log2 may round down
+    // ceil(log2(extent / 255)) from the bits of the double (always normal:
+    // extent is at least the least float).
+    uint64_t bits;
+    const double ratio = extent / 255.0;
+    std::memcpy(&bits, &ratio, sizeof bits);
+    const int exponent = int((bits >> 52) & 0x7ffu) - 1023;
+    e = std::max(-126, (bits & ((uint64_t(1) << 52) - 1)) != 0 ? exponent + 1 : exponent);
+    while (255.0 * power_of_two(e) < extent) ++e;  // the division may round down
   }
   return uint32_t(std::min(e, 127) + 127);
 }
 
 float cell_size(uint32_t biasedExponent) {
-  return std::ldexp(1.0f, int(biasedExponent) - 127);
+  const uint32_t bits = biasedExponent << 23;
+  float cell;
+  std::memcpy(&cell, &bits, sizeof cell);
+  return cell;
 }
 
 // Quantized planes of [lo, hi] on the grid origin + q * cell, rounded
 // outwards and checked in float as the decoding computes them. `inverseCell`
-// is 1 / cell, exact since cell is a power of two.
+// is 1 / cell, exact since cell is a power of two. Floor and ceiling are
+// taken after clamping to [0, 255], where they are integer conversions
+// rather than calls into libm.
 std::pair<uint32_t, uint32_t> quantize(float lo, float hi, float origin, float cell, double inverseCell) {
-  int qlo = std::clamp(int(std::floor((double(lo) - double(origin)) * inverseCell)), 0, 255);
-  int qhi = std::clamp(int(std::ceil((double(hi) - double(origin)) * inverseCell)), 0, 255);
+  const double below = std::min(std::max((double(lo) - double(origin)) * inverseCell, 0.0), 255.0);
+  const double above = std::min(std::max((double(hi) - double(origin)) * inverseCell, 0.0), 255.0);
+  int qlo = int(below);
+  int qhi = int(above);
+  if (double(qhi) < above) ++qhi;
   while (qlo > 0 && origin + float(qlo) * cell > lo) --qlo;
   while (qhi < 255 && origin + float(qhi) * cell < hi) ++qhi;
   return {uint32_t(qlo), uint32_t(qhi)};
@@ -249,19 +281,17 @@ class Collapser {
         emitters_{order, emits},
         how_(how),
         maxLeafSize_(std::min<uint32_t>(maxLeafSize, WIDE_MAX_LEAF_SIZE)),
-        wideCount_(slotCount),
-        primCount_(slotCount),
-        cost_(how == WideCollapse::Sah ? slotCount * kMaxRoots : 0),
-        mergeable_(how == WideCollapse::Sah ? slotCount : 0) {}
+        subtree_(slotCount),
+        plan_(how == WideCollapse::Sah ? slotCount : 0) {}
 
   WideBvh run() {
     WideBvh out;
     if (how_ == WideCollapse::Sah) solve(0, 0);
     out.depth = measure(0, 0);
-    reserve_huge(out.nodes, wideCount_[0]);
-    out.nodes.resize(wideCount_[0]);
-    reserve_huge(out.order, primCount_[0]);
-    out.order.resize(primCount_[0]);
+    reserve_huge(out.nodes, subtree_[0].nodes);
+    out.nodes.resize(subtree_[0].nodes);
+    reserve_huge(out.order, subtree_[0].prims);
+    out.order.resize(subtree_[0].prims);
     out_ = &out;
     emit(0, 0, 1, 0, 0);
     return out;
@@ -315,12 +345,11 @@ class Collapser {
     for_children(depth, interior, [&](int i) { heights[i] = measure(kids[i], depth + 1); });
     int height = 1;
     for (int i : interior) {
-      wide += wideCount_[kids[i]];
-      prims += primCount_[kids[i]];
+      wide += subtree_[kids[i]].nodes;
+      prims += subtree_[kids[i]].prims;
       height = std::max(height, 1 + heights[i]);
     }
-    wideCount_[b] = wide;
-    primCount_[b] = prims;
+    subtree_[b] = SubtreeSize{wide, prims};
     return height;
   }
 
@@ -389,8 +418,8 @@ class Collapser {
       indexOf[i] = childBase + uint32_t(k);
       nodeAt[i] = nextNode;
       primAt[i] = nextPrim;
-      nextNode += wideCount_[kids[i]] - 1;
-      nextPrim += primCount_[kids[i]];
+      nextNode += subtree_[kids[i]].nodes - 1;
+      nextPrim += subtree_[kids[i]].prims;
     }
     for_children(depth, interior, [&](int i) { emit(indexOf[i], kids[i], nodeAt[i], primAt[i], depth + 1); });
   }
@@ -411,65 +440,96 @@ class Collapser {
   // cost(n, j) is kept for j up to 7 only: a node shares its wide node's
   // eight slots with at least its sibling's subtree.
   static constexpr int kMaxRoots = 7;
-  float cost(uint32_t n, int j) const { return cost_[size_t(n) * kMaxRoots + size_t(j - 1)]; }
 
-  // The least cost of n's two children as a forest of at most j roots, and
-  // how many of those roots the left child takes.
-  float distribute(uint32_t n, int j, int* leftRoots) const {
-    const uint32_t l = nodes_[n].leftFirst, r = l + 1;
-    float best = std::numeric_limits<float>::infinity();
-    int bestK = 1;
-    for (int k = 1; k < j; ++k) {
-      const float c = cost(l, k) + cost(r, j - k);
-      if (c < best) {
-        best = c;
-        bestK = k;
-      }
-    }
-    if (leftRoots) *leftRoots = bestK;
-    return best;
-  }
+  // What solve decided for binary node n, packed into its plan word so that the
+  // passes after it read one word per node instead of its children's costs:
+  // bits 0-3 the primitives of a subtree that may become one leaf (0: it
+  // may not), bit 4 whether that leaf is cheaper than a wide node, bits 5-7
+  // how many roots the left child takes in a forest of 8 (a wide node's
+  // children), and for a forest of at most j = 2..7 roots, four bits from
+  // bit 8 + 4 (j - 2): whether n stays whole, and the left child's roots.
+  static constexpr uint32_t kMergeWins = 1u << 4;
+  static_assert(WIDE_MAX_LEAF_SIZE < 16, "a plan holds a leaf's primitive count in four bits");
+  uint32_t mergeable(uint32_t n) const { return plan_[n] & 15u; }
+  static int forest_shift(int j) { return 8 + 4 * (j - 2); }
+  int left_roots_of_eight(uint32_t n) const { return int((plan_[n] >> 5) & 7u); }
 
-  // Whether interior node n is cheaper as one merged leaf than as a wide node.
-  bool merge_wins(uint32_t n) const {
-    const float area = node_box(nodes_[n]).half_area();
-    return mergeable_[n] != 0 && kPrimCost * area * float(mergeable_[n]) <= kNodeCost * area + distribute(n, 8, nullptr);
-  }
+  // What solve returns for a subtree: cost(n, 1..7), n's plan and its first
+  // primitive in the order. Only the parent reads a node's costs, so they
+  // pass up the recursion instead of through an array (7 floats per node:
+  // 56 MB of fresh memory at 1M triangles).
+  struct Solved {
+    float cost[kMaxRoots];
+    uint32_t plan;
+    uint32_t first;
+  };
 
-  // Fills cost(n, 1..7) for n's subtree, and mergeable_: the primitive count
-  // of subtrees of at most maxLeafSize primitives whose leaves are contiguous
-  // in the order (tree rotations can interleave them), 0 for the others.
-  void solve(uint32_t n, int depth) {
+  // Solves n's subtree and fills the plan of each of its nodes. A subtree
+  // may become one leaf when it has at most maxLeafSize primitives,
+  // contiguous in the order (tree rotations can interleave them).
+  Solved solve(uint32_t n, int depth) {
     const BvhNode& node = nodes_[n];
-    float* c = &cost_[size_t(n) * kMaxRoots];
     const float area = node_box(node).half_area();
+    Solved out;
     if (is_leaf(node)) {
       if (node.count > WIDE_MAX_LEAF_SIZE) throw RenderError("internal error: a BVH leaf holds more primitives than a wide node's slot");
-      mergeable_[n] = node.count <= maxLeafSize_ ? uint8_t(node.count) : 0;
-      std::fill(c, c + kMaxRoots, kPrimCost * area * float(node.count));
-      return;
+      out.plan = plan_[n] = node.count <= maxLeafSize_ ? node.count : 0u;
+      out.first = node.leftFirst;
+      std::fill(out.cost, out.cost + kMaxRoots, kPrimCost * area * float(node.count));
+      return out;
     }
     const uint32_t l = node.leftFirst, r = l + 1;
+    Solved left, right;
     if (depth < kParallelSolveDepth) {
       tbb::task_group tasks;
-      tasks.run([&] { solve(l, depth + 1); });
-      solve(r, depth + 1);
+      tasks.run([&] { left = solve(l, depth + 1); });
+      right = solve(r, depth + 1);
       tasks.wait();
     } else {
-      solve(l, depth + 1);
-      solve(r, depth + 1);
+      left = solve(l, depth + 1);
+      right = solve(r, depth + 1);
     }
-    const uint32_t prims = uint32_t(mergeable_[l]) + mergeable_[r];
-    const bool contiguous = mergeable_[l] != 0 && mergeable_[r] != 0 && first_prim(r) == first_prim(l) + mergeable_[l];
-    mergeable_[n] = contiguous && prims <= maxLeafSize_ ? uint8_t(prims) : 0;
-    float single = kNodeCost * area + distribute(n, 8, nullptr);
-    if (mergeable_[n] != 0) single = std::min(single, kPrimCost * area * float(prims));
-    c[0] = single;
-    for (int j = 2; j <= kMaxRoots; ++j) c[j - 1] = std::min(single, distribute(n, j, nullptr));
+    // split[j]: the least cost of the two children as a forest of at most j
+    // roots (the first split on ties), and the left child's roots in it.
+    float split[9];
+    uint32_t leftRoots[9];
+#pragma GCC unroll 7
+    for (int j = 2; j <= 8; ++j) {
+      split[j] = std::numeric_limits<float>::infinity();
+      leftRoots[j] = 1;
+#pragma GCC unroll 7
+      for (int k = 1; k < j; ++k) {
+        const float sum = left.cost[k - 1] + right.cost[j - k - 1];
+        const bool better = sum < split[j];
+        leftRoots[j] = better ? uint32_t(k) : leftRoots[j];
+        split[j] = better ? sum : split[j];
+      }
+    }
+    const uint32_t mergeLeft = left.plan & 15u, mergeRight = right.plan & 15u;
+    const uint32_t prims = mergeLeft + mergeRight;
+    const bool contiguous = mergeLeft != 0 && mergeRight != 0 && right.first == left.first + mergeLeft;
+    uint32_t plan = contiguous && prims <= maxLeafSize_ ? prims : 0u;
+    const float asNode = kNodeCost * area + split[8];
+    float single = asNode;
+    if (plan != 0) {
+      const float asLeaf = kPrimCost * area * float(prims);
+      single = std::min(single, asLeaf);
+      if (asLeaf <= asNode) plan |= kMergeWins;
+    }
+    plan |= leftRoots[8] << 5;
+    out.cost[0] = single;
+#pragma GCC unroll 6
+    for (int j = 2; j <= kMaxRoots; ++j) {
+      out.cost[j - 1] = std::min(single, split[j]);
+      plan |= ((single <= split[j] ? 1u : 0u) | leftRoots[j] << 1) << forest_shift(j);
+    }
+    out.plan = plan_[n] = plan;
+    out.first = left.first;
+    return out;
   }
   static constexpr int kParallelSolveDepth = 8;
 
-  // The first primitive (in the order) of a subtree with mergeable_ set.
+  // The first primitive (in the order) of a subtree that may become one leaf.
   uint32_t first_prim(uint32_t n) const {
     while (!is_leaf(nodes_[n])) n = nodes_[n].leftFirst;
     return nodes_[n].leftFirst;
@@ -485,7 +545,6 @@ class Collapser {
       out[count++] = WideChild{n, false, node.leftFirst, node.count};
       return;
     }
-    int leftRoots = 1;
     // A child of a subtree that the SAH may merge into a leaf counts as one.
     auto may_be_leaf = [this](uint32_t c, uint32_t& first, uint32_t& count) {
       if (is_leaf(nodes_[c])) {
@@ -494,15 +553,17 @@ class Collapser {
         return true;
       }
       first = first_prim(c);
-      count = mergeable_[c];
+      count = mergeable(c);
       return count != 0;
     };
-    const bool whole = j == 1 || cost(n, 1) <= distribute(n, j, &leftRoots);
+    const uint32_t decision = j == 1 ? 1u : plan_[n] >> forest_shift(j);
+    const bool whole = (decision & 1u) != 0;
+    const int leftRoots = int((decision >> 1) & 7u);
     // Kept whole for an emitter, it becomes a wide node over its own box.
     const bool forEmitter = !whole && emitters_.opening_widens(nodes_, node, grid, may_be_leaf);
     if (whole || forEmitter) {
-      const bool merged = !forEmitter && merge_wins(n);
-      out[count++] = merged ? WideChild{n, false, first_prim(n), mergeable_[n]} : WideChild{n, true, 0, 0};
+      const bool merged = !forEmitter && (plan_[n] & kMergeWins) != 0;
+      out[count++] = merged ? WideChild{n, false, first_prim(n), mergeable(n)} : WideChild{n, true, 0, 0};
       return;
     }
     forest(node.leftFirst, leftRoots, grid, out, count);
@@ -514,8 +575,7 @@ class Collapser {
     const BvhNode& node = nodes_[b];
     int count = 0;
     if (how_ == WideCollapse::Sah && !is_leaf(node)) {
-      int leftRoots = 1;
-      distribute(b, 8, &leftRoots);
+      const int leftRoots = left_roots_of_eight(b);
       const Aabb grid = node_box(node);
       forest(node.leftFirst, leftRoots, grid, out, count);
       forest(node.leftFirst + 1, 8 - leftRoots, grid, out, count);
@@ -535,9 +595,13 @@ class Collapser {
   EmitterLeaves emitters_;
   WideCollapse how_;
   uint32_t maxLeafSize_;
-  WorkArray<uint32_t> wideCount_, primCount_;  // per binary node that becomes a wide node
-  WorkArray<float> cost_;                      // the SAH collapse's cost(n, 1..7) per binary node
-  WorkArray<uint8_t> mergeable_;              // per binary node: its primitives if it may become one leaf, else 0
+  // Per binary node that becomes a wide node, the size of its wide subtree
+  // (the two words side by side: emit reads both, at a cache miss).
+  struct SubtreeSize {
+    uint32_t nodes, prims;
+  };
+  WorkArray<SubtreeSize> subtree_;
+  WorkArray<uint32_t> plan_;                   // per binary node: what solve decided (the SAH collapse)
   WideBvh* out_ = nullptr;
 };
 
