@@ -67,6 +67,16 @@ else
   check "built without Embree, ray casting reports no ratio" $(! grep -q '"ratio_to_embree"' "$work/rc.json"; echo $?)
 fi
 
+# A scene whose path starts with a quote: CSV fields are quoted where needed,
+# so a CSV reader gets the path back whole (unquoted, it read a quoted field).
+mkdir -p "$work/\"odd\" dir" && cp "$data/furnace.json" "$data/furnace-box.obj" "$data/furnace-box.mtl" "$work/\"odd\" dir/"
+(cd "$work" && "$wavepath" bench --raycast --scenes "\"odd\" dir/furnace.json" --variants gpu --resolution 16 16 --repeats 1 \
+  --csv odd.csv >out 2>&1)
+check "a scene's path with quotes reads back whole from the CSV" $(python3 -c '
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+sys.exit(0 if len(rows) == 3 and all(r["scene"] == sys.argv[2] for r in rows) else 1)' "$work/odd.csv" '"odd" dir/furnace.json'; echo $?)
+
 # BVH builds: the tree the renderer builds, timed against Embree's build of
 # the same triangles; a scene with spheres is timed without Embree.
 "$wavepath" bench --build --scenes "$data/furnace.json,$data/quad-light.json" --repeats 2 \

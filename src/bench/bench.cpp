@@ -60,6 +60,18 @@ nlohmann::json to_json(const Spread& s) {
   return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
 }
 
+// A CSV field (RFC 4180): quoted, its quotes doubled, where it holds a
+// comma, a quote or a line break (a scene's path may).
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
 // Writes the results as JSON to `path`.
 void write_json(const std::string& path, const nlohmann::json& j) {
   std::ofstream out(path);
@@ -257,7 +269,7 @@ int run_bench(const BenchOptions& o) {
     out << ",bvh_build_seconds,sah_cost,gpu_bytes_per_primitive\n";
     for (const SceneResult& sr : results) {
       for (const VariantResult& v : sr.variants) {
-        out << sr.scene << "," << v.variant << "," << (v.checked ? 1 : 0) << "," << v.seconds.median << "," << v.seconds.min
+        out << csv_field(sr.scene) << "," << csv_field(v.variant) << "," << (v.checked ? 1 : 0) << "," << v.seconds.median << "," << v.seconds.min
             << "," << v.seconds.max << "," << v.samplesPerSecond.median;
         for (const Spread& s : v.stageSeconds) out << "," << s.median;
         out << "," << v.closestHitRays << "," << v.shadowRays << "," << v.closestHitRaysPerSecond.median * 1e-6 << ","
@@ -521,8 +533,8 @@ int run_raycast_bench(const BenchOptions& o) {
     };
     const nlohmann::json none;
     for (const nlohmann::json& r : results) {
-      out << r["scene"].get<std::string>() << "," << r["rays"].get<std::string>() << "," << r["count"] << ","
-          << r["variant"].get<std::string>() << "," << (r["check_passed"].get<bool>() ? 1 : 0) << "," << r["mismatches"] << ","
+      out << csv_field(r["scene"].get<std::string>()) << "," << csv_field(r["rays"].get<std::string>()) << "," << r["count"] << ","
+          << csv_field(r["variant"].get<std::string>()) << "," << (r["check_passed"].get<bool>() ? 1 : 0) << "," << r["mismatches"] << ","
           << r["truncated"];
       for (const char* key : {"mrays_per_second", "embree_mrays_per_second", "ratio_to_embree"}) field(r.value(key, none));
       const nlohmann::json paired = r.value("ratio_to_embree_per_repeat", none);
@@ -720,7 +732,7 @@ int run_build_bench(const BenchOptions& o) {
            "greedy_mprims_per_second,greedy_sah_cost,clustered_seconds,clustered_mprims_per_second,clustered_sah_cost,"
            "embree_seconds,embree_mprims_per_second,ratio_to_embree\n";
     for (const nlohmann::json& r : results) {
-      out << r["scene"].get<std::string>() << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["wide_sah_cost"] << ","
+      out << csv_field(r["scene"].get<std::string>()) << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["wide_sah_cost"] << ","
           << r["seconds"]["median"] << "," << r["wide_seconds"]["median"] << "," << r["binary_seconds"]["median"] << ","
           << r["mprims_per_second"] << "," << r["greedy_seconds"]["median"] << "," << r["greedy_mprims_per_second"] << ","
           << r["greedy_sah_cost"];
