@@ -996,25 +996,22 @@ class Builder {
     int axis = -1;
     uint32_t split = 0;
     Box4 left, right;
-    if (count == 2 && depth < BVH_MAX_DEPTH - 33) {
-      // Two references: every axis splits them one from the other, at the
-      // same cost (the sum of their areas), so the sweep would take axis 0.
-      // A quarter of the nodes; the sweep and the partition cost them more
-      // than the rest of the node.
-      grow(left, 0, begin);
-      grow(right, 0, begin + 1);
-      best = left.sweep_area() + right.sweep_area();
-      // (Without a finite cost, as below: a leaf if allowed.)
-      if (best < WP_INF ? leaf_is_better(count, bounds, best) : count <= uint32_t(settings_.maxLeafSize)) return leaf();
-      const uint32_t children = allocate_pair(block);
-      nodes_[node].leftFirst = children;
-      nodes_[node].count = 0;
-      bottom_node(bt, children, begin, begin + 1, depth + 1, left, block);
-      bottom_node(bt, children + 1, begin + 1, end, depth + 1, right, block);
-      return;
-    }
     // Near the depth limit only halving splits (see build_node).
-    if (depth < BVH_MAX_DEPTH - 33) {
+    if (count == 2 && depth < BVH_MAX_DEPTH - 33) {
+      // Two references: every axis splits them one from the other at the
+      // same cost, the sum of their areas, so the sweep would take axis 0.
+      // With leaves of one primitive a fifth of all nodes are such pairs,
+      // and the sweep cost them more than the rest of the node.
+      Box4 first, second;
+      grow(first, 0, begin);
+      grow(second, 0, begin + 1);
+      best = first.sweep_area() + second.sweep_area();
+      if (best < WP_INF) {
+        if (leaf_is_better(count, bounds, best)) return leaf();
+        axis = 0;
+        split = begin + 1;
+      }
+    } else if (depth < BVH_MAX_DEPTH - 33) {
       // The three axes swept side by side: three independent chains of
       // min / max, which the core overlaps (one after another, each waited
       // on its own).
