@@ -88,6 +88,13 @@ check "build bench times the greedy collapse of every scene" $(
   [ "$(grep -c '"greedy_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath, 8-wide, greedy collapse" "$work/out"; echo $?)
 check "build bench times the clustered SAH build of every (binned-SAH) scene" $(
   [ "$(grep -c '"clustered_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath clustered SAH, 8-wide" "$work/out"; echo $?)
+check "build bench splits the renderer's build into the binary tree and the collapse" $(python3 -c '
+import json, sys
+rows = json.load(open(sys.argv[1]))["build"]
+def ok(r):
+    tree, collapse, wide = r["wide_binary_tree_seconds"], r["wide_collapse_seconds"], r["wide_seconds"]
+    return 0 < collapse["min"] and collapse["median"] < wide["median"] and 0 < tree["min"] and tree["median"] < wide["median"]
+sys.exit(0 if len(rows) == 2 and all(ok(r) for r in rows) else 1)' "$work/b.json"; echo $?)
 if [ $embree = 1 ]; then
   check "build bench reports the ratio to Embree" $(grep -q '"ratio_to_embree"' "$work/b.json" && grep -q "ratio wavepath / Embree" "$work/out"; echo $?)
   check "build bench times the scene with spheres without Embree" $(grep -q "triangle scenes only" "$work/out" &&
@@ -105,7 +112,8 @@ with open(sys.argv[2]) as f:
     table = list(csv.DictReader(f))
 same = len(table) == len(rows) and all(
     None not in t and float(t["greedy_sah_cost"]) == r["greedy_sah_cost"] and float(t["wide_sah_cost"]) == r["wide_sah_cost"]
-    and float(t["mprims_per_second"]) == r["mprims_per_second"] for t, r in zip(table, rows))
+    and float(t["mprims_per_second"]) == r["mprims_per_second"]
+    and float(t["wide_collapse_seconds"]) == r["wide_collapse_seconds"]["median"] for t, r in zip(table, rows))
 sys.exit(0 if same and all(len(t) == len(header) for t in table) else 1)' "$work/b.json" "$work/b.csv"; echo $?)
 "$wavepath" bench --build --raycast >"$work/out" 2>"$work/err"
 check "--build with --raycast: exit 2" $([ $? -eq 2 ]; echo $?)

@@ -557,6 +557,7 @@ namespace {
 // layout from the clustered SAH build (gpu-clustered).
 struct TimedBuild {
   double bounds = 0.0, wide = 0.0, binary = 0.0, greedy = 0.0, clustered = 0.0;
+  double collapse = 0.0;  // the part of `wide` that collapsed the binary tree (the rest built it)
   bool hasClustered = false;  // the scene asks for binned SAH, so the clustered build was timed too
   WideBvh wideBvh, greedyBvh, clusteredBvh;
   Bvh bvh;
@@ -580,6 +581,7 @@ TimedBuild time_build(const Scene& scene, const AcceleratorSettings& accel) {
   auto t4 = Clock::now();
   b.bounds = seconds(t0, t1);
   b.wide = seconds(t1, t2);
+  b.collapse = b.wideBvh.collapseSeconds;
   b.binary = seconds(t2, t3);
   b.greedy = seconds(t3, t4);
   if (accel.split == SplitMethod::Sah) {
@@ -640,7 +642,7 @@ int run_build_bench(const BenchOptions& o) {
     }
     // A warm-up round, then the timed ones, wavepath and Embree interleaved so
     // that a change in the machine's speed affects both alike.
-    std::vector<double> total, bounds, wide, binary, greedy, clustered, embreeSeconds;
+    std::vector<double> total, bounds, wide, binaryTree, collapse, binary, greedy, clustered, embreeSeconds;
     TimedBuild last;
     for (int r = 0; r <= o.repeats; ++r) {
       last = time_build(scene, accel);
@@ -649,6 +651,8 @@ int run_build_bench(const BenchOptions& o) {
       total.push_back(last.total());
       bounds.push_back(last.bounds);
       wide.push_back(last.wide);
+      binaryTree.push_back(last.wide - last.collapse);
+      collapse.push_back(last.collapse);
       binary.push_back(last.binary);
       greedy.push_back(last.greedyTotal());
       clustered.push_back(last.clusteredTotal());
@@ -676,6 +680,8 @@ int run_build_bench(const BenchOptions& o) {
     row("wavepath, 8-wide (the renderer's)", spread(total), double(primitives));
     row("  bounds", spread(bounds), 0.0);
     row("  binary tree collapsed to 8-wide", spread(wide), double(primitives));
+    row("    binary tree to single primitives", spread(binaryTree), 0.0);
+    row("    collapse", spread(collapse), 0.0);
     row("wavepath, binary layout alone", spread(binary), double(primitives));
     row("wavepath, 8-wide, greedy collapse", spread(greedy), double(primitives));
     const double greedyRate = double(primitives) / std::max(spread(greedy).median, 1e-12);
@@ -699,6 +705,8 @@ int run_build_bench(const BenchOptions& o) {
                         {"seconds", to_json(spread(total))},
                         {"bounds_seconds", to_json(spread(bounds))},
                         {"wide_seconds", to_json(spread(wide))},
+                        {"wide_binary_tree_seconds", to_json(spread(binaryTree))},
+                        {"wide_collapse_seconds", to_json(spread(collapse))},
                         {"binary_seconds", to_json(spread(binary))},
                         {"greedy_seconds", to_json(spread(greedy))},
                         {"greedy_mprims_per_second", greedyRate * 1e-6},
@@ -730,7 +738,7 @@ int run_build_bench(const BenchOptions& o) {
     std::ofstream out(o.csvPath);
     out << "scene,primitives,sah_cost,wide_sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,greedy_seconds,"
            "greedy_mprims_per_second,greedy_sah_cost,clustered_seconds,clustered_mprims_per_second,clustered_sah_cost,"
-           "embree_seconds,embree_mprims_per_second,ratio_to_embree\n";
+           "embree_seconds,embree_mprims_per_second,ratio_to_embree,wide_binary_tree_seconds,wide_collapse_seconds\n";
     for (const nlohmann::json& r : results) {
       out << csv_field(r["scene"].get<std::string>()) << "," << r["primitives"] << "," << r["sah_cost"] << "," << r["wide_sah_cost"] << ","
           << r["seconds"]["median"] << "," << r["wide_seconds"]["median"] << "," << r["binary_seconds"]["median"] << ","
@@ -744,7 +752,7 @@ int run_build_bench(const BenchOptions& o) {
         out << "," << r["embree_seconds"]["median"] << "," << r["embree_mprims_per_second"] << "," << r["ratio_to_embree"];
       else
         out << ",,,";
-      out << "\n";
+      out << "," << r["wide_binary_tree_seconds"]["median"] << "," << r["wide_collapse_seconds"]["median"] << "\n";
     }
     if (!out) throw InputError(o.csvPath + ": cannot write the results");
   }

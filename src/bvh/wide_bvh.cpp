@@ -1,6 +1,7 @@
 #include "bvh/wide_bvh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -624,6 +625,7 @@ namespace {
 WideBvh collapse(const BvhNode* nodes, size_t slotCount, const uint32_t* order, size_t primitives, const std::vector<uint8_t>& emits,
                  double sahCost, WideCollapse how, int maxLeafSize) {
   if (!emits.empty() && emits.size() != primitives) throw RenderError("internal error: emitter flags for a different set of primitives");
+  const auto start = std::chrono::steady_clock::now();
   WideBvh out;
   if (primitives == 0) {
     out.nodes.resize(1);  // a root without children: every ray misses
@@ -632,6 +634,7 @@ WideBvh collapse(const BvhNode* nodes, size_t slotCount, const uint32_t* order, 
     out = Collapser(nodes, slotCount, order, emits.empty() ? nullptr : emits.data(), how, uint32_t(std::max(maxLeafSize, 1))).run();
   }
   out.sahCost = sahCost;
+  out.collapseSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 
