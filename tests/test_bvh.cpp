@@ -16,6 +16,11 @@ namespace {
 
 using namespace shader;
 
+// The meta byte of a wide node's slot (0: empty).
+uint32_t slot_meta(const WideNode& node, int slot) {
+  return ((slot < 4 ? node.meta0123 : node.meta4567) >> (8 * (slot % 4))) & 0xffu;
+}
+
 // `stackSlots`, when not 0, overrides the traversal stack's size: more slots
 // than the wide walk keeps in registers make it use its indexed stack.
 void expect_matches_brute_force(const AcceleratorSettings& accel, int rayCount, BvhLayout layout, bool rotations = false,
@@ -158,7 +163,7 @@ TEST(Bvh, WideTreeIsWellFormed) {
     const WideNode& n = cs.wideNodes[k];
     uint32_t imask = n.exyzImask >> 24, interior = 0, bitsSeen = 0, prims = 0;
     for (int slot = 0; slot < 8; ++slot) {
-      uint32_t meta = ((slot < 4 ? n.meta0123 : n.meta4567) >> (8 * (slot % 4))) & 0xffu;
+      uint32_t meta = slot_meta(n, slot);
       if (meta == 0) {
         EXPECT_FALSE((imask >> slot) & 1u);
         continue;
@@ -449,7 +454,7 @@ int expect_valid_leaves(const WideBvh& wide, size_t primitives, int maxLeaf) {
   int leaves = 0;
   for (const WideNode& node : wide.nodes) {
     for (int slot = 0; slot < 8; ++slot) {
-      const uint32_t meta = ((slot < 4 ? node.meta0123 : node.meta4567) >> (8 * (slot % 4))) & 0xffu;
+      const uint32_t meta = slot_meta(node, slot);
       if (meta == 0 || ((node.exyzImask >> (24 + slot)) & 1u)) continue;  // empty or interior
       ++leaves;
       EXPECT_LE(__builtin_popcount(meta >> 5), maxLeaf);
@@ -550,7 +555,7 @@ TEST(Bvh, WideChildrenTakeTheSlotsOfTheOctantsTheyLieTowards) {
       std::vector<std::pair<int, Aabb>> children;  // slot, box
       Aabb all;
       for (int slot = 0; slot < 8; ++slot) {
-        if ((((slot < 4 ? node.meta0123 : node.meta4567) >> (8 * (slot % 4))) & 0xffu) == 0) continue;
+        if (slot_meta(node, slot) == 0) continue;
         children.emplace_back(slot, wide_child_box(node, slot));
         all.grow(children.back().second);
       }
@@ -630,7 +635,7 @@ TEST(Bvh, ShadowRaysEndOutsideTheBoxesOfTheEmittersTheyAimAt) {
     int inside = 0, emitterSlots = 0;
     for (const WideNode& node : wide.nodes) {
       for (int slot = 0; slot < 8; ++slot) {
-        const uint32_t meta = ((slot < 4 ? node.meta0123 : node.meta4567) >> (8 * (slot % 4))) & 0xffu;
+        const uint32_t meta = slot_meta(node, slot);
         if (meta == 0 || ((node.exyzImask >> (24 + slot)) & 1u)) continue;  // empty or interior
         const Aabb box = wide_child_box(node, slot);
         for (uint32_t bits = meta >> 5, k = 0; bits != 0; bits >>= 1, ++k) {

@@ -454,7 +454,8 @@ class Collapser {
   // bit 8 + 4 (j - 2): whether n stays whole, and the left child's roots.
   static constexpr uint32_t kMergeWins = 1u << 4;
   static_assert(WIDE_MAX_LEAF_SIZE < 16, "a plan holds a leaf's primitive count in four bits");
-  uint32_t mergeable(uint32_t n) const { return links_[n].plan & 15u; }
+  static uint32_t mergeable_of(uint32_t plan) { return plan & 15u; }
+  uint32_t mergeable(uint32_t n) const { return mergeable_of(links_[n].plan); }
   static int forest_shift(int j) { return 8 + 4 * (j - 2); }
   int left_roots_of_eight(uint32_t n) const { return int((links_[n].plan >> 5) & 7u); }
 
@@ -521,7 +522,7 @@ class Collapser {
         split[j] = better ? sum : split[j];
       }
     }
-    const uint32_t mergeLeft = left.plan & 15u, mergeRight = right.plan & 15u;
+    const uint32_t mergeLeft = mergeable_of(left.plan), mergeRight = mergeable_of(right.plan);
     const uint32_t prims = mergeLeft + mergeRight;
     const bool contiguous = mergeLeft != 0 && mergeRight != 0 && right.first == left.first + mergeLeft;
     uint32_t plan = contiguous && prims <= maxLeafSize_ ? prims : 0u;
