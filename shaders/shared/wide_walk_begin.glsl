@@ -18,7 +18,6 @@
   // s in slot s, and the walk takes the highest bit first, so bit 24 + (s ^
   // xorSlot) puts the child facing the ray's origin first.
   xorSlot = (negX ? 0u : 1u) | (negY ? 0u : 2u) | (negZ ? 0u : 4u);
-  WP_CLEAR_REGISTER_STACK(regs);
   sp = 0u;
   primGroupsSetAside = 0u;
   visit = 0u;

