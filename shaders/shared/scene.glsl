@@ -547,23 +547,20 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
   return texture_eval(tex, s.uv, s.p);
 }
 
-// A blend's amount: a texture's mean, or the Fresnel reflectance at the hit.
-float blend_amount(uint tex, SurfaceHit s, vec3 wo, bool front) {
-  Texture t = load_texture(tex);
-  if ((t.info.x & TEX_TYPE_MASK) == TEX_FRESNEL) {
-    float cosI = abs(dot(wo, s.ns));
-    return fresnel_dielectric(cosI, front ? t.color0.x : 1.0f / t.color0.x);
-  }
-  vec3 c = texture_eval(tex, s.uv, s.p);
-  return clamp((c.x + c.y + c.z) * (1.0f / 3.0f), 0.0f, 1.0f);
-}
-
-// The lobe a non-blend material contributes, with the given weight.
-void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, SurfaceHit s, float w) {
+// The lobe a non-blend material contributes, with its colour and weight.
+void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w) {
   b.lobeType[k] = m.info.x;
-  b.lobeColor[k] = SCENE_HAS(FEATURE_DIELECTRIC) && m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+  b.lobeColor[k] = color;
   b.lobeParam[k] = m.params.x;
   b.lobeWeight[k] = w;
+}
+
+// Whether a material's step of bsdf_at looks up no texture: the dielectric
+// is white, a light adds no lobe, and a Fresnel blend computes its amount.
+bool material_needs_no_texture(Material m) {
+  if (SCENE_HAS(FEATURE_DIELECTRIC) && m.info.x == MAT_DIELECTRIC) return true;
+  if (m.info.x == MAT_LIGHT) return true;
+  return m.info.x == MAT_BLEND && (load_texture(m.info.w).info.x & TEX_TYPE_MASK) == TEX_FRESNEL;
 }
 
 // The BSDF at s seen from wo: textures looked up, blends flattened into
@@ -583,11 +580,17 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   }
   Material m = load_material(s.material);
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter
-  if (!SCENE_HAS(FEATURE_BLEND) || m.info.x != MAT_BLEND) {  // the common case: one lobe
-    bsdf_set_lobe(b, 0u, m, s, 1.0f);
+  if (!SCENE_HAS(FEATURE_BLEND)) {  // one lobe
+    vec3 color = SCENE_HAS(FEATURE_DIELECTRIC) && m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+    bsdf_set_lobe(b, 0u, m, color, 1.0f);
     b.lobeCount = 1u;
     return b;
   }
+  // Scenes with blends take every material through the loop, a plain one in
+  // one step. Each step looks up one texture, a blend's amount or a lobe's
+  // colour, so one copy of texture_eval serves both: lavapipe runs every
+  // copy, masked, for every SIMD group, and a separate path for plain
+  // materials ran one more.
   uint stackMaterial[BSDF_MAX_LOBES];
   float stackWeight[BSDF_MAX_LOBES];
   stackMaterial[0] = s.material;
@@ -598,8 +601,14 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
     sp -= 1u;
     m = load_material(stackMaterial[sp]);
     float w = stackWeight[sp];
-    if (m.info.x == MAT_BLEND) {
-      float amount = blend_amount(m.info.w, s, wo, b.front);
+    bool blend = m.info.x == MAT_BLEND;
+    bool untextured = material_needs_no_texture(m);
+    vec3 color = untextured ? vec3(1.0f) : texture_eval(blend ? m.info.w : m.info.y, s.uv, s.p);
+    if (blend) {
+      // The amount: a texture's mean, or the Fresnel reflectance at the hit.
+      float ior = untextured ? load_texture(m.info.w).color0.x : 1.0f;
+      float amount = untextured ? fresnel_dielectric(abs(dot(wo, s.ns)), b.front ? ior : 1.0f / ior)
+                                : clamp((color.x + color.y + color.z) * (1.0f / 3.0f), 0.0f, 1.0f);
       if (sp + 2u <= BSDF_MAX_LOBES) {
         stackMaterial[sp] = m.children.y;
         stackWeight[sp] = w * amount;
@@ -610,7 +619,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
       continue;
     }
     if (m.info.x == MAT_LIGHT || w <= 0.0f || b.lobeCount >= BSDF_MAX_LOBES) continue;
-    bsdf_set_lobe(b, b.lobeCount, m, s, w);
+    bsdf_set_lobe(b, b.lobeCount, m, color, w);
     b.lobeCount += 1u;
     total += w;
   }
