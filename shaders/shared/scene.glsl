@@ -560,7 +560,7 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w) {
 bool material_needs_no_texture(Material m) {
   if (SCENE_HAS(FEATURE_DIELECTRIC) && m.info.x == MAT_DIELECTRIC) return true;
   if (m.info.x == MAT_LIGHT) return true;
-  return m.info.x == MAT_BLEND && (load_texture(m.info.w).info.x & TEX_TYPE_MASK) == TEX_FRESNEL;
+  return SCENE_HAS(FEATURE_BLEND) && m.info.x == MAT_BLEND && (load_texture(m.info.w).info.x & TEX_TYPE_MASK) == TEX_FRESNEL;
 }
 
 // The BSDF at s seen from wo: textures looked up, blends flattened into
@@ -581,7 +581,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   Material m = load_material(s.material);
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter
   if (!SCENE_HAS(FEATURE_BLEND)) {  // one lobe
-    vec3 color = SCENE_HAS(FEATURE_DIELECTRIC) && m.info.x == MAT_DIELECTRIC ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+    vec3 color = material_needs_no_texture(m) ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
     bsdf_set_lobe(b, 0u, m, color, 1.0f);
     b.lobeCount = 1u;
     return b;

@@ -432,8 +432,9 @@ class Builder {
   // Node slots are handed out in blocks, one block at a time to each chain of
   // build_node calls (the root's, and each spawned task's), so threads do not
   // contend for a shared counter at every node. Every chain leaves at most
-  // one partly used block: nodes_ has room for 2n nodes and one block more
-  // per chain. The unused slots are dropped by compact_nodes.
+  // one partly used block: nodes_ has room for 2n nodes after the first
+  // kFirstPair slots, and one block more per chain. The unused slots are
+  // dropped by compact_nodes.
   static constexpr uint32_t kNodeBlock = 32;
   // The first pair of children goes to slots 2 and 3 (slot 1 stays unused),
   // so that every pair of 32-byte siblings shares one 64-byte cache line:

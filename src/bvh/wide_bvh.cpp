@@ -469,6 +469,8 @@ class Collapser {
   static constexpr uint32_t kLeafLink = 1u << 31;
   bool is_leaf_link(uint32_t n) const { return (links_[n].link & kLeafLink) != 0; }
   WideChild leaf_child(uint32_t n) const { return WideChild{n, false, links_[n].link & ~kLeafLink, (links_[n].plan >> 8) & 15u}; }
+  // Interior node n as one leaf of its subtree's primitives (count 0 where it may not be one).
+  WideChild merged_leaf(uint32_t n) const { return WideChild{n, false, first_prim(n), mergeable(n)}; }
 
   // What solve returns for a subtree: cost(n, 1..7), n's plan and its first
   // primitive in the order. Only the parent reads a node's costs, so they
@@ -564,7 +566,7 @@ class Collapser {
     }
     // A child of a subtree that the SAH may merge into a leaf counts as one.
     auto may_be_leaf = [this](uint32_t c, uint32_t& first, uint32_t& count) {
-      const WideChild leaf = is_leaf_link(c) ? leaf_child(c) : WideChild{c, false, first_prim(c), mergeable(c)};
+      const WideChild leaf = is_leaf_link(c) ? leaf_child(c) : merged_leaf(c);
       first = leaf.first;
       count = leaf.count;
       return count != 0;
@@ -577,7 +579,7 @@ class Collapser {
     const bool forEmitter = !whole && emitters_.opening_widens(nodes_, nodes_[n], grid, may_be_leaf);
     if (whole || forEmitter) {
       const bool merged = !forEmitter && (link.plan & kMergeWins) != 0;
-      out[count++] = merged ? WideChild{n, false, first_prim(n), mergeable(n)} : WideChild{n, true, 0, 0};
+      out[count++] = merged ? merged_leaf(n) : WideChild{n, true, 0, 0};
       return;
     }
     forest(link.link, leftRoots, grid, out, count);
