@@ -100,6 +100,33 @@ TEST(Camera, ThinLensRaysMeetOnThePlaneInFocus) {
   }
 }
 
+
+// pixel_xy splits a pixel index without integer division (integrator.glsl):
+// exact for every width up to the 16384 limit, at every row boundary of the
+// tallest image, where a float quotient is most likely to land one row off.
+TEST(Camera, PixelIndexSplitsIntoColumnAndRowExactly) {
+  shader::SceneView view;
+  const uint32_t widths[] = {1, 2, 3, 5, 7, 15, 16, 17, 31, 33, 100, 333, 511, 512, 640,
+                             1023, 1024, 1920, 4095, 4097, 9999, 16383, 16384};
+  const uint32_t height = 16384;
+  uint64_t wrong = 0, checked = 0;
+  for (uint32_t width : widths) {
+    view.scene.image.x = width;
+    for (uint32_t row = 0; row < height; ++row) {
+      const uint64_t start = uint64_t(row) * width;
+      for (int64_t d = -2; d <= 2; ++d) {
+        const int64_t pixel = int64_t(start) + d;
+        if (pixel < 0 || pixel >= int64_t(uint64_t(width) * height)) continue;
+        const glm::uvec2 xy = view.pixel_xy(uint32_t(pixel));
+        ++checked;
+        if (xy.x != uint32_t(pixel) % width || xy.y != uint32_t(pixel) / width) {
+          if (++wrong <= 5) ADD_FAILURE() << "width " << width << ", pixel " << pixel << ": " << xy.x << ", " << xy.y;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0u) << "of " << checked;
+}
 TEST(CpuReference, TruncatedTraversalIsAnErrorNotAnImage) {
   RenderOptions o;
   o.traversalStepCap = 2;

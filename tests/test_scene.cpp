@@ -141,6 +141,12 @@ TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
   EXPECT_EQ(textures & (FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE), FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE);
   EXPECT_TRUE(features("tests/data/features/smooth-mesh.json") & FEATURE_SHADING_DATA);
   EXPECT_TRUE(features("tests/data/features/environment.json") & (FEATURE_ENVIRONMENT | FEATURE_IMAGE));
+  // The sampler counts too: the camera kernel compiles CMJ out for others.
+  EXPECT_TRUE(features("tests/data/features/camera.json") & FEATURE_CMJ);
+  EXPECT_FALSE(features("tests/data/features/materials.json") & FEATURE_CMJ);
+  RenderOptions independent;
+  independent.sampler = SamplerKind::Independent;
+  EXPECT_FALSE(compile_scene(load_scene(source_path("tests/data/features/camera.json")), independent).params.accel.y & FEATURE_CMJ);
 }
 
 // Every split method by its scene-file name (bvh.h).

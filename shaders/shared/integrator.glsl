@@ -13,6 +13,28 @@ uint path_depth(PathState p) {
   return p.flags & PATH_DEPTH_MASK;
 }
 
+// Pixel index `pixel` as its column and row, without integer division:
+// lavapipe divides a vector of integers one lane at a time, a scalar division
+// per lane. Images are at most 16384 x 16384 (the scene loader's and the
+// command line's limit), so the index is below 2^28 and its float is off by
+// at most 8: the float quotient is less than one row off for rows of 16
+// pixels or more, and narrower images have indices below 2^18, which floats
+// hold exactly (a division of a few ulps, as Vulkan allows, adds under 0.01).
+// One step either way then makes the row exact (Camera tests).
+uvec2 pixel_xy(uint pixel) {
+  uint width = scene.image.x;
+  uint y = uint(float(pixel) / float(width));
+  int x = int(pixel) - int(y * width);
+  if (x < 0) {
+    y -= 1u;
+    x += int(width);
+  } else if (x >= int(width)) {
+    y += 1u;
+    x -= int(width);
+  }
+  return uvec2(uint(x), y);
+}
+
 // Camera ray for `pixel`, with pixel jitter and (aperture > 0) thin-lens sampling.
 void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   uint width = scene.image.x;
@@ -20,15 +42,18 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.rng = rng_seed(pixel, sampleIndex, scene.counts.y);
   vec2 jitter = vec2(rng_next(p.rng), rng_next(p.rng));
   vec2 lensU = vec2(rng_next(p.rng), rng_next(p.rng));
-  if (scene.mode.y == SAMPLER_CMJ && sampleIndex < scene.mode.z) {
+  // SCENE_HAS: compiled out of the kernels for other samplers, since its
+  // integer divisions cost every camera ray even where not taken.
+  if (SCENE_HAS(FEATURE_CMJ) && scene.mode.y == SAMPLER_CMJ && sampleIndex < scene.mode.z) {
     // The camera's dimensions (pixel area, lens) from per-pixel CMJ patterns;
     // later bounces stay independent.
     uint pattern = pcg_hash(pixel ^ pcg_hash(scene.counts.y));
     jitter = cmj_sample(sampleIndex, scene.mode.z, pattern);
     lensU = cmj_sample(sampleIndex, scene.mode.z, pcg_hash(pattern));
   }
-  float fx = (float(pixel % width) + jitter.x) / float(width);
-  float fy = (float(pixel / width) + jitter.y) / float(height);
+  uvec2 xy = pixel_xy(pixel);
+  float fx = (float(xy.x) + jitter.x) / float(width);
+  float fy = (float(xy.y) + jitter.y) / float(height);
   float tanHalf = scene.camLens.x;
   vec3 dirCam = vec3((2.0f * fx - 1.0f) * tanHalf * scene.camLens.y, (1.0f - 2.0f * fy) * tanHalf, -1.0f);
   vec3 originCam = vec3(0.0f);
@@ -49,9 +74,8 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
 // 1, except where `wavepath compare --plant-bias` or a test plants a bias to
 // show that the statistical comparison detects it.
 float planted_bias(uint pixel) {
-  uint x = pixel % scene.image.x;
-  uint y = pixel / scene.image.x;
-  bool inside = x >= scene.debugRegion.x && x < scene.debugRegion.z && y >= scene.debugRegion.y && y < scene.debugRegion.w;
+  uvec2 xy = pixel_xy(pixel);
+  bool inside = xy.x >= scene.debugRegion.x && xy.x < scene.debugRegion.z && xy.y >= scene.debugRegion.y && xy.y < scene.debugRegion.w;
   return inside ? scene.debug.x : 1.0f;
 }
 

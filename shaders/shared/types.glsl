@@ -260,7 +260,8 @@ struct SceneParams {
 #define FEATURE_POINT_LIGHTS 0x400u
 #define FEATURE_SPHERE_LIGHTS 0x800u
 #define FEATURE_ENVIRONMENT 0x1000u
-#define FEATURE_ALL 0x1fffu
+#define FEATURE_CMJ 0x2000u        // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
+#define FEATURE_ALL 0x3fffu
 
 // Most next-event-estimation samples per path vertex (CS184's -l).
 #define MAX_LIGHT_SAMPLES 8u
