@@ -24,7 +24,11 @@ void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint 
 void trace_item_done(uint item, uint path, Hit h, bool truncated) {
   if (truncated || h.prim != WP_INVALID) return;
   vec3 contribution = texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2));
-  paths[path].radiance += contribution;
+  // The path's radiance through its view: shade wrote it in an earlier
+  // dispatch, and no other shadow ray of this one is the path's.
+  uint at = path * PATH_STATE_TEXELS + 3u;
+  vec3 radiance = texel_xyz(texelFetch(pathTexels, int(at))) + contribution;
+  pathTexelsOut[at].xyz = floatBitsToUint(radiance);
 }
 
 #include "shared/trace_items.glsl"

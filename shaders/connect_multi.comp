@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_EXT_shader_atomic_float : require
+#define WP_PATH_RADIANCE_ATOMICS  // paths as PathState (bindings.glsl)
 #include "shared/kernel.glsl"
 
 #define TRACE_ANY_HIT true

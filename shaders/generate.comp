@@ -10,6 +10,6 @@ void main() {
   if (i >= pc.pathCount) return;
   PathState p;
   path_begin(p, wave_pixel(i), pc.sampleIndex);
-  paths[i] = p;
+  write_path(i, p);
   queues[i] = i;
 }

@@ -37,12 +37,12 @@ void main() {
   uint queueSlot = kCompaction ? append_slot(COUNTER_QUEUE0 + queueOut, alive) : 0u;
   uint shadowSlots[LIGHT_SAMPLE_SLOTS];
   for (uint j = 0u; j < kLightSamples; ++j) shadowSlots[j] = append_slot(COUNTER_SHADOW, srs.ray[j].tmax > 0.0f);
-  paths[path] = p;
+  write_path(path, p);
   if (kCompaction && alive) queues[queueOut * pc.capacity + queueSlot] = path;
   for (uint j = 0u; j < kLightSamples; ++j) {
     if (srs.ray[j].tmax > 0.0f) {
       srs.ray[j].path = path;
-      shadowRays[shadowSlots[j]] = srs.ray[j];
+      write_shadow_ray(shadowSlots[j], srs.ray[j]);
     }
   }
 }

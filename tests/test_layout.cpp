@@ -64,12 +64,11 @@ std::vector<Expected> expected_layouts() {
       {"PathState", sizeof(PathState),
        {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
         FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf)}},
-      // Hit is no buffer member: the kernels store it as one uvec4 (write_hit
-      // in kernel.glsl), which the ray-casting and texture-probe tests of
-      // test_gpu.cpp read back field by field.
-      {"ShadowRay", sizeof(ShadowRay),
-       {FIELD(ShadowRay, origin), FIELD(ShadowRay, tmax), FIELD(ShadowRay, dir), FIELD(ShadowRay, path),
-        FIELD(ShadowRay, contribution), FIELD(ShadowRay, pad)}},
+      // Hit and ShadowRay are no buffer members: the kernels store them as
+      // whole uvec4 texels (write_hit, write_shadow_ray in kernel.glsl) and
+      // read them through texel views; the ray-casting and texture-probe
+      // tests of test_gpu.cpp write shadow rays on the host and read hits
+      // back field by field. (PathState is one, in connect_multi.)
       {"PixelAccum", sizeof(PixelAccum), {FIELD(PixelAccum, sum), FIELD(PixelAccum, sumSq)}},
       {"KernelPush", sizeof(KernelPush),
        {FIELD(KernelPush, waveStart), FIELD(KernelPush, pathCount), FIELD(KernelPush, sampleIndex), FIELD(KernelPush, queueIn),

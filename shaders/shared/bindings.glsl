@@ -92,13 +92,19 @@ layout(set = 0, binding = BINDING_PATH_TEXELS) uniform usamplerBuffer pathTexels
 layout(set = 0, binding = BINDING_HIT_TEXELS) uniform usamplerBuffer hitTexels;
 layout(set = 0, binding = BINDING_SHADOW_RAY_TEXELS) uniform usamplerBuffer shadowRayTexels;
 layout(set = 0, binding = BINDING_QUEUE_TEXELS) uniform usamplerBuffer queueTexels;
+// Paths, hits and shadow rays are written as whole 16-byte texels
+// (write_path, write_hit, write_shadow_ray in kernel.glsl): lavapipe stores
+// to a per-lane address in a loop over the lanes, one loop per store, so one
+// 16-byte store beats a store per field. Only connect_multi sees paths as
+// PathState, for its float atomics on the radiance.
+#ifdef WP_PATH_RADIANCE_ATOMICS
 layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
-// Hits are written whole (write_hit in kernel.glsl): lavapipe stores to a
-// per-lane address in a loop over the lanes, one loop per store, so one
-// 16-byte store beats four 4-byte ones.
+#else
+layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { uvec4 pathTexelsOut[]; };
+#endif
 layout(std430, set = 0, binding = BINDING_HITS) writeonly buffer HitBuffer { uvec4 hitRecords[]; };
 layout(std430, set = 0, binding = BINDING_QUEUES) buffer QueueBuffer { uint queues[]; };
-layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { ShadowRay shadowRays[]; };
+layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { uvec4 shadowRayTexelsOut[]; };
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };

@@ -120,8 +120,27 @@ uint read_queue(uint q, uint i) {
   return texelFetch(queueTexels, int(q * pc.capacity + i)).x;
 }
 
+// Work-buffer records written as whole texels (bindings.glsl), in the layout
+// the read_* functions read.
 void write_hit(uint i, Hit h) {
   hitRecords[i * HIT_TEXELS] = uvec4(floatBitsToUint(h.t), h.prim, floatBitsToUint(h.u), floatBitsToUint(h.v));
+}
+
+#ifndef WP_PATH_RADIANCE_ATOMICS
+void write_path(uint i, PathState p) {
+  uint at = i * PATH_STATE_TEXELS;
+  pathTexelsOut[at] = uvec4(floatBitsToUint(p.origin), p.pixel);
+  pathTexelsOut[at + 1u] = uvec4(floatBitsToUint(p.dir), p.rng);
+  pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(p.throughput), p.flags);
+  pathTexelsOut[at + 3u] = uvec4(floatBitsToUint(p.radiance), floatBitsToUint(p.bsdfPdf));
+}
+#endif
+
+void write_shadow_ray(uint i, ShadowRay r) {
+  uint at = i * SHADOW_RAY_TEXELS;
+  shadowRayTexelsOut[at] = uvec4(floatBitsToUint(r.origin), floatBitsToUint(r.tmax));
+  shadowRayTexelsOut[at + 1u] = uvec4(floatBitsToUint(r.dir), r.path);
+  shadowRayTexelsOut[at + 2u] = uvec4(floatBitsToUint(r.contribution), r.pad);
 }
 
 ShadowRay read_shadow_ray(uint i) {
