@@ -81,7 +81,9 @@ void trace_items() {
   // dispatch rounds down). A subgroup cut short by the workgroup's size has
   // fewer lanes to share the same entries.
   const uint present = subgroupBallotBitCount(subgroupBallot(true));
-  uint cap = scene.counts.z / ((rows * lanes + present - 1u) / present + 1u);
+  // Both loops below count against the budget, the outer at most once per
+  // pass of the inner: hence the 2.
+  uint cap = scene.counts.z / (2u * ((rows * lanes + present - 1u) / present + 1u));
   const bool anyHit = TRACE_ANY_HIT;
   vec3 o;
   vec3 d;
@@ -105,13 +107,23 @@ void trace_items() {
       steps = 0u;
       needRay = false;
     }
-    steps += 1u;
-    bool truncated = steps > cap;
-    bool walkDone = false;
-    if (!truncated) {
+    // Walk until a lane's ray is done. lavapipe runs the ray start above
+    // and the result's store below, masked, in every pass of the loop around
+    // them, whether or not a lane needs them; in this inner loop they run
+    // once per pass in which some lane finished, not once per step.
+    bool truncated = false;
+    bool finished = false;
+    while (true) {
+      steps += 1u;
+      truncated = steps > cap;
+      bool walkDone = false;
+      if (!truncated) {
 #include "wide_walk_step.glsl"
+      }
+      finished = walkDone || truncated;
+      if (subgroupBallot(finished) != uvec4(0u)) break;
     }
-    if (walkDone || truncated) {
+    if (finished) {
       finish_item(item, tag, hit, truncated);
       needRay = true;
     }
