@@ -20,7 +20,8 @@ uint path_depth(PathState p) {
 // at most 8: the float quotient is less than one row off for rows of 16
 // pixels or more, and narrower images have indices below 2^18, which floats
 // hold exactly (a division of a few ulps, as Vulkan allows, adds under 0.01).
-// One step either way then makes the row exact (Camera tests).
+// One step either way then makes the row exact
+// (Camera.PixelIndexSplitsIntoColumnAndRowExactly).
 uvec2 pixel_xy(uint pixel) {
   uint width = scene.image.x;
   uint y = uint(float(pixel) / float(width));

@@ -5,9 +5,10 @@
 // until its slowest lane is done: with one ray per invocation, incoherent
 // bounce rays kept fewer than half of the lanes busy. So with the wide BVH
 // the lanes of a subgroup (the SIMD group) share about kRaysPerInvocation
-// items each and walk them in one loop: a lane whose ray is done takes the
-// subgroup's next item in the next iteration (subgroupBallot hands them out
-// in lane order). The host asks for one ray per invocation on GPUs, and
+// items each: a lane whose ray is done takes the subgroup's next item as
+// soon as the subgroup leaves the inner walking loop, at the end of the pass
+// in which some lane finished (subgroupBallot hands items out in lane
+// order). The host asks for one ray per invocation on GPUs, and
 // where it knows the rays are coherent (the ray-casting benchmark's camera
 // rays and the shadow rays from their hits: their lanes finish together
 // anyway).
