@@ -101,6 +101,31 @@ TEST(Camera, ThinLensRaysMeetOnThePlaneInFocus) {
 }
 
 
+// div_mod divides without integer division (integrator.glsl): exact at and
+// around every multiple of divisors small and large, up to its limit of
+// quotients below 2^21.
+TEST(DivMod, ExactWithoutIntegerDivision) {
+  shader::SceneView view;
+  const uint32_t divisors[] = {1, 2, 3, 7, 10, 63, 64, 65, 255, 511, 1000, 4093, 16384, 65521, 262139, 1u << 20, 511u << 20};
+  uint64_t wrong = 0, checked = 0;
+  for (uint32_t b : divisors) {
+    const uint64_t limit = std::min<uint64_t>(uint64_t(b) << 21, 1ull << 30);  // a below both bounds
+    // Every multiple for the small quotients, then a geometric walk up to the limit.
+    for (uint64_t q = 0; q * b < limit; q = q < 4096 ? q + 1 : q + q / 64) {
+      for (int64_t d = -2; d <= 2; ++d) {
+        const int64_t a = int64_t(q * b) + d;
+        if (a < 0 || uint64_t(a) >= limit) continue;
+        const glm::uvec2 qr = view.div_mod(uint32_t(a), b);
+        ++checked;
+        if (qr.x != uint64_t(a) / b || qr.y != uint64_t(a) % b) {
+          if (++wrong <= 5) ADD_FAILURE() << a << " / " << b << ": " << qr.x << " rest " << qr.y;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0u) << "of " << checked;
+}
+
 // pixel_xy splits a pixel index without integer division (integrator.glsl):
 // exact for every width up to the 16384 limit, at every row boundary of the
 // tallest image, where a float quotient is most likely to land one row off.

@@ -13,27 +13,30 @@ uint path_depth(PathState p) {
   return p.flags & PATH_DEPTH_MASK;
 }
 
-// Pixel index `pixel` as its column and row, without integer division:
-// lavapipe divides a vector of integers one lane at a time, a scalar division
-// per lane. Images are at most 16384 x 16384 (the scene loader's and the
-// command line's limit), so the index is below 2^28 and its float is off by
-// at most 8: the float quotient is less than one row off for rows of 16
-// pixels or more, and narrower images have indices below 2^18, which floats
-// hold exactly (a division of a few ulps, as Vulkan allows, adds under 0.01).
-// One step either way then makes the row exact
-// (Camera.PixelIndexSplitsIntoColumnAndRowExactly).
-uvec2 pixel_xy(uint pixel) {
-  uint width = scene.image.x;
-  uint y = uint(float(pixel) / float(width));
-  int x = int(pixel) - int(y * width);
-  if (x < 0) {
-    y -= 1u;
-    x += int(width);
-  } else if (x >= int(width)) {
-    y += 1u;
-    x -= int(width);
+// a / b (x) and a % b (y) without integer division, for a and b below 2^30
+// (b > 0) and a quotient below 2^21: lavapipe divides a vector of integers
+// one lane at a time, a scalar division per lane. float(a) and a division
+// of up to 2.5 ulps (as Vulkan allows) err by at most 6 parts in 2^24 of the
+// quotient, so the float quotient is less than one off the true one, and one
+// step either way makes it exact (DivMod and Camera tests).
+uvec2 div_mod(uint a, uint b) {
+  uint q = uint(float(a) / float(b));
+  int r = int(a) - int(q * b);
+  if (r < 0) {
+    q -= 1u;
+    r += int(b);
+  } else if (r >= int(b)) {
+    q += 1u;
+    r -= int(b);
   }
-  return uvec2(uint(x), y);
+  return uvec2(q, uint(r));
+}
+
+// Pixel index `pixel` as its column and row. Images are at most 16384 x 16384
+// (the scene loader's and the command line's limit): quotients below 2^14.
+uvec2 pixel_xy(uint pixel) {
+  uvec2 qr = div_mod(pixel, scene.image.x);
+  return uvec2(qr.y, qr.x);
 }
 
 // Camera ray for `pixel`, with pixel jitter and (aperture > 0) thin-lens sampling.

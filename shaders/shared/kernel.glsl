@@ -80,8 +80,8 @@ uint dispatch_item(uint count) {
   if (kWorkgroupInterleave == 1u) return gl_GlobalInvocationID.x;
   uint groups = (count + kWorkgroupSize - 1u) / kWorkgroupSize;
   uint rows = (groups + kWorkgroupInterleave - 1u) / kWorkgroupInterleave;
-  uint w = gl_WorkGroupID.x;
-  uint group = (w % rows) * kWorkgroupInterleave + w / rows;
+  uvec2 wr = div_mod(gl_WorkGroupID.x, rows);  // workgroup ids are below 2^16
+  uint group = wr.y * kWorkgroupInterleave + wr.x;
   return group * kWorkgroupSize + gl_LocalInvocationID.x;
 }
 
