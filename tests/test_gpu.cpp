@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <memory>
+#include <tuple>
 
 #include "gpu/wavefront.h"
 #include "stats/compare.h"
@@ -245,6 +246,42 @@ TEST_F(Gpu, DeepTraversalWithinTheBudgetIsExact) {
       ASSERT_NE(truth[i], WP_INF);
       ASSERT_NE(hits[i].prim, WP_INVALID) << "ray " << i << ": the traversal stopped before the target";
       EXPECT_NEAR(hits[i].t, truth[i], 1e-5f * truth[i]);
+    }
+  }
+}
+
+// Several rays per invocation (trace_items.glsl) share lavapipe's budget,
+// which both of its loops count. A workgroup of 64 invocations over 1,024
+// rays: 16 to a lane, a share of (60,000 - 129) / 17 = 3,521 steps each.
+// Rays just under it must come back exact from the multi-ray kernel itself,
+// neither cut short silently nor redone one ray per invocation; rays over
+// it (16 of them would overrun the budget) must be caught and redone.
+TEST_F(Gpu, SeveralRaysPerInvocationShareTheBudgetExactly) {
+  for (auto [lo, hi, fit] : {std::tuple<uint32_t, uint32_t, bool>{3000, 3400, true}, {4300, 4800, false}}) {
+    SliverCase c = sliver_stack_taking(lo, hi, BvhLayout::Wide);
+    ASSERT_GT(c.steps, 0u) << "no sliver stack takes between " << lo << " and " << hi << " steps";
+    std::vector<ShadowRay> distinct = down_the_stack();
+    std::vector<float> truth = brute_force_closest(c.scene, distinct);
+    std::vector<ShadowRay> rays;
+    for (int copy = 0; copy < 16; ++copy) rays.insert(rays.end(), distinct.begin(), distinct.end());
+    // Rays per dispatch are at most the renderer's paths, one per pixel: all
+    // 1,024 in one dispatch.
+    Scene scene = c.scene;
+    scene.camera.width = scene.camera.height = 32;
+    RenderOptions wide;
+    wide.bvhLayout = BvhLayout::Wide;
+    WavefrontRenderer renderer(*ctx_, compile_scene(scene, wide), kernel_variant("gpu-multiray").settings);
+    uint64_t truncated = 0;
+    std::vector<Hit> hits = renderer.cast_rays(rays, &truncated);
+    EXPECT_EQ(truncated, 0u) << c.steps << " steps";
+    if (fit) {
+      EXPECT_EQ(renderer.one_ray_reruns(), 0u) << c.steps << " steps: a ray outran its share, which is mis-counted";
+    } else {
+      EXPECT_GT(renderer.one_ray_reruns(), 0u) << c.steps << " steps: no ray outran its share, which is mis-counted";
+    }
+    for (size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_NE(hits[i].prim, WP_INVALID) << c.steps << " steps, ray " << i << ": the traversal stopped before the target";
+      EXPECT_NEAR(hits[i].t, truth[i % distinct.size()], 1e-5f * truth[i % distinct.size()]);
     }
   }
 }

@@ -81,10 +81,13 @@ void trace_items() {
   // present, rows + 1 (rows is kRaysPerInvocation, or one more where the
   // dispatch rounds down). A subgroup cut short by the workgroup's size has
   // fewer lanes to share the same entries.
+  // Both loops below count against the budget. Every pass of the outer loop
+  // but the last ends with a lane finishing a ray, so it makes at most
+  // rows * lanes + 1 passes (the subgroup's entries), which are set aside;
+  // the inner loop's passes are bounded by the rays' caps as above.
   const uint present = subgroupBallotBitCount(subgroupBallot(true));
-  // Both loops below count against the budget, the outer at most once per
-  // pass of the inner: hence the 2.
-  uint cap = scene.counts.z / (2u * ((rows * lanes + present - 1u) / present + 1u));
+  const uint outerPasses = min(rows * lanes + 1u, scene.counts.z);
+  uint cap = (scene.counts.z - outerPasses) / ((rows * lanes + present - 1u) / present + 1u);
   const bool anyHit = TRACE_ANY_HIT;
   vec3 o;
   vec3 d;

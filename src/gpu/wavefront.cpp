@@ -151,6 +151,7 @@ struct WavefrontRenderer::Impl {
   bool timestamps = false;
   double timestampPeriodNs = 1.0;
   StageTimes times;
+  uint64_t oneRayReruns = 0;  // one_ray_reruns()
 
   using Stage = StageTimes::Stage;
 
@@ -606,6 +607,7 @@ struct WavefrontRenderer::Impl {
       // A ray past its share of the loop budget (trace_items.glsl): the same
       // samples again, one ray per invocation from now on.
       if (static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED] > 0 && tracingRays > 1) {
+        ++oneRayReruns;
         tracingRays = 1;
         create_tracing_pipelines();
         continue;
@@ -691,7 +693,10 @@ struct WavefrontRenderer::Impl {
       std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, n * sizeof(shader::ShadowRay));
       uint32_t chunkLost = run_chunk(kernel, n, perInvocation);
       // A ray past its share of the loop budget: the chunk again, one ray per invocation.
-      if (chunkLost > 0 && perInvocation > 1) chunkLost = run_chunk(*single, n, 1);
+      if (chunkLost > 0 && perInvocation > 1) {
+        ++oneRayReruns;
+        chunkLost = run_chunk(*single, n, 1);
+      }
       std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
       lost += chunkLost;
     }
@@ -733,6 +738,10 @@ ImageStats WavefrontRenderer::render(Progress& progress) {
 
 const StageTimes& WavefrontRenderer::stage_times() const {
   return impl_->times;
+}
+
+uint64_t WavefrontRenderer::one_ray_reruns() const {
+  return impl_->oneRayReruns;
 }
 
 std::vector<shader::Hit> WavefrontRenderer::cast_shadow_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,

@@ -88,6 +88,12 @@ class WavefrontRenderer {
   ImageStats render(Progress& progress);
   // Per-stage GPU time of the last render (zero where the device has no timestamps).
   const StageTimes& stage_times() const;
+  // How often work was done again one ray per invocation because a ray
+  // outran its share of lavapipe's loop budget in a tracing kernel taking
+  // several (trace_items.glsl): ray chunks of cast_rays and
+  // cast_shadow_rays, and submissions of render (after which the renderer
+  // keeps one ray per invocation). 0 where every ray fit its share.
+  uint64_t one_ray_reruns() const;
   // Closest hits of arbitrary rays, no shading (BVH tests, traversal benchmarks).
   // Each ray is origin, dir and tmax of a ShadowRay. Truncated traversals are
   // counted in *truncated (if given) and reported as misses. *kernelSeconds
