@@ -37,6 +37,9 @@ constexpr float kIntersectCost = 1.0f;
 // per triangle (63.5; 1.5 would cost 65.4).
 constexpr float kLeafIntersectCost = 1.25f;
 
+static_assert(offsetof(shader::BvhNode, leftFirst) == 12 && offsetof(shader::BvhNode, bmax) == 16 &&
+                  offsetof(shader::BvhNode, count) == 28,
+              "Box4::store_box writes a node's bounds as two 16-byte halves");
 static_assert(sizeof(Aabb) == 24 && offsetof(Aabb, hi) == 12, "F4::load reads an Aabb as six packed floats");
 
 // Four floats with the few operations the builder needs: SSE on x86-64, plain
@@ -126,6 +129,14 @@ struct Box4 {
     float d[4];
     (hi - lo).store(d);
     return d[0] > 0.0f ? d[0] * d[1] + d[1] * d[2] + d[2] * d[0] : 0.0f;  // empty: lo > hi
+  }
+  // Writes the box to a node's bmin and bmax in two 16-byte stores, which
+  // clobber leftFirst and count: the caller writes those afterwards. (Going
+  // through an Aabb, the compiler's 8-byte copies straddled its 16-byte
+  // stores, which the core cannot forward: a stall at every node.)
+  void store_box(shader::BvhNode& n) const {
+    lo.store(&n.bmin.x);
+    hi.store(&n.bmax.x);
   }
   // half_area of a box known not to be empty, in registers: the SAH sweeps'
   // inner loops.
@@ -608,9 +619,7 @@ class Builder {
         return build_top(r, tasks, block);
       }
     }
-    Aabb box = t.bounds.aabb();
-    nodes_[t.node].bmin = box.lo;
-    nodes_[t.node].bmax = box.hi;
+    t.bounds.store_box(nodes_[t.node]);
     ClusterTask l{0, 0, 0, 0, 0, t.depth + 1, t.scratch, t.items, {}, {}}, r = l;
     if (t.prims <= kBottomMax || items == 1 || t.depth >= BVH_MAX_DEPTH - 33 || !cluster_split(t, l, r))
       return hand_off(t, tasks, block);
@@ -861,9 +870,7 @@ class Builder {
   }
 
   void build_node(Task t, tbb::task_group& tasks, NodeBlock& block) {
-    Aabb box = t.bounds.aabb();
-    nodes_[t.node].bmin = box.lo;
-    nodes_[t.node].bmax = box.hi;
+    t.bounds.store_box(nodes_[t.node]);
     const uint32_t count = t.end - t.begin;
     const uint32_t maxLeaf = uint32_t(settings_.maxLeafSize);
     if (count == 1) return make_leaf(t);
@@ -982,9 +989,7 @@ class Builder {
   // The node at `node` over positions [begin, end) of bt's orders.
   void bottom_node(Bottom& bt, uint32_t node, uint32_t begin, uint32_t end, int depth, const Box4& bounds,
                    NodeBlock& block) {
-    const Aabb box = bounds.aabb();
-    nodes_[node].bmin = box.lo;
-    nodes_[node].bmax = box.hi;
+    bounds.store_box(nodes_[node]);
     const uint32_t count = end - begin;
     auto leaf = [&] {
       nodes_[node].leftFirst = bt.first + begin;
