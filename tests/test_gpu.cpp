@@ -551,7 +551,7 @@ TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
       {"materials.json", IntegratorKind::PathMixture, "the same, path tracer mixture"},
       {"materials.json", IntegratorKind::Normals, "normals"},
       {"materials.json", IntegratorKind::AmbientOcclusion, "ambient occlusion"},
-      {"textures.json", std::nullopt, "image, marble and nested checker textures, uv and solid mappings"},
+      {"textures.json", std::nullopt, "image, marble and nested checker textures, uv and solid mappings, a checker-textured lamp"},
       {"smooth-mesh.json", std::nullopt, "OBJ with vertex normals and UVs (smooth shading)"},
       {"integrators.json", IntegratorKind::PathMixture, "mixture with rough metal, phong, quad and sphere lights"},
       {"integrators.json", IntegratorKind::PathMats, "mats with rough metal, phong, quad and sphere lights"},

@@ -139,6 +139,10 @@ TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
   EXPECT_TRUE(materials & FEATURE_SHADING_DATA);  // quads carry planar UVs
   uint32_t textures = features("tests/data/features/textures.json");
   EXPECT_EQ(textures & (FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE), FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE);
+  // Emission: a checker-textured lamp there; in materials.json checkers, but
+  // every light one colour.
+  EXPECT_TRUE(textures & FEATURE_EMISSION_TEXTURES);
+  EXPECT_FALSE(materials & FEATURE_EMISSION_TEXTURES);
   EXPECT_TRUE(features("tests/data/features/smooth-mesh.json") & FEATURE_SHADING_DATA);
   EXPECT_TRUE(features("tests/data/features/environment.json") & (FEATURE_ENVIRONMENT | FEATURE_IMAGE));
   // The sampler counts too: the camera kernel compiles CMJ out for others.

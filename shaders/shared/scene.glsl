@@ -540,10 +540,18 @@ vec3 texture_eval(uint index, vec2 uv, vec3 p) {
 
 // ---- materials ---------------------------------------------------------------
 
-// Radiance the surface emits towards wo (front side only).
+// Radiance the surface emits towards wo (front side only). Emission is
+// nearly always one colour: a scene without FEATURE_EMISSION_TEXTURES reads
+// it and spares its kernels the copies of texture_eval that shade inlines
+// here (the hit's and each light sample's), which lavapipe would run for
+// every path.
 vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
   uint tex = load_material(s.material).info.z;
   if (tex == WP_INVALID || dot(s.ng, wo) <= 0.0f) return vec3(0.0f);
+  if (!SCENE_HAS(FEATURE_EMISSION_TEXTURES)) {
+    vec4 c = load_texture(tex).color0;
+    return vec3(c.x, c.y, c.z);
+  }
   return texture_eval(tex, s.uv, s.p);
 }
 

@@ -261,7 +261,8 @@ struct SceneParams {
 #define FEATURE_SPHERE_LIGHTS 0x800u
 #define FEATURE_ENVIRONMENT 0x1000u
 #define FEATURE_CMJ 0x2000u        // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
-#define FEATURE_ALL 0x3fffu
+#define FEATURE_EMISSION_TEXTURES 0x4000u  // an emitting material whose radiance is not one constant colour
+#define FEATURE_ALL 0x7fffu
 
 // Most next-event-estimation samples per path vertex (CS184's -l).
 #define MAX_LIGHT_SAMPLES 8u

@@ -53,6 +53,7 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
 uint32_t scene_features(const CompiledScene& cs, const std::vector<uint32_t>& emitters, bool spheres, bool environment) {
   uint32_t f = spheres ? FEATURE_SPHERES : 0u;
   for (const shader::Material& m : cs.materials) {
+    if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) f |= FEATURE_EMISSION_TEXTURES;
     switch (m.info.x) {
       case MAT_BLEND: f |= FEATURE_BLEND; break;
       case MAT_METAL: f |= FEATURE_METAL; break;
