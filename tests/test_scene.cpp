@@ -151,6 +151,13 @@ TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
   RenderOptions independent;
   independent.sampler = SamplerKind::Independent;
   EXPECT_FALSE(compile_scene(load_scene(source_path("tests/data/features/camera.json")), independent).params.accel.y & FEATURE_CMJ);
+  // So does CS184's -H, whose sampling is otherwise compiled out (and the
+  // BSDF's, unbiased too, would take its place unnoticed by comparisons).
+  RenderOptions hemisphere;
+  hemisphere.integrator = IntegratorKind::PathHemisphere;
+  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/integrators.json")), hemisphere).params.accel.y &
+              FEATURE_UNIFORM_HEMISPHERE);
+  EXPECT_FALSE(features("tests/data/features/integrators.json") & FEATURE_UNIFORM_HEMISPHERE);
 }
 
 // Every split method by its scene-file name (bvh.h).

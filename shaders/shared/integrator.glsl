@@ -213,7 +213,8 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (!sample_emitter(s.p, vec3(uBsdf.x, uBsdf.y, uBsdf.z), ls) || ls.isDelta != 0u) return false;
     wi = ls.wi;
     isDelta = false;
-  } else if ((scene.counts.w & SCENE_FLAG_HEMISPHERE) != 0u && hasSmooth && !bsdf_has_delta_lobe(b)) {
+  } else if (SCENE_HAS(FEATURE_UNIFORM_HEMISPHERE) && (scene.counts.w & SCENE_FLAG_HEMISPHERE) != 0u && hasSmooth &&
+             !bsdf_has_delta_lobe(b)) {
     // CS184's -H: uniform over the hemisphere around the shading normal.
     vec3 t;
     vec3 bt;

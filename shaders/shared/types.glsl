@@ -262,7 +262,8 @@ struct SceneParams {
 #define FEATURE_ENVIRONMENT 0x1000u
 #define FEATURE_CMJ 0x2000u        // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
 #define FEATURE_EMISSION_TEXTURES 0x4000u  // an emitting material whose radiance is not one constant colour
-#define FEATURE_ALL 0x7fffu
+#define FEATURE_UNIFORM_HEMISPHERE 0x8000u  // SCENE_FLAG_HEMISPHERE: directions uniform over the hemisphere (CS184 -H)
+#define FEATURE_ALL 0xffffu
 
 // Most next-event-estimation samples per path vertex (CS184's -l).
 #define MAX_LIGHT_SAMPLES 8u

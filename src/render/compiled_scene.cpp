@@ -446,7 +446,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
   p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
   p.debugRegion = options.plantedRegion;
-  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, features | (sampler == SamplerKind::Cmj ? FEATURE_CMJ : 0u),
+  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, features | (sampler == SamplerKind::Cmj ? FEATURE_CMJ : 0u) |
+                           ((flags & SCENE_FLAG_HEMISPHERE) != 0u ? FEATURE_UNIFORM_HEMISPHERE : 0u),
                        stackSlots, 0u);
   return out;
 }
