@@ -319,6 +319,9 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
               cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
   std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
               prims ? double(gpuBytes) / double(prims) : 0.0);
+  // On a CPU device every branch a kernel has costs each path, taken or not:
+  // what the scene uses is what its kernels pay for.
+  std::printf("features     %s (compiled into the kernels)\n", feature_names(cs.params.accel.y).c_str());
   if (kernelsDevice) {
     // The variant's kernels as the device's compiler built them for this scene.
     VulkanContext ctx(*kernelsDevice, VulkanContext::validation_requested_by_environment());

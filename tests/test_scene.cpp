@@ -158,6 +158,9 @@ TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
   EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/integrators.json")), hemisphere).params.accel.y &
               FEATURE_UNIFORM_HEMISPHERE);
   EXPECT_FALSE(features("tests/data/features/integrators.json") & FEATURE_UNIFORM_HEMISPHERE);
+  // wavepath info names them.
+  EXPECT_EQ(feature_names(0u), "none");
+  EXPECT_EQ(feature_names(FEATURE_SPHERES | FEATURE_CHECKER | FEATURE_EMISSION_TEXTURES), "spheres, checker, textured emission");
 }
 
 // Every split method by its scene-file name (bvh.h).

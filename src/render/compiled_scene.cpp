@@ -83,6 +83,35 @@ uint32_t scene_features(const CompiledScene& cs, const std::vector<uint32_t>& em
 
 }  // namespace
 
+std::string feature_names(uint32_t mask) {
+  static const std::pair<uint32_t, const char*> kNames[] = {
+      {FEATURE_SPHERES, "spheres"},
+      {FEATURE_BLEND, "blend"},
+      {FEATURE_METAL, "metal"},
+      {FEATURE_DIELECTRIC, "dielectric"},
+      {FEATURE_PHONG, "phong"},
+      {FEATURE_BLINN_PHONG, "blinn-phong"},
+      {FEATURE_CHECKER, "checker"},
+      {FEATURE_MARBLE, "marble"},
+      {FEATURE_IMAGE, "image textures"},
+      {FEATURE_SHADING_DATA, "vertex normals or UVs"},
+      {FEATURE_POINT_LIGHTS, "point lights"},
+      {FEATURE_SPHERE_LIGHTS, "sphere lights"},
+      {FEATURE_ENVIRONMENT, "environment map"},
+      {FEATURE_CMJ, "cmj sampler"},
+      {FEATURE_EMISSION_TEXTURES, "textured emission"},
+      {FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling"},
+  };
+  static_assert(FEATURE_ALL == 0xffffu, "every feature bit has a name above");
+  std::string out;
+  for (const auto& [bit, name] : kNames) {
+    if ((mask & bit) == 0u) continue;
+    if (!out.empty()) out += ", ";
+    out += name;
+  }
+  return out.empty() ? "none" : out;
+}
+
 shader::SceneView CompiledScene::view() const {
   shader::SceneView v;
   v.scene = params;

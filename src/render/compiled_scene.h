@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "bvh/bvh.h"
@@ -80,6 +81,10 @@ struct CompiledScene {
 };
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
+
+// The FEATURE_* bits of a feature mask (SceneParams.accel.y) by name, in bit
+// order, separated by ", "; "none" for 0. What the kernels compile in.
+std::string feature_names(uint32_t mask);
 
 // The primitives' bounds, numbered as compile_scene numbers them: the
 // triangles, then the spheres.
