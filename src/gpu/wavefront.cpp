@@ -480,7 +480,7 @@ struct WavefrontRenderer::Impl {
     shade = make_pipeline(kernel(shade_spv));
     accumulate = make_pipeline(kernel(accumulate_spv));
     if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), {false, true, false});
-    texprobe = make_pipeline(kernel(texprobe_spv));
+    // texprobe (eval_textures, for the tests) is made on first use.
   }
 
   void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups, Stage stage) {
@@ -761,6 +761,7 @@ std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<Textur
     rays[i].dir = glm::vec3(queries[i].uv, 0.0f);
     rays[i].path = queries[i].texture;
   }
+  if (!*impl_->texprobe) impl_->texprobe = impl_->make_pipeline(kernel(texprobe_spv));
   std::vector<shader::Hit> out = impl_->run_on_rays(impl_->texprobe, nullptr, rays, nullptr, nullptr);
   std::vector<glm::vec3> colors(out.size());
   for (size_t i = 0; i < out.size(); ++i) colors[i] = glm::vec3(out[i].t, out[i].u, out[i].v);
