@@ -26,7 +26,7 @@ void trace_item_done(uint item, uint path, Hit h, bool truncated) {
   vec3 contribution = texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2));
   // The path's radiance through its view: shade wrote it in an earlier
   // dispatch, and no other shadow ray of this one is the path's.
-  uint at = path * PATH_STATE_TEXELS + 3u;
+  uint at = path * PATH_STATE_TEXELS + PATH_RADIANCE_TEXEL;
   vec3 radiance = texel_xyz(texelFetch(pathTexels, int(at))) + contribution;
   pathTexelsOut[at].xyz = floatBitsToUint(radiance);
 }

@@ -100,7 +100,6 @@ TEST(Camera, ThinLensRaysMeetOnThePlaneInFocus) {
   }
 }
 
-
 // div_mod divides without integer division (integrator.glsl): exact at and
 // around every multiple of divisors small and large, up to its limit of
 // quotients below 2^21.
@@ -152,6 +151,7 @@ TEST(Camera, PixelIndexSplitsIntoColumnAndRowExactly) {
   }
   EXPECT_EQ(wrong, 0u) << "of " << checked;
 }
+
 TEST(CpuReference, TruncatedTraversalIsAnErrorNotAnImage) {
   RenderOptions o;
   o.traversalStepCap = 2;

@@ -92,7 +92,7 @@ PathState read_path(uint i) {
   uvec4 a = texelFetch(pathTexels, at);
   uvec4 b = texelFetch(pathTexels, at + 1);
   uvec4 c = texelFetch(pathTexels, at + 2);
-  uvec4 d = texelFetch(pathTexels, at + 3);
+  uvec4 d = texelFetch(pathTexels, at + PATH_RADIANCE_TEXEL);
   PathState p;
   p.origin = texel_xyz(a);
   p.pixel = a.w;
@@ -132,7 +132,7 @@ void write_path(uint i, PathState p) {
   pathTexelsOut[at] = uvec4(floatBitsToUint(p.origin), p.pixel);
   pathTexelsOut[at + 1u] = uvec4(floatBitsToUint(p.dir), p.rng);
   pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(p.throughput), p.flags);
-  pathTexelsOut[at + 3u] = uvec4(floatBitsToUint(p.radiance), floatBitsToUint(p.bsdfPdf));
+  pathTexelsOut[at + uint(PATH_RADIANCE_TEXEL)] = uvec4(floatBitsToUint(p.radiance), floatBitsToUint(p.bsdfPdf));
 }
 #endif
 

@@ -150,6 +150,7 @@ struct WideNode {
 #define EMITTER_TEXELS 1
 // Work-buffer records the kernels read through texel views (kernel.glsl).
 #define PATH_STATE_TEXELS 4
+#define PATH_RADIANCE_TEXEL 3  // radiance and bsdfPdf: the texel connect adds to
 #define HIT_TEXELS 1
 #define SHADOW_RAY_TEXELS 3
 

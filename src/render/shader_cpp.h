@@ -104,7 +104,10 @@ static_assert(sizeof(SceneParams) == 192 && offsetof(SceneParams, mode) == 144 &
               offsetof(SceneParams, accel) == 176);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
-static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, contribution) == 32);
+// write_shadow_ray and read_shadow_ray (kernel.glsl) move shadow rays as three
+// texels: origin and tmax, dir and path, contribution and pad.
+static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, tmax) == 12 && offsetof(ShadowRay, dir) == 16 &&
+              offsetof(ShadowRay, path) == 28 && offsetof(ShadowRay, contribution) == 32 && offsetof(ShadowRay, pad) == 44);
 static_assert(sizeof(PixelAccum) == 32);
 static_assert(sizeof(KernelPush) == 32);
 }  // namespace wp::shader
