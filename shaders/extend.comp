@@ -1,7 +1,6 @@
 #version 460
 // Stage 2: closest hit for every queued path (trace_items.glsl: several rays
 // per invocation on CPU devices, each within its share of the loop budget).
-// When sorting by material, also counts each hit's sort key.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #include "shared/kernel.glsl"
@@ -30,13 +29,6 @@ void trace_item_done(uint item, uint path, Hit h, bool truncated) {
   if (!path_is_dead(path)) {
     write_hit(path, h);
     if (!kCompaction) count_rays(COUNTER_CLOSEST_RAYS, 1u);  // prepare counts them with compaction
-  } else {
-    h.prim = WP_INVALID;
-  }
-  if (kSortByMaterial) {
-    uint key = sort_key(h);
-    sortKeys[item] = key;
-    atomicAdd(sortBins[key], 1u);
   }
 }
 

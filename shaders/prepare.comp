@@ -1,7 +1,8 @@
 #version 460
 // Sizes the next indirect dispatch from a queue counter, and resets the queues
-// the next stage appends to; when sorting by material, also resets the key
-// counts and turns them into offsets. Runs as a single invocation.
+// the next stage appends to; when sorting by material class, also resets the
+// sort keys' queues, and later sizes each key's shade dispatch. Runs as a
+// single invocation.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
@@ -37,13 +38,8 @@ void main() {
       for (uint k = 0u; k < SORT_KEYS; ++k) sortBins[k] = 0u;
     }
   } else if (pc.phase == PREPARE_SORT) {
-    // Key counts to exclusive prefix sums: where each key's paths start.
-    uint start = 0u;
-    for (uint k = 0u; k < SORT_KEYS; ++k) {
-      uint n = sortBins[k];
-      sortBins[k] = start;
-      start += n;
-    }
+    // Each key's shade kernel: a workgroup per workgroup's worth of its paths.
+    for (uint k = 0u; k < SORT_KEYS; ++k) set_dispatch(INDIRECT_SHADE_KEY0 + k, groups_for(sortBins[k]));
   } else {
     set_dispatch(INDIRECT_CONNECT, tracing_groups(counters[COUNTER_SHADOW]));
     count_rays(COUNTER_SHADOW_RAYS, counters[COUNTER_SHADOW]);

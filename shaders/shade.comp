@@ -15,16 +15,28 @@ uint append_slot(uint counter, bool want) {
   return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
 }
 
+// Sorted by material class (kSortByMaterial): the sort key whose queue this
+// kernel shades, compiled with that key's feature mask (constant 4);
+// SORT_KEYS: every queued path, unsorted.
+layout(constant_id = 11) const uint kShadeKey = SORT_KEYS;
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  uint count = counters[COUNTER_QUEUE0 + pc.queueIn];
-  if (i >= count) return;
-  uint path = read_queue(pc.shadeQueue, i);  // the extended queue, or its sorted order
   uint queueOut = 1u - pc.queueIn;
-  if (!kCompaction) {
-    // Every path keeps its slot for the next bounce, dead or alive.
-    queues[queueOut * pc.capacity + i] = path;
-    if (i == 0u) counters[COUNTER_QUEUE0 + queueOut] = count;
+  uint path;
+  if (kShadeKey == SORT_KEYS) {
+    uint count = counters[COUNTER_QUEUE0 + pc.queueIn];
+    if (i >= count) return;
+    path = read_queue(pc.queueIn, i);
+    if (!kCompaction) {
+      // Every path keeps its slot for the next bounce, dead or alive (sorted,
+      // the sort kernel copies the queue).
+      queues[queueOut * pc.capacity + i] = path;
+      if (i == 0u) counters[COUNTER_QUEUE0 + queueOut] = count;
+    }
+  } else {
+    if (i >= sortBins[kShadeKey]) return;
+    path = read_queue(QUEUE_SORTED + kShadeKey, i);
   }
   PathState p = read_path(path);
   if (!kCompaction && (p.flags & PATH_DEAD) != 0u) return;

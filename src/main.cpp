@@ -322,6 +322,12 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
   // On a CPU device every branch a kernel has costs each path, taken or not:
   // what the scene uses is what its kernels pay for.
   std::printf("features     %s (compiled into the kernels)\n", feature_names(cs.params.accel.y).c_str());
+  // gpu-sort shades each class of materials with a kernel of its own kinds.
+  std::printf("shade classes");
+  for (size_t c = 0; c < cs.shadeClasses.size(); ++c)
+    std::printf(" %zu: %s;", c, feature_names(cs.shade_key_features(uint32_t(c) + 1) & FEATURE_MATERIAL_KINDS).c_str());
+  std::printf(" misses: %s (material and texture kinds of each gpu-sort shade kernel)\n",
+              feature_names(cs.shade_key_features(SORT_KEY_MISS) & FEATURE_MATERIAL_KINDS).c_str());
   if (kernelsDevice) {
     // The variant's kernels as the device's compiler built them for this scene.
     VulkanContext ctx(*kernelsDevice, VulkanContext::validation_requested_by_environment());

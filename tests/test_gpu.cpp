@@ -467,32 +467,48 @@ TEST_F(Gpu, ChunkedUploadsArriveWhole) {
   }
 }
 
-// Sorting paths by material (gpu-sort) changes which invocation shades which
-// path, never what a path computes: its random numbers come from (pixel,
-// sample, seed) and it alone writes its state. So the image must be the same,
-// on a scene of many materials, spheres, and rays that miss.
+// Sorting paths by material class (gpu-sort) changes which invocation, and
+// which class's kernel, shades which path, never what a path computes: its
+// random numbers come from (pixel, sample, seed) and it alone writes its
+// state. So the image must be the same, as long as every class's kernel
+// holds the kinds of its materials: on the feature scenes of many materials
+// (spheres and rays that miss among them), of textures (a textured lamp too)
+// and of an environment map, and on a deeper scene.
 TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
-  Scene scene = load_scene(source_path("tests/data/features/materials.json"));
-  RenderOptions o;
-  o.spp = 4;
-  o.maxBounces = 3;
-  CompiledScene cs = compile_scene(scene, o);
-  Progress quiet("", 0, false);
-  WavefrontRenderer plain(*ctx_, cs), sorted(*ctx_, cs, kernel_variant("gpu-sort").settings);
-  ImageStats a = plain.render(quiet), b = sorted.render(quiet);
-  EXPECT_EQ(a.count, b.count);
-  // Each submission sums its samples in float and the number of samples per
-  // submission follows the clock, so sums agree to rounding, not bit for bit;
-  // a lost or repeated path would change a pixel by a whole sample.
-  for (size_t k = 0; k < a.sum.size(); ++k) {
-    ASSERT_NEAR(a.sum[k], b.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << "pixel " << k / 3;
-    ASSERT_NEAR(a.sumSq[k], b.sumSq[k], 1e-5 * std::max(1.0, std::abs(a.sumSq[k]))) << "pixel " << k / 3;
+  for (const char* path : {"tests/data/features/materials.json", "tests/data/features/textures.json",
+                           "tests/data/features/environment.json", "scenes/bunny-cornell-dof.json"}) {
+    Scene scene = load_scene(source_path(path));
+    scene.camera.width = std::min(scene.camera.width, 64);
+    scene.camera.height = std::min(scene.camera.height, 64);
+    RenderOptions o;
+    o.spp = 4;
+    o.maxBounces = 3;
+    CompiledScene cs = compile_scene(scene, o);
+    ASSERT_GE(cs.shadeClasses.size(), 3u) << path;
+    Progress quiet("", 0, false);
+    WavefrontSettings sortedUncompacted = kernel_variant("gpu-sort").settings;
+    sortedUncompacted.compaction = false;  // the sort kernel then keeps every path's slot
+    WavefrontRenderer plain(*ctx_, cs), sorted(*ctx_, cs, kernel_variant("gpu-sort").settings), uncompacted(*ctx_, cs, sortedUncompacted);
+    ImageStats a = plain.render(quiet), b = sorted.render(quiet), c = uncompacted.render(quiet);
+    EXPECT_EQ(a.count, b.count) << path;
+    EXPECT_EQ(a.count, c.count) << path;
+    // Each submission sums its samples in float and the number of samples per
+    // submission follows the clock, so sums agree to rounding, not bit for bit;
+    // a lost or repeated path would change a pixel by a whole sample, a path
+    // shaded by another class's kernel by far more than rounding.
+    for (size_t k = 0; k < a.sum.size(); ++k) {
+      ASSERT_NEAR(a.sum[k], b.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << path << ", pixel " << k / 3;
+      ASSERT_NEAR(a.sumSq[k], b.sumSq[k], 1e-5 * std::max(1.0, std::abs(a.sumSq[k]))) << path << ", pixel " << k / 3;
+      ASSERT_NEAR(a.sum[k], c.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << path << ", uncompacted, pixel " << k / 3;
+    }
+    EXPECT_EQ(sorted.stage_times().closestHitRays, plain.stage_times().closestHitRays) << path;
+    EXPECT_EQ(sorted.stage_times().shadowRays, plain.stage_times().shadowRays) << path;
+    // Per bounce pass: the extra prepare (counts to offsets) and the scatter.
+    const StageTimes& t = sorted.stage_times();
+    EXPECT_EQ(t.dispatches[StageTimes::kSort], uint64_t(o.spp) * uint64_t(o.maxBounces + 1)) << path;
+    EXPECT_EQ(t.dispatches[StageTimes::kPrepare], 3 * uint64_t(o.spp) * uint64_t(o.maxBounces + 1)) << path;
+    EXPECT_EQ(plain.stage_times().dispatches[StageTimes::kSort], 0u) << path;
   }
-  // Per bounce pass: the extra prepare (counts to offsets) and the scatter.
-  const StageTimes& t = sorted.stage_times();
-  EXPECT_EQ(t.dispatches[StageTimes::kSort], uint64_t(o.spp) * uint64_t(o.maxBounces + 1));
-  EXPECT_EQ(t.dispatches[StageTimes::kPrepare], 3 * uint64_t(o.spp) * uint64_t(o.maxBounces + 1));
-  EXPECT_EQ(plain.stage_times().dispatches[StageTimes::kSort], 0u);
 }
 
 // Rays traced: every variant traces the same paths, so the same rays,

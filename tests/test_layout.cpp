@@ -72,7 +72,7 @@ std::vector<Expected> expected_layouts() {
       {"PixelAccum", sizeof(PixelAccum), {FIELD(PixelAccum, sum), FIELD(PixelAccum, sumSq)}},
       {"KernelPush", sizeof(KernelPush),
        {FIELD(KernelPush, waveStart), FIELD(KernelPush, pathCount), FIELD(KernelPush, sampleIndex), FIELD(KernelPush, queueIn),
-        FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, shadeQueue), FIELD(KernelPush, pad1)}},
+        FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, pad0), FIELD(KernelPush, pad1)}},
   };
 }
 

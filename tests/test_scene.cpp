@@ -2,6 +2,8 @@
 // errors (file, place, problem) for bad input.
 #include "test_support.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <fstream>
 
 #include "scene/transform.h"
@@ -161,6 +163,86 @@ TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
   // wavepath info names them.
   EXPECT_EQ(feature_names(0u), "none");
   EXPECT_EQ(feature_names(FEATURE_SPHERES | FEATURE_CHECKER | FEATURE_EMISSION_TEXTURES), "spheres, checker, textured emission");
+}
+
+// Sorting by material class (gpu-sort) shades each class with a kernel that
+// holds only its kinds: a material in a class without its kinds would be
+// shaded as something else. Every material that primitives use must land in
+// a class that has its lobe and texture kinds; classes must differ; and
+// beyond SHADE_CLASSES_MAX they share the last, which has all their kinds.
+TEST(Scene, ShadeClassesHoldTheKindsOfTheirMaterials) {
+  auto check = [](const CompiledScene& cs, const Scene& scene, const std::string& what) {
+    ASSERT_LE(cs.shadeClasses.size(), size_t(SHADE_CLASSES_MAX)) << what;
+    for (size_t a = 0; a + 1 < cs.shadeClasses.size(); ++a)
+      for (size_t b = a + 1; b < cs.shadeClasses.size(); ++b) EXPECT_NE(cs.shadeClasses[a], cs.shadeClasses[b]) << what;
+    for (size_t m = 0; m < cs.materials.size(); ++m) {
+      const shader::Material& mat = cs.materials[m];
+      const bool used = std::any_of(scene.triangles.begin(), scene.triangles.end(), [&](const SceneTriangle& t) { return t.material == m; }) ||
+                        std::any_of(scene.spheres.begin(), scene.spheres.end(), [&](const SceneSphere& sp) { return sp.material == m; });
+      if (!used) continue;
+      ASSERT_NE(mat.children.w, SORT_KEY_MISS) << what << ", material " << m;  // sort key: class + 1
+      ASSERT_LE(mat.children.w, cs.shadeClasses.size()) << what << ", material " << m;
+      const uint32_t kernel = cs.shade_key_features(mat.children.w);
+      const uint32_t type = mat.info.x == MAT_METAL ? FEATURE_METAL : mat.info.x == MAT_DIELECTRIC ? FEATURE_DIELECTRIC
+                            : mat.info.x == MAT_PHONG ? FEATURE_PHONG : mat.info.x == MAT_BLINN_PHONG ? FEATURE_BLINN_PHONG
+                            : mat.info.x == MAT_BLEND ? FEATURE_BLEND : 0u;
+      EXPECT_EQ(kernel & type, type) << what << ", material " << m;
+      if (mat.info.y != WP_INVALID) {
+        const uint32_t tex = cs.textures[mat.info.y].info.x & TEX_TYPE_MASK;
+        const uint32_t kind = tex == TEX_CHECKER ? FEATURE_CHECKER : tex == TEX_MARBLE ? FEATURE_MARBLE : tex == TEX_IMAGE ? FEATURE_IMAGE : 0u;
+        EXPECT_EQ(kernel & kind, kind) << what << ", material " << m;
+      }
+    }
+  };
+  for (const char* path : {"tests/data/features/materials.json", "tests/data/features/textures.json", "tests/data/features/environment.json"}) {
+    Scene scene = load_scene(source_path(path));
+    CompiledScene cs = compile_scene(scene, RenderOptions{});
+    check(cs, scene, path);
+    // Only the kinds a class needs: the first class's kernel lacks some.
+    EXPECT_NE(cs.shade_key_features(1), cs.params.accel.y) << path;
+  }
+  {
+    Scene scene = load_scene(source_path("tests/data/features/materials.json"));
+    CompiledScene cs = compile_scene(scene, RenderOptions{});
+    EXPECT_EQ(cs.shade_key_features(SORT_KEY_MISS) & FEATURE_MATERIAL_KINDS, 0u);
+    EXPECT_EQ(cs.shade_key_features(SORT_KEY_MISS) & ~uint32_t(FEATURE_MATERIAL_KINDS), cs.params.accel.y & ~uint32_t(FEATURE_MATERIAL_KINDS));
+  }
+  // Emission and the environment are looked up by every kernel: the
+  // checker-textured lamp's kind, and the environment's image, stay in the
+  // misses' kernel.
+  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/textures.json")), RenderOptions{}).shade_key_features(SORT_KEY_MISS) &
+              FEATURE_CHECKER);
+  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/environment.json")), RenderOptions{}).shade_key_features(SORT_KEY_MISS) &
+              FEATURE_IMAGE);
+  // 20 kinds of material (5 lobe kinds by 4 kinds of albedo texture), one
+  // sphere each: more than SHADE_CLASSES_MAX classes.
+  Scene scene;
+  scene.camera = Camera{};
+  shader::Texture marble = constant_texture(glm::vec3(0.5f));
+  marble.info.x = TEX_MARBLE;
+  const uint32_t plain = add_texture(scene, constant_texture(glm::vec3(0.5f))), marbled = add_texture(scene, marble);
+  shader::Texture checker = constant_texture(glm::vec3(0.5f));
+  checker.info = glm::uvec4(TEX_CHECKER, plain, plain, 0u);
+  const uint32_t checkered = add_texture(scene, checker);
+  checker.info.z = marbled;
+  const uint32_t both = add_texture(scene, checker);
+  for (uint32_t type : {MAT_LAMBERTIAN, MAT_METAL, MAT_DIELECTRIC, MAT_PHONG, MAT_BLINN_PHONG}) {
+    for (uint32_t albedo : {plain, checkered, marbled, both}) {
+      shader::Material m{};
+      m.info = glm::uvec4(type, albedo, WP_INVALID, WP_INVALID);
+      m.children = glm::uvec4(WP_INVALID);
+      m.params = glm::vec4(type == MAT_DIELECTRIC ? 1.5f : 10.0f, 0.0f, 0.0f, 0.0f);
+      scene.materials.push_back(m);
+      scene.materialNames.push_back("m");
+      SceneSphere sp;
+      sp.toWorld = glm::translate(glm::mat4(1.0f), glm::vec3(float(scene.spheres.size()) * 3.0f, 0.0f, 0.0f));
+      sp.material = uint32_t(scene.materials.size() - 1);
+      scene.spheres.push_back(sp);
+    }
+  }
+  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  EXPECT_EQ(cs.shadeClasses.size(), size_t(SHADE_CLASSES_MAX));
+  check(cs, scene, "20 kinds of material");
 }
 
 // Every split method by its scene-file name (bvh.h).

@@ -38,7 +38,8 @@
 
 // Push constants of every kernel. Queues live in one buffer: queue q occupies
 // [q * capacity, (q + 1) * capacity); queues 0 and 1 alternate between
-// bounces, queue 2 (QUEUE_SORTED) holds a bounce's paths sorted by material.
+// bounces; sorting by material class, queue QUEUE_SORTED + k holds a
+// bounce's paths of sort key k.
 struct KernelPush {
   uint waveStart;   // first pixel of this wave
   uint pathCount;   // paths in this wave
@@ -46,7 +47,7 @@ struct KernelPush {
   uint queueIn;     // 0 or 1: the queue of paths to extend / shade
   uint capacity;    // path slots per queue
   uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
-  uint shadeQueue;  // the queue region shade reads: queueIn, or QUEUE_SORTED
+  uint pad0;
   uint pad1;
 };
 
@@ -108,13 +109,9 @@ layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { uve
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };
-// Sorting by material (kSortByMaterial): per key, the paths that have it, then
-// (after PREPARE_SORT) where its paths start in QUEUE_SORTED; and the key of
-// each queue position.
-layout(std430, set = 0, binding = BINDING_SORT) buffer SortBuffer {
-  uint sortBins[SORT_KEYS];
-  uint sortKeys[];
-};
+// Sorting by material class (kSortByMaterial): per sort key, the paths in
+// its queue (QUEUE_SORTED + key).
+layout(std430, set = 0, binding = BINDING_SORT) buffer SortBuffer { uint sortBins[SORT_KEYS]; };
 // The pixels still sampled under adaptive sampling.
 layout(std430, set = 0, binding = BINDING_PIXEL_LIST) readonly buffer PixelListBuffer { uint pixelList[]; };
 layout(push_constant) uniform PushBlock { KernelPush pc; };

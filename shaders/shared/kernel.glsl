@@ -33,9 +33,10 @@ layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
 // it (variant gpu-nocompact, to measure what compaction is worth) every path
 // keeps its queue slot and finished ones are marked PATH_DEAD and skipped.
 layout(constant_id = 6) const bool kCompaction = true;
-// Sorting paths by material between extend and shade (constant 7, variant
-// gpu-sort): extend counts the keys, prepare turns counts into offsets, the
-// sort kernel scatters the queue into QUEUE_SORTED, and shade reads that.
+// Sorting paths by material class between extend and shade (constant 7,
+// variant gpu-sort): the sort kernel appends each path to its key's queue,
+// prepare sizes one shade dispatch per key, and one shade kernel per key
+// reads its queue.
 layout(constant_id = 7) const bool kSortByMaterial = false;
 // Rays per invocation of the tracing kernels (constant 8; trace_items.glsl):
 // several on CPU devices, whose SIMD lanes would otherwise wait for the
@@ -188,8 +189,9 @@ uint wave_pixel(uint i) {
   return pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + i] : pc.waveStart + i;
 }
 
-// The bucket a path is sorted into by the material its ray hit (gpu-sort).
+// The queue a path is sorted into (gpu-sort): the sort key of the material its
+// ray hit, or SORT_KEY_MISS.
 uint sort_key(Hit h) {
   uint m = hit_material(h);
-  return m == WP_INVALID ? SORT_KEY_MISS : m % SORT_KEY_MISS;
+  return m == WP_INVALID ? SORT_KEY_MISS : load_material(m).children.w;
 }

@@ -83,22 +83,25 @@
 #define COUNTER_SHADOW_RAYS 7u
 #define COUNTER_COUNT 12u
 
+// Sorting paths by material class (variant gpu-sort): between
+// extend and shade, the sort kernel appends each path to the queue of its
+// sort key, and each key's paths are shaded by a kernel of their own,
+// specialized to the material and texture kinds of the key's class (on
+// lavapipe a kernel costs every path the code of every kind it holds, taken
+// or not). Key 0 holds the rays that hit nothing; key c + 1 the materials of
+// shade class c, which compile_scene writes to each Material.children.w.
+#define SORT_KEYS 16u
+#define SORT_KEY_MISS 0u
+#define SHADE_CLASSES_MAX (SORT_KEYS - 1u)
+// Queue QUEUE_SORTED + k (after queues 0 and 1) holds the paths of sort key k.
+#define QUEUE_SORTED 2u
+
 // Dispatch-indirect argument slots (3 uints each) in the indirect buffer.
 #define INDIRECT_EXTEND 0u
 #define INDIRECT_CONNECT 1u
 #define INDIRECT_SHADE 2u     // one invocation per queued path (sort, shade)
-#define INDIRECT_SLOTS 3u
-
-// Sorting paths by material (variant gpu-sort): between extend and shade the
-// queue is reordered so that paths whose rays hit the same material are
-// neighbours, and so run the same shading code in the same subgroup. Keys are
-// material indices folded into SORT_KEYS - 1 buckets; the last bucket holds
-// the rays that hit nothing.
-#define SORT_KEYS 256u
-#define SORT_KEY_MISS (SORT_KEYS - 1u)
-// The queue region (a third one, after queues 0 and 1) that holds the sorted
-// order shade reads.
-#define QUEUE_SORTED 2u
+#define INDIRECT_SHADE_KEY0 3u  // sorted: one invocation per path of sort key k in slot INDIRECT_SHADE_KEY0 + k
+#define INDIRECT_SLOTS (INDIRECT_SHADE_KEY0 + SORT_KEYS)
 
 // Binary BVH node, 32 bytes. Interior node: count == 0, children at
 // leftFirst and leftFirst + 1 (siblings are adjacent so one index suffices).
@@ -199,7 +202,7 @@ struct Sphere {
 // so every colour parameter may vary over the surface.
 struct Material {
   uvec4 info;      // x: MAT_* type, y: albedo texture, z: emission texture (WP_INVALID: none), w: blend amount texture
-  uvec4 children;  // blend: x material a, y material b
+  uvec4 children;  // blend: x material a, y material b; w: its sort key, shade class + 1 (SORT_KEYS; compile_scene)
   vec4 params;     // x: Phong exponent / metal roughness / dielectric ior
 };
 
@@ -265,6 +268,11 @@ struct SceneParams {
 #define FEATURE_EMISSION_TEXTURES 0x4000u  // an emitting material whose radiance is not one constant colour
 #define FEATURE_UNIFORM_HEMISPHERE 0x8000u  // SCENE_FLAG_HEMISPHERE: directions uniform over the hemisphere (CS184 -H)
 #define FEATURE_ALL 0xffffu
+// The bits that follow the material a ray hit: its lobe kinds and the kinds
+// of the textures its BSDF reads. A shade class's kernel (SORT_KEYS) keeps
+// those of its class's materials, besides the scene's other bits and the
+// texture kinds of every emission and of the environment.
+#define FEATURE_MATERIAL_KINDS (FEATURE_BLEND | FEATURE_METAL | FEATURE_DIELECTRIC | FEATURE_PHONG | FEATURE_BLINN_PHONG | FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE)
 
 // Most next-event-estimation samples per path vertex (CS184's -l).
 #define MAX_LIGHT_SAMPLES 8u

@@ -80,7 +80,7 @@ const std::vector<KernelVariant>& kernel_variants() {
          BvhLayout::Wide, true},
         {"gpu-clustered", "wavefront kernels, wide BVH from the clustered SAH build (Morton clusters at the top, exact sweep at the bottom)",
          WavefrontSettings{}, BvhLayout::Wide, false, true},
-        {"gpu-sort", "wavefront kernels, paths sorted by the material their ray hit before shading", sorted,
+        {"gpu-sort", "wavefront kernels, paths sorted by the class of material their ray hit, each class shaded by a kernel holding only its kinds", sorted,
          BvhLayout::Wide},
         {"gpu-regstack", "wavefront kernels, the wide walk's stack in registers on every device (gpu: on CPU devices)",
          registerStack, BvhLayout::Wide},
@@ -141,6 +141,12 @@ struct WavefrontRenderer::Impl {
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, occlude{nullptr},
       occludeSingle{nullptr}, texprobe{nullptr};
+  // Sorting by material class: one shade kernel per sort key that can occur,
+  // specialized to its class (shadeKeys[i] is shadeByKey[i]'s key), the
+  // misses' first.
+  std::vector<vk::raii::Pipeline> shadeByKey;
+  std::vector<uint32_t> shadeKeys;
+  bool sorting = false;  // by material class (settings.sortByMaterial, not for the megakernel)
   uint32_t tracingRays = 1;  // rays per invocation of prepare's sizing, extend, connect and raycast (rays_per_invocation)
   vk::raii::CommandPool commandPool{nullptr};
   // Timestamps: one after every dispatch of a submission; stageOf[i] names the
@@ -167,10 +173,11 @@ struct WavefrontRenderer::Impl {
     lightSamples = std::max(1u, scene.params.mode.w);
     // Paths and shadow rays are also read through texel views (bindings.glsl).
     const uint64_t maxViewBytes = uint64_t(ctx.info().maxTexelBufferElements) * 16u;
+    sorting = sort_by_material();
     capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
                                    std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
                                    uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,
-                                   uint64_t(ctx.info().maxTexelBufferElements) / (QUEUE_SORTED + 1)});
+                                   std::min<uint64_t>(ctx.info().maxTexelBufferElements, maxRange / sizeof(uint32_t)) / queue_count()});
     create_buffers(pixels, maxRange);
     create_pipelines();
     commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
@@ -288,12 +295,9 @@ struct WavefrontRenderer::Impl {
     add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
     add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
     add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * sizeof(shader::Hit));
-    // Queues 0 and 1, and with sorting by material the sorted queue and the
-    // key of every queue position.
-    const bool sorting = settings.sortByMaterial;
-    add_readable_work(BINDING_QUEUES, BINDING_QUEUE_TEXELS, uint64_t(capacity) * (sorting ? QUEUE_SORTED + 1 : 2) * sizeof(uint32_t),
-                      vk::Format::eR32Uint);
-    add_work(BINDING_SORT, (SORT_KEYS + (sorting ? uint64_t(capacity) : 0)) * sizeof(uint32_t));
+    // Queues 0 and 1, and with sorting by material class each sort key's.
+    add_readable_work(BINDING_QUEUES, BINDING_QUEUE_TEXELS, uint64_t(capacity) * queue_count() * sizeof(uint32_t), vk::Format::eR32Uint);
+    add_work(BINDING_SORT, SORT_KEYS * sizeof(uint32_t));
     add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
     add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
     add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
@@ -381,17 +385,28 @@ struct WavefrontRenderer::Impl {
     return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
   }
 
+  // Queues of paths in the queue buffer: the two that alternate between
+  // bounces and, sorting, the sort keys' (the misses and each class).
+  uint32_t queue_count() const { return QUEUE_SORTED + (sorting ? 1 + uint32_t(scene.shadeClasses.size()) : 0); }
+
+  // Whether the wavefront kernels sort paths by material class.
+  bool sort_by_material() const { return settings.sortByMaterial && !settings.megakernel; }
+
   // lavapipe and other CPU implementations: SIMD lanes in a loop, private
   // arrays in memory (the stack and rays-per-invocation choices follow).
   bool cpu_device() const { return ctx.info().type == "cpu"; }
 
   // Every kernel, by name, whether or not this renderer made it.
-  std::vector<std::pair<const char*, const vk::raii::Pipeline*>> kernels() const {
-    return {{"generate", &generate}, {"prepare", &prepare},       {"extend", &extend},
-            {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
-            {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
-            {"raycast-single", &raycastSingle}, {"occlude", &occlude}, {"occlude-single", &occludeSingle},
-            {"texprobe", &texprobe}};
+  std::vector<std::pair<std::string, const vk::raii::Pipeline*>> kernels() const {
+    std::vector<std::pair<std::string, const vk::raii::Pipeline*>> k{
+        {"generate", &generate}, {"prepare", &prepare},       {"extend", &extend},
+        {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
+        {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
+        {"raycast-single", &raycastSingle}, {"occlude", &occlude}, {"occlude-single", &occludeSingle},
+        {"texprobe", &texprobe}};
+    for (size_t i = 0; i < shadeByKey.size(); ++i)
+      k.emplace_back(shadeKeys[i] == SORT_KEY_MISS ? "shade-misses" : "shade-class-" + std::to_string(shadeKeys[i] - 1), &shadeByKey[i]);
+    return k;
   }
 
   // How a pipeline specializes its kernel beyond the renderer's settings.
@@ -399,6 +414,7 @@ struct WavefrontRenderer::Impl {
     bool single = false;       // a tracing kernel takes one ray per invocation, whatever tracingRays says
     bool interleaved = false;  // workgroups dealt out in columns (workgroup_interleave)
     bool anyHit = false;       // the ray caster looks for any hit, not the closest
+    uint32_t shadeKey = SORT_KEYS;  // shade: the sort key it shades (SORT_KEYS: all paths, unsorted)
   };
 
   vk::raii::Pipeline make_pipeline(Kernel k) { return make_pipeline(k, PipelineOptions()); }
@@ -409,15 +425,18 @@ struct WavefrontRenderer::Impl {
     // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
     // by material (bools: a 32-bit 0 or 1), 8 rays per invocation of the
     // tracing kernels, 9 their workgroup interleave, 10 the ray caster's any
-    // hit (raycast.comp).
+    // hit (raycast.comp), 11 the sort key shade runs over (shade.comp), whose
+    // feature mask is its class's.
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
     bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && !cpu_device());
     uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
-    constexpr uint32_t kConstants = 11;
+    constexpr uint32_t kConstants = 12;
+    const uint32_t features = o.shadeKey == SORT_KEYS ? accel.y : scene.shade_key_features(o.shadeKey);
     const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
-                                         accel.y, stackSlots, settings.compaction ? 1u : 0u, settings.sortByMaterial ? 1u : 0u,
-                                         o.single ? 1u : tracingRays, o.interleaved ? workgroup_interleave() : 1u, o.anyHit ? 1u : 0u};
+                                         features, stackSlots, settings.compaction ? 1u : 0u, sorting ? 1u : 0u,
+                                         o.single ? 1u : tracingRays, o.interleaved ? workgroup_interleave() : 1u, o.anyHit ? 1u : 0u,
+                                         o.shadeKey};
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -476,8 +495,18 @@ struct WavefrontRenderer::Impl {
     tracingRays = rays_per_invocation();
     create_tracing_pipelines();
     generate = make_pipeline(kernel(generate_spv));
-    if (settings.sortByMaterial) sort = make_pipeline(kernel(sort_spv));
-    shade = make_pipeline(kernel(shade_spv));
+    if (sorting) {
+      sort = make_pipeline(kernel(sort_spv));
+      shadeKeys.push_back(SORT_KEY_MISS);
+      for (uint32_t c = 0; c < scene.shadeClasses.size(); ++c) shadeKeys.push_back(c + 1);
+      for (uint32_t key : shadeKeys) {
+        PipelineOptions o;
+        o.shadeKey = key;
+        shadeByKey.push_back(make_pipeline(kernel(shade_spv), o));
+      }
+    } else {
+      shade = make_pipeline(kernel(shade_spv));
+    }
     accumulate = make_pipeline(kernel(accumulate_spv));
     if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), {false, true, false});
     // texprobe (eval_textures, for the tests) is made on first use.
@@ -491,10 +520,14 @@ struct WavefrontRenderer::Impl {
     stamp(cb, stage);
   }
 
-  void dispatch_indirect(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t slot, Stage stage) {
+  // `last`: the barrier and the timestamp after it; false for a dispatch that
+  // may run beside the next one (which times both).
+  void dispatch_indirect(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t slot, Stage stage,
+                         bool last = true) {
     cb.bindPipeline(vk::PipelineBindPoint::eCompute, *p);
     cb.pushConstants<KernelPush>(*pipelineLayout, vk::ShaderStageFlagBits::eCompute, 0, push);
     cb.dispatchIndirect(buffers[BINDING_INDIRECT]->handle(), slot * 3 * sizeof(uint32_t));
+    if (!last) return;
     stage_barrier(cb);
     stamp(cb, stage);
   }
@@ -517,14 +550,17 @@ struct WavefrontRenderer::Impl {
       push.phase = PREPARE_EXTEND;
       dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
       dispatch_indirect(cb, extend, push, INDIRECT_EXTEND, StageTimes::kExtend);
-      push.shadeQueue = push.queueIn;
-      if (settings.sortByMaterial) {
+      if (sorting) {
+        dispatch_indirect(cb, sort, push, INDIRECT_SHADE, StageTimes::kSort);
         push.phase = PREPARE_SORT;
         dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
-        dispatch_indirect(cb, sort, push, INDIRECT_SHADE, StageTimes::kSort);
-        push.shadeQueue = QUEUE_SORTED;
+        // Each key's kernel over its queue; the queues are disjoint and the
+        // appends atomic, so the dispatches need no barrier between them.
+        for (size_t k = 0; k < shadeByKey.size(); ++k)
+          dispatch_indirect(cb, shadeByKey[k], push, INDIRECT_SHADE_KEY0 + shadeKeys[k], StageTimes::kShade, k + 1 == shadeByKey.size());
+      } else {
+        dispatch_indirect(cb, shade, push, INDIRECT_SHADE, StageTimes::kShade);
       }
-      dispatch_indirect(cb, shade, push, INDIRECT_SHADE, StageTimes::kShade);
       push.phase = PREPARE_CONNECT;
       dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
       dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
@@ -577,7 +613,7 @@ struct WavefrontRenderer::Impl {
     vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
     uint32_t perSubmit = 1;
     const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
-    const uint32_t dispatchesPerBounce = settings.sortByMaterial ? 7 : 5;
+    const uint32_t dispatchesPerBounce = sorting ? 7 : 5;
     const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * (scene.params.image.z + 1);
     for (uint32_t sample = first; sample < end;) {
       uint32_t n = std::min(perSubmit, end - sample);

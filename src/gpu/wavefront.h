@@ -46,7 +46,13 @@ struct WavefrontSettings {
   TraversalStack stack = TraversalStack::Auto;  // the wide walk's stack (the binary walk always indexes)
   bool compaction = true;                   // later bounces dispatch only live paths (kernel.glsl)
   bool megakernel = false;                  // one kernel per path instead of the wavefront stages
-  bool sortByMaterial = false;              // shade runs over paths sorted by the material they hit
+  // Paths sorted by the class of material their rays hit, each class shaded
+  // by a kernel holding only its kinds (types.glsl, SORT_KEYS). Off by
+  // default: on lavapipe it cut shade by 30-55 % on scenes that mix
+  // textured, glass or blended materials with plain ones, but the sort and
+  // one more kernel per class (0.17 s each to make) repaid that only on some
+  // scenes on two cores (docs/benchmarks.md); GPUs are not measured yet.
+  bool sortByMaterial = false;
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
   bool captureStatistics = false;       // keep the driver's statistics of each pipeline (kernel_statistics)

@@ -81,6 +81,74 @@ uint32_t scene_features(const CompiledScene& cs, const std::vector<uint32_t>& em
   return f;
 }
 
+// The FEATURE_* kinds texture t's lookup runs: its own, and a checker's
+// squares' (nested up to TEXTURE_MAX_NESTING deep, as texture_eval follows).
+uint32_t texture_kinds(const std::vector<shader::Texture>& textures, uint32_t t, int depth = 0) {
+  if (t == WP_INVALID || t >= textures.size()) return 0u;
+  const shader::Texture& tex = textures[t];
+  switch (tex.info.x & TEX_TYPE_MASK) {
+    case TEX_CHECKER:
+      return depth >= TEXTURE_MAX_NESTING ? FEATURE_CHECKER
+                                          : FEATURE_CHECKER | texture_kinds(textures, tex.info.y, depth + 1) |
+                                                texture_kinds(textures, tex.info.z, depth + 1);
+    case TEX_MARBLE: return FEATURE_MARBLE;
+    case TEX_IMAGE: return FEATURE_IMAGE;
+    default: return 0u;
+  }
+}
+
+// The FEATURE_MATERIAL_KINDS a ray that hits material m needs for its BSDF:
+// its lobe kinds (a blend's children's too) and its textures' kinds. (Its
+// emission's kinds every shade kernel has: shade_classes.)
+uint32_t material_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
+  const shader::Material& mat = cs.materials[m];
+  uint32_t f = texture_kinds(cs.textures, mat.info.y) | texture_kinds(cs.textures, mat.info.w);
+  switch (mat.info.x) {
+    case MAT_BLEND:
+      f |= FEATURE_BLEND;
+      // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
+      if (depth < int(BSDF_MAX_LOBES)) f |= material_kinds(cs, mat.children.x, depth + 1) | material_kinds(cs, mat.children.y, depth + 1);
+      break;
+    case MAT_METAL: f |= FEATURE_METAL; break;
+    case MAT_DIELECTRIC: f |= FEATURE_DIELECTRIC; break;
+    case MAT_PHONG: f |= FEATURE_PHONG; break;
+    case MAT_BLINN_PHONG: f |= FEATURE_BLINN_PHONG; break;
+    default: break;
+  }
+  return f;
+}
+
+// Groups the materials that primitives use into shade classes by the kinds
+// they need (material_kinds), in order of first use, and writes each
+// material's sort key (class + 1) to its children.w. Past SHADE_CLASSES_MAX
+// classes, the rest share the last, which needs all of their kinds. Fills
+// shadeClasses and shadeCommonKinds.
+void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
+  uint32_t common = texture_kinds(cs.textures, environmentTexture);
+  for (const shader::Material& m : cs.materials) common |= texture_kinds(cs.textures, m.info.z);  // emission, hit or sampled
+  cs.shadeCommonKinds = common;
+  std::vector<bool> used(cs.materials.size(), false);
+  for (const shader::Triangle& t : cs.triangles)
+    if (t.material != WP_INVALID) used[t.material] = true;
+  for (const shader::Sphere& sp : cs.spheres) used[sp.material] = true;
+  for (uint32_t m = 0; m < cs.materials.size(); ++m) {
+    cs.materials[m].children.w = SORT_KEY_MISS + 1u;  // for unused materials: any class will do
+    if (!used[m]) continue;
+    const uint32_t kinds = material_kinds(cs, m);
+    auto found = std::find(cs.shadeClasses.begin(), cs.shadeClasses.end(), kinds);
+    uint32_t c = uint32_t(found - cs.shadeClasses.begin());
+    if (found == cs.shadeClasses.end()) {
+      if (c < SHADE_CLASSES_MAX) {
+        cs.shadeClasses.push_back(kinds);
+      } else {
+        c = SHADE_CLASSES_MAX - 1;
+        cs.shadeClasses[c] |= kinds;
+      }
+    }
+    cs.materials[m].children.w = c + 1u;
+  }
+}
+
 }  // namespace
 
 std::string feature_names(uint32_t mask) {
@@ -129,6 +197,11 @@ shader::SceneView CompiledScene::view() const {
   v.imageTexels = texels.data();
   v.environmentCdf = environmentCdf.data();
   return v;
+}
+
+uint32_t CompiledScene::shade_key_features(uint32_t key) const {
+  const uint32_t kinds = shadeCommonKinds | (key != SORT_KEY_MISS && key <= shadeClasses.size() ? shadeClasses[key - 1] : 0u);
+  return params.accel.y & (~uint32_t(FEATURE_MATERIAL_KINDS) | kinds);
 }
 
 double CompiledScene::bvh_sah_cost() const {
@@ -420,6 +493,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   out.emitters = build_alias_table(power);
   for (size_t i = 0; i < prims.size(); ++i) out.emitters[i].prim = prims[i];
   const uint32_t features = scene_features(out, prims, numSpheres > 0, scene.environmentTexture != WP_INVALID);
+  shade_classes(out, scene.environmentTexture);
   if (out.triangles.empty()) out.triangles.push_back(shader::Triangle{});
   if (out.spheres.empty()) out.spheres.push_back(shader::Sphere{});
   // Buffers are never empty: bind a zero element where the scene has none.

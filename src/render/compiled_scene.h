@@ -69,8 +69,18 @@ struct CompiledScene {
   int bvhDepth = 0;      // levels of the traversed layout's tree
   double binarySahCost = 0.0;  // the binary layout's SAH cost, as its builder measured it (bvh_sah_cost)
   double bvhBuildSeconds = 0.0;
+  // Shade classes (sorting by material class, types.glsl): per class, the
+  // FEATURE_MATERIAL_KINDS its materials need; each material's sort key (its
+  // class + 1) is its children.w. And the kinds every shade kernel needs
+  // (emission, the environment), the misses' kernel included.
+  std::vector<uint32_t> shadeClasses;
+  uint32_t shadeCommonKinds = 0;
 
   shader::SceneView view() const;
+  // The feature mask of the shade kernel for sort key `key`: class + 1, or
+  // SORT_KEY_MISS. The scene's mask less the material kinds the key's paths
+  // cannot need.
+  uint32_t shade_key_features(uint32_t key) const;
   // The SAH cost of the tree in its layout. The 8-wide tree's is computed
   // from its nodes on each call (wide_sah_cost; 0.7 s at 10M triangles), so
   // that compiling a scene for a render does not pay for it.
