@@ -2,7 +2,8 @@
 // memory faults once per 4 KiB page; on the benchmark VM a fault costs about
 // 10 us, so writing a new 35 MiB node array took 90 ms on 4 KiB pages and 7 ms
 // on 2 MiB ones. The builder's, the collapse's and the scene compiler's big
-// arrays are allocated through these.
+// arrays are allocated through these, and lavapipe's buffers are advised
+// (vulkan_context.cpp).
 #pragma once
 
 #include <algorithm>
