@@ -314,9 +314,9 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
   std::printf("image        %dx%d, %d spp, %u max bounces\n", cs.width, cs.height, cs.spp, cs.params.image.z);
   std::printf("load         %.3f s (parsing and OBJ)\n", loadSeconds);
   bool wide = cs.bvhLayout == BvhLayout::Wide;
-  std::printf("BVH          %s, %zu nodes, depth %d, SAH cost %.2f, built in %.3f s (%.3g Mprims/s)\n",
-              wide ? "8-wide compressed" : "binary", wide ? cs.wideNodes.size() : cs.nodes.size(), cs.bvhDepth, cs.bvh_sah_cost(),
-              cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
+  std::printf("BVH          %s, %s, %zu nodes, depth %d, SAH cost %.2f, built in %.3f s (%.3g Mprims/s)\n",
+              wide ? "8-wide compressed" : "binary", split_method_name(cs.bvhSplit), wide ? cs.wideNodes.size() : cs.nodes.size(),
+              cs.bvhDepth, cs.bvh_sah_cost(), cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
   std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
               prims ? double(gpuBytes) / double(prims) : 0.0);
   // On a CPU device every branch a kernel has costs each path, taken or not:

@@ -88,6 +88,8 @@ check "build bench times the greedy collapse of every scene" $(
   [ "$(grep -c '"greedy_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath, 8-wide, greedy collapse" "$work/out"; echo $?)
 check "build bench times the clustered SAH build of every (binned-SAH) scene" $(
   [ "$(grep -c '"clustered_mprims_per_second"' "$work/b.json")" -eq 2 ] && grep -q "wavepath clustered SAH, 8-wide" "$work/out"; echo $?)
+check "build bench names the renderer's split method (binned SAH at these sizes)" $(
+  [ "$(grep -c '"renderer_split": "binned SAH"' "$work/b.json")" -eq 2 ] && grep -q "wavepath, 8-wide (the renderer's)" "$work/out"; echo $?)
 check "build bench splits the renderer's build into the binary tree and the collapse" $(python3 -c '
 import json, sys
 rows = json.load(open(sys.argv[1]))["build"]

@@ -266,6 +266,37 @@ TEST(Bvh, ClusteredBuildCostsAboutWhatBinnedSahCosts) {
   EXPECT_LT(clusteredLarge, 0.9 * binnedLarge);
 }
 
+// A scene that names no split method is built by binned SAH below
+// kClusteredSahFromPrimitives primitives and by the clustered build from
+// there: the trees are those of the method named outright.
+TEST(Bvh, SahBySizeTakesTheClusteredBuildForLargeScenes) {
+  AcceleratorSettings automatic;
+  EXPECT_EQ(automatic.split, SplitMethod::Auto);
+  EXPECT_EQ(split_for(automatic, kClusteredSahFromPrimitives - 1), SplitMethod::Sah);
+  EXPECT_EQ(split_for(automatic, kClusteredSahFromPrimitives), SplitMethod::ClusteredSah);
+  EXPECT_EQ(split_for(AcceleratorSettings{4, SplitMethod::Sah}, kClusteredSahFromPrimitives), SplitMethod::Sah);
+  EXPECT_EQ(split_for(AcceleratorSettings{4, SplitMethod::Middle}, kClusteredSahFromPrimitives), SplitMethod::Middle);
+
+  auto same_tree = [](const Bvh& a, const Bvh& b) {
+    return a.order == b.order && a.nodes.size() == b.nodes.size() &&
+           std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(shader::BvhNode)) == 0;
+  };
+  const BvhInput small = bvh_input(bunny_with_spheres(AcceleratorSettings{}));
+  EXPECT_TRUE(same_tree(build_bvh(small, AcceleratorSettings{4, SplitMethod::Auto}), build_bvh(small, AcceleratorSettings{4, SplitMethod::Sah})));
+  // Tiny boxes scattered through a cube, just enough of them.
+  BvhInput large;
+  large.bounds.resize(kClusteredSahFromPrimitives);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 100.0f);
+  for (Aabb& b : large.bounds) {
+    b.lo = glm::vec3(u(rng), u(rng), u(rng));
+    b.hi = b.lo + 0.01f;
+  }
+  const Bvh automaticTree = build_bvh(large, AcceleratorSettings{4, SplitMethod::Auto});
+  EXPECT_TRUE(same_tree(automaticTree, build_bvh(large, AcceleratorSettings{4, SplitMethod::ClusteredSah})));
+  EXPECT_FALSE(same_tree(automaticTree, build_bvh(large, AcceleratorSettings{4, SplitMethod::Sah})));
+}
+
 // The builder's own invariants, straight on bounds: the leaf order is a
 // permutation of the primitives, every leaf holds at most maxLeafSize
 // (identical centroids aside, which only halving separates), boxes nest.

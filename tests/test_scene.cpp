@@ -257,6 +257,8 @@ TEST(Scene, AcceleratorSplitMethodsByName) {
     EXPECT_EQ(scene.accelerator.split, split) << name;
     EXPECT_EQ(scene.accelerator.maxLeafSize, 2) << name;
   }
+  // Without a method the builder picks one of the SAH builds by size.
+  EXPECT_EQ(load_scene(write_scene("accel.json", R"({"accelerator": {"type": "bbh"}})")).accelerator.split, SplitMethod::Auto);
 }
 
 TEST(SceneErrors, SyntaxErrorsGiveLineAndColumn) {

@@ -370,7 +370,7 @@ struct Task {
 class Builder {
  public:
   Builder(const BvhInput& in, const AcceleratorSettings& s)
-      : settings_(s),
+      : settings_{s.maxLeafSize, split_for(s, in.bounds.size())},
         bounds_(in.bounds),
         n_(in.bounds.size()),
         refs0_(n_),
@@ -1212,6 +1212,22 @@ void rotate_bvh(Bvh& bvh, int maxPasses) {
   bvh.depth = height[0];
   bvh.sahCost = sah_cost(bvh.nodes);
   bvh.buildSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+SplitMethod split_for(const AcceleratorSettings& settings, size_t primitives) {
+  if (settings.split != SplitMethod::Auto) return settings.split;
+  return primitives >= kClusteredSahFromPrimitives ? SplitMethod::ClusteredSah : SplitMethod::Sah;
+}
+
+const char* split_method_name(SplitMethod m) {
+  switch (m) {
+    case SplitMethod::Sah: return "binned SAH";
+    case SplitMethod::ClusteredSah: return "clustered SAH";
+    case SplitMethod::Middle: return "middle split";
+    case SplitMethod::Equal: return "equal counts";
+    case SplitMethod::Auto: return "SAH, binned or clustered by size";
+  }
+  return "?";
 }
 
 void build_bvh_slots(const BvhInput& input, const AcceleratorSettings& settings,

@@ -76,7 +76,7 @@ struct KernelVariant {
   WavefrontSettings settings;
   BvhLayout bvhLayout = BvhLayout::Wide;
   bool bvhRotations = false;    // the BVH improved by tree rotations
-  bool clusteredBuild = false;  // the BVH built by SplitMethod::ClusteredSah where the scene asks for SAH
+  bool clusteredBuild = false;  // the BVH built by SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide BVH's nodes are picked from the binary tree
 };
 const std::vector<KernelVariant>& kernel_variants();

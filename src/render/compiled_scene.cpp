@@ -352,7 +352,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
   AcceleratorSettings accel = scene.accelerator;
-  if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+  if (options.clusteredBuild && split_for(accel, input.bounds.size()) == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+  out.bvhSplit = split_for(accel, input.bounds.size());
   const bool wide = options.bvhLayout == BvhLayout::Wide;
   out.bvhLayout = options.bvhLayout;
   uint32_t stackSlots;

@@ -39,7 +39,7 @@ struct RenderOptions {
   int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
   BvhLayout bvhLayout = BvhLayout::Wide;
   bool bvhRotations = false;  // improve the binned-SAH tree with tree rotations (rotate_bvh) before use
-  bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene asks for SAH
+  bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide layout's nodes are picked from the binary tree
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
@@ -69,6 +69,7 @@ struct CompiledScene {
   int bvhDepth = 0;      // levels of the traversed layout's tree
   double binarySahCost = 0.0;  // the binary layout's SAH cost, as its builder measured it (bvh_sah_cost)
   double bvhBuildSeconds = 0.0;
+  SplitMethod bvhSplit = SplitMethod::Sah;  // how the builder split (the scene's method, Auto resolved by size)
   // Shade classes (sorting by material class, types.glsl): per class, the
   // FEATURE_MATERIAL_KINDS its materials need; each material's sort key (its
   // class + 1) is its children.w. And the kinds every shade kernel needs

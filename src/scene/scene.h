@@ -27,11 +27,13 @@ struct Camera {
 // clustered SAH build, faster for large scenes (binned SAH over Morton-order
 // clusters at the top, the exact SAH sweep for small nodes); the middle of the
 // centroids' extent; or two halves by count (darts' "middle" and "equal").
-enum class SplitMethod { Sah, Middle, Equal, ClusteredSah };
+// Auto, what a scene gets unless it names a method, is one of the two SAH
+// builds by the scene's size (split_for in bvh.h).
+enum class SplitMethod { Sah, Middle, Equal, ClusteredSah, Auto };
 
 struct AcceleratorSettings {
   int maxLeafSize = 4;
-  SplitMethod split = SplitMethod::Sah;
+  SplitMethod split = SplitMethod::Auto;
 };
 
 // PathHemisphere: BSDF-sampling-only path tracing with directions uniform
