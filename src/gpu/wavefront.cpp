@@ -76,7 +76,7 @@ const std::vector<KernelVariant>& kernel_variants() {
          BvhLayout::Wide},
         {"gpu-mega", "one kernel per path (camera ray to pixel), its rays sharing lavapipe's loop budget", megakernel,
          BvhLayout::Wide},
-        {"gpu-rotate", "wavefront kernels, wide BVH from a binned-SAH tree improved by tree rotations", WavefrontSettings{},
+        {"gpu-rotate", "wavefront kernels, wide BVH from the SAH tree improved by tree rotations", WavefrontSettings{},
          BvhLayout::Wide, true},
         {"gpu-clustered", "wavefront kernels, wide BVH from the clustered SAH build (Morton clusters at the top, exact sweep at the bottom)",
          WavefrontSettings{}, BvhLayout::Wide, false, true},
