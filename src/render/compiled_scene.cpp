@@ -352,8 +352,9 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
   AcceleratorSettings accel = scene.accelerator;
-  if (options.clusteredBuild && split_for(accel, input.bounds.size()) == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
-  out.bvhSplit = split_for(accel, input.bounds.size());
+  accel.split = split_for(accel, input.bounds.size());
+  if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+  out.bvhSplit = accel.split;
   const bool wide = options.bvhLayout == BvhLayout::Wide;
   out.bvhLayout = options.bvhLayout;
   uint32_t stackSlots;
