@@ -436,9 +436,12 @@ int run_raycast_bench(const BenchOptions& o) {
     if (!embreeNote.empty()) std::printf("  Embree: %s\n", embreeNote.c_str());
     std::printf("  %-8s %-14s %12s %14s %8s %13s %11s\n", "rays", "variant", "Mrays/s", "Embree Mrays/s", "ratio",
                 "per repeat", "walk steps");
-    for (const auto& [setName, rays] : {std::pair<const char*, const std::vector<shader::ShadowRay>*>{"primary", &sets.primary},
-                                        {"bounce", &sets.bounce},
-                                        {"shadow", &sets.shadow}}) {
+    using RaySet = std::pair<const char*, const std::vector<shader::ShadowRay>*>;
+    for (const RaySet& set : {RaySet{"primary", &sets.primary}, RaySet{"bounce", &sets.bounce}, RaySet{"shadow", &sets.shadow}}) {
+      // Named variables, not a structured binding: the lambdas below capture
+      // them, which C++17 allows only for variables (GCC accepts it, Clang not).
+      const char* setName = set.first;
+      const std::vector<shader::ShadowRay>* rays = set.second;
       if (rays->empty()) continue;
       const bool anyHit = rays == &sets.shadow;  // shadow rays ask whether the segment is blocked
       std::vector<float> reference = rays == &sets.primary ? sets.primaryHits : cpu_hits(view, *rays, anyHit);
