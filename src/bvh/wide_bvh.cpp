@@ -112,10 +112,13 @@ float cell_size(uint32_t biasedExponent) {
 // outwards and checked in float as the decoding computes them. `inverseCell`
 // is 1 / cell, exact since cell is a power of two. Floor and ceiling are
 // taken after clamping to [0, 255], where they are integer conversions
-// rather than calls into libm.
+// rather than calls into libm. A NaN plane (bounds that are not finite, which
+// the builder tolerates) widens to the grid's end: converting NaN to an
+// integer is undefined.
 std::pair<uint32_t, uint32_t> quantize(float lo, float hi, float origin, float cell, double inverseCell) {
-  const double below = std::min(std::max((double(lo) - double(origin)) * inverseCell, 0.0), 255.0);
-  const double above = std::min(std::max((double(hi) - double(origin)) * inverseCell, 0.0), 255.0);
+  const double rawLo = (double(lo) - double(origin)) * inverseCell, rawHi = (double(hi) - double(origin)) * inverseCell;
+  const double below = rawLo > 0.0 ? std::min(rawLo, 255.0) : 0.0;
+  const double above = rawHi < 255.0 ? std::max(rawHi, 0.0) : 255.0;
   int qlo = int(below);
   int qhi = int(above);
   if (double(qhi) < above) ++qhi;
