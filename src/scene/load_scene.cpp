@@ -44,6 +44,8 @@ class SceneLoader {
       doc_ = nlohmann::json::parse(text.str());
     } catch (const nlohmann::json::parse_error& e) {
       throw InputError(file_ + ":" + location_of(text.str(), e.byte) + ": JSON syntax error: " + describe(e));
+    } catch (const nlohmann::json::out_of_range& e) {
+      throw InputError(file_ + ": " + number_out_of_range(text.str(), e));
     }
     scene_.sourcePath = file_;
     JsonCursor root(doc_, "", file_);
@@ -87,6 +89,20 @@ class SceneLoader {
       }
     }
     return std::to_string(line) + ":" + std::to_string(column);
+  }
+
+  // A number too large for a double (nlohmann: "number overflow parsing
+  // 'TOKEN'"), which the parser reports without a position: the place is
+  // that of the token's first appearance in the text.
+  static std::string number_out_of_range(const std::string& text, const nlohmann::json::out_of_range& e) {
+    const std::string w = e.what();
+    const size_t open = w.find('\''), close = w.rfind('\'');
+    if (open == std::string::npos || close <= open) return "JSON number out of range (" + w + ")";
+    std::string token = w.substr(open + 1, close - open - 1);
+    const size_t at = text.find(token);
+    if (token.size() > 40) token = token.substr(0, 37) + "...";
+    const std::string problem = "JSON number " + token + " is out of the range of double-precision numbers";
+    return at == std::string::npos ? problem : location_of(text, at + 1) + ": " + problem;
   }
 
   static std::string describe(const nlohmann::json::parse_error& e) {

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "util/error.h"
 
@@ -25,6 +27,25 @@ std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
+}
+
+// stb_image picks its decoder by the file's content, whatever its name, and
+// Debian 12's copy has open CVEs (2023-45661 to 45667), several of them in the
+// GIF decoder. Only the formats wavepath documents reach it: PNG, JPEG, BMP
+// and Radiance HDR by their signatures, and TGA, which has none, by its
+// extension when the content carries no other decoder's signature.
+bool stb_may_decode(const std::string& path, const std::string& ext) {
+  unsigned char head[11] = {};
+  std::ifstream in(path, std::ios::binary);
+  in.read(reinterpret_cast<char*>(head), sizeof(head));
+  const size_t n = size_t(in.gcount());
+  auto starts = [&](const char* sig, size_t len) { return n >= len && std::memcmp(head, sig, len) == 0; };
+  if (starts("\x89PNG\r\n\x1a\n", 8) || starts("\xff\xd8\xff", 3) || starts("BM", 2) || starts("#?RADIANCE", 10) ||
+      starts("#?RGBE", 6))
+    return true;
+  const bool otherDecoder = starts("GIF8", 4) || starts("8BPS", 4) || starts("\x53\x80\xf6\x34", 4) ||
+                            (n >= 2 && head[0] == 'P' && head[1] >= '1' && head[1] <= '7');
+  return ext == ".tga" && !otherDecoder;
 }
 
 LinearImage load_exr(const std::string& path) {
@@ -59,6 +80,7 @@ LinearImage load_linear_image(const std::string& path) {
     int w = 0;
     int h = 0;
     int channels = 0;
+    if (!stb_may_decode(path, ext)) throw InputError(path + ": not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image");
     if (!stbi_info(path.c_str(), &w, &h, &channels)) {
       throw InputError(path + ": cannot read image: " + std::string(stbi_failure_reason()));
     }
@@ -69,14 +91,22 @@ LinearImage load_linear_image(const std::string& path) {
     img.width = w;
     img.height = h;
     img.pixels.resize(size_t(w) * size_t(h));
+    // The decoder's size must be the one stbi_info read, which sized the pixels.
+    auto check_size = [&](void* data) {
+      if (!data) throw InputError(path + ": cannot decode image: " + std::string(stbi_failure_reason()));
+      if (w != img.width || h != img.height) {
+        stbi_image_free(data);
+        throw InputError(path + ": the image's header and its data disagree on its size");
+      }
+    };
     if (hdr) {
       float* data = stbi_loadf(path.c_str(), &w, &h, &channels, 3);
-      if (!data) throw InputError(path + ": cannot decode image: " + std::string(stbi_failure_reason()));
+      check_size(data);
       for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
       stbi_image_free(data);
     } else {
       unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
-      if (!data) throw InputError(path + ": cannot decode image: " + std::string(stbi_failure_reason()));
+      check_size(data);
       float lut[256];
       for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(float(i) / 255.0f);
       for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(lut[data[3 * i]], lut[data[3 * i + 1]], lut[data[3 * i + 2]]);
