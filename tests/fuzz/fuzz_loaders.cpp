@@ -1,0 +1,83 @@
+#include "fuzz/fuzz_loaders.h"
+
+#include <stb_image_write.h>
+#include <stdlib.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "render/compiled_scene.h"
+#include "scene/load_scene.h"
+#include "scene/obj_mesh.h"
+#include "scene/texture_image.h"
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+// The private folder, made once per process with the files a scene may name.
+const std::filesystem::path& fuzz_folder() {
+  static const std::filesystem::path folder = [] {
+    std::string pattern = (std::filesystem::temp_directory_path() / "wavepath-fuzz-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot make a temporary folder for fuzzed inputs");
+    std::filesystem::path f(pattern);
+    std::ofstream(f / "mesh.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n";
+    const unsigned char texels[2 * 2 * 3] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+    if (!stbi_write_png((f / "tex.png").c_str(), 2, 2, 3, texels, 2 * 3)) throw std::runtime_error("cannot write tex.png");
+    return f;
+  }();
+  return folder;
+}
+
+std::string write_input(const std::string& name, const uint8_t* data, size_t size) {
+  const std::string path = (fuzz_folder() / name).string();
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  if (!out) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
+}  // namespace
+
+FuzzedInput fuzzed_input_named(const std::string& name) {
+  if (name == "scene") return FuzzedInput::Scene;
+  if (name == "obj") return FuzzedInput::Obj;
+  if (name == "image") return FuzzedInput::Image;
+  throw std::invalid_argument("no fuzzed input kind named \"" + name + "\"");
+}
+
+bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
+  std::string path;
+  try {
+    switch (kind) {
+      case FuzzedInput::Scene: {
+        path = write_input("scene.json", data, size);
+        RenderOptions options;
+        options.spp = 1;
+        compile_scene(load_scene(path), options);
+        break;
+      }
+      case FuzzedInput::Obj:
+        path = write_input("input.obj", data, size);
+        load_obj(path);
+        break;
+      case FuzzedInput::Image: {
+        // The name's extension matters: .exr goes to tinyexr, .tga lets stb_image try TGA.
+        const char* names[3] = {"input.png", "input.exr", "input.tga"};
+        path = write_input(names[size > 0 ? data[0] % 3 : 0], size > 0 ? data + 1 : data, size > 0 ? size - 1 : 0);
+        load_linear_image(path);
+        break;
+      }
+    }
+  } catch (const InputError& e) {
+    // The one line a user sees must say which file is wrong.
+    if (std::string(e.what()).find(path) == std::string::npos)
+      throw std::logic_error(std::string("an input error that does not name the file: ") + e.what());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace wp
