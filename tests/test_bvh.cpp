@@ -437,7 +437,8 @@ TEST(Bvh, TraversalPastTheStepCapIsReported) {
     CompiledScene cs = compile_scene(scene, options);
     SceneView uncapped = cs.view();
     options.traversalStepCap = kCap;
-    SceneView capped = compile_scene(scene, options).view();
+    CompiledScene cappedScene = compile_scene(scene, options);  // the view points into it
+    SceneView capped = cappedScene.view();
     std::vector<ShadowRay> rays = random_rays(scene, 200, 7);
     int truncated = 0;
     for (const ShadowRay& r : rays) {
