@@ -48,7 +48,29 @@ bool stb_may_decode(const std::string& path, const std::string& ext) {
   return ext == ".tga" && !otherDecoder;
 }
 
+// The size an OpenEXR file's header declares, read before LoadEXR, which
+// allocates whatever the header asks for.
+void check_exr_size(const std::string& path) {
+  EXRVersion version;
+  if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) throw InputError(path + ": not an OpenEXR image");
+  EXRHeader header;
+  InitEXRHeader(&header);
+  const char* err = nullptr;
+  if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
+    std::string reason = err ? err : "unknown error";
+    if (err) FreeEXRErrorMessage(err);
+    FreeEXRHeader(&header);
+    throw InputError(path + ": cannot read EXR image: " + reason);
+  }
+  const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1;
+  const long long h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
+  FreeEXRHeader(&header);
+  if (w <= 0 || h <= 0 || w * h > kMaxPixels)
+    throw InputError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
+}
+
 LinearImage load_exr(const std::string& path) {
+  check_exr_size(path);
   float* rgba = nullptr;
   int w = 0;
   int h = 0;
