@@ -59,7 +59,7 @@ rm -f "$work"/out.*
 check "CS184 options -f -s -m -r -t -b -d -l -H are accepted" $?
 "$wavepath" render "$data/features/materials.json" -f "$out" -s 2 -m 1 -r 12 8 -t 1 --cpu | grep -q "12x8, 2 spp, 1 max bounces"
 check "CS184 options take effect" $?
-expect_error "image that does not decode" 2 "bad-image.png|cannot read image|/materials/0/albedo" -- "$wavepath" render "$data/bad-image.json" -o "$out"
+expect_error "file that is no image" 2 "bad-image.png|not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image|/materials/0/albedo" -- "$wavepath" render "$data/bad-image.json" -o "$out"
 expect_error "OBJ normal index out of range" 2 "bad-normal-index.obj|normal or texture coordinate" -- "$wavepath" render "$data/mesh-bad-normal-index.json" -o "$out"
 expect_error "too many light samples" 2 "light-samples" -- "$wavepath" render "$data/furnace.json" -o "$out" -l 9
 expect_error "-H against another integrator" 2 "-H|contradict" -- "$wavepath" render "$data/furnace.json" -o "$out" -H --integrator "path tracer nee"
