@@ -32,20 +32,22 @@ std::string lower_extension(const std::string& path) {
 // stb_image picks its decoder by the file's content, whatever its name, and
 // Debian 12's copy has open CVEs (2023-45661 to 45667), several of them in the
 // GIF decoder. Only the formats wavepath documents reach it: PNG, JPEG, BMP
-// and Radiance HDR by their signatures, and TGA, which has none, by its
-// extension when the content carries no other decoder's signature.
-bool stb_may_decode(const std::string& path, const std::string& ext) {
+// and Radiance HDR by their signatures (HDR's as stbi_is_hdr tests it), and
+// TGA, which has none, by its extension when the content carries no other
+// decoder's signature.
+enum class StbFormat { None, Ldr, Hdr };
+
+StbFormat stb_format(const std::string& path, const std::string& ext) {
   unsigned char head[11] = {};
   std::ifstream in(path, std::ios::binary);
   in.read(reinterpret_cast<char*>(head), sizeof(head));
   const size_t n = size_t(in.gcount());
   auto starts = [&](const char* sig, size_t len) { return n >= len && std::memcmp(head, sig, len) == 0; };
-  if (starts("\x89PNG\r\n\x1a\n", 8) || starts("\xff\xd8\xff", 3) || starts("BM", 2) || starts("#?RADIANCE", 10) ||
-      starts("#?RGBE", 6))
-    return true;
+  if (starts("#?RADIANCE\n", 11) || starts("#?RGBE\n", 7)) return StbFormat::Hdr;
+  if (starts("\x89PNG\r\n\x1a\n", 8) || starts("\xff\xd8\xff", 3) || starts("BM", 2)) return StbFormat::Ldr;
   const bool otherDecoder = starts("GIF8", 4) || starts("8BPS", 4) || starts("\x53\x80\xf6\x34", 4) ||
                             (n >= 2 && head[0] == 'P' && head[1] >= '1' && head[1] <= '7');
-  return ext == ".tga" && !otherDecoder;
+  return ext == ".tga" && !otherDecoder ? StbFormat::Ldr : StbFormat::None;
 }
 
 // The size an OpenEXR file's header declares, read before LoadEXR, which
@@ -102,14 +104,15 @@ LinearImage load_linear_image(const std::string& path) {
     int w = 0;
     int h = 0;
     int channels = 0;
-    if (!stb_may_decode(path, ext)) throw InputError(path + ": not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image");
+    const StbFormat format = stb_format(path, ext);
+    if (format == StbFormat::None) throw InputError(path + ": not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image");
     if (!stbi_info(path.c_str(), &w, &h, &channels)) {
       throw InputError(path + ": cannot read image: " + std::string(stbi_failure_reason()));
     }
     if (w <= 0 || h <= 0 || (long long)w * h > kMaxPixels) {
       throw InputError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
     }
-    bool hdr = stbi_is_hdr(path.c_str()) != 0;
+    const bool hdr = format == StbFormat::Hdr;
     img.width = w;
     img.height = h;
     img.pixels.resize(size_t(w) * size_t(h));
