@@ -9,7 +9,7 @@
 
 // Constant 10: any hit instead of the closest (the benchmark's shadow rays):
 // a hit with a valid prim means the segment is blocked.
-layout(constant_id = 10) const bool kAnyHit = false;
+layout(constant_id = SPEC_ANY_HIT) const bool kAnyHit = false;
 #define TRACE_ANY_HIT kAnyHit
 
 uint trace_item_count() {

@@ -16,9 +16,9 @@ uint append_slot(uint counter, bool want) {
 }
 
 // Sorted by material class (kSortByMaterial): the sort key whose queue this
-// kernel shades, compiled with that key's feature mask (constant 4);
+// kernel shades, compiled with the material and texture kinds of that key's class;
 // SORT_KEYS: every queued path, unsorted.
-layout(constant_id = 11) const uint kShadeKey = SORT_KEYS;
+layout(constant_id = SPEC_SHADE_KEY) const uint kShadeKey = SORT_KEYS;
 
 void main() {
   uint i = gl_GlobalInvocationID.x;

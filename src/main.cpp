@@ -31,6 +31,7 @@
 #include "render/compiled_scene.h"
 #include "report/html_report.h"
 #include "stats/compare.h"
+#include "scene/kinds.h"
 #include "scene/load_scene.h"
 #include "util/error.h"
 #include "util/progress.h"
@@ -135,7 +136,7 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   }
   if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
   if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
-  if (!a.environment.empty()) scene.environmentTexture = add_image_texture(scene, a.environment, "given by --env");
+  if (!a.environment.empty()) scene.environment = add_image_texture(scene, a.environment, "given by --env");
   return scene;
 }
 
@@ -226,10 +227,12 @@ int run_compare(const CompareArgs& c) {
       if (r != "cpu") kernel_variant(r);  // fails early, naming the known variants
     Scene scene = load_scene_with_overrides(c.render);
     RenderOptions oa = options_from(c.render, c.render.seed), ob = options_from(c.render, c.render.seed + 1);
-    oa.plantedBias = c.plantBias;
-    if (!c.plantRegion.empty()) oa.plantedRegion = glm::uvec4(c.plantRegion[0], c.plantRegion[1], c.plantRegion[2], c.plantRegion[3]);
     std::string whereA, whereB;
     a = render_on(c.a, compile_scene(scene, variant_options(oa, c.a)), c.render, &whereA);
+    if (c.plantBias != 1.0f) {
+      const std::vector<uint32_t>& r = c.plantRegion;
+      plant_bias(a, c.plantBias, r.empty() ? glm::uvec4(0u, 0u, ~0u, ~0u) : glm::uvec4(r[0], r[1], r[2], r[3]));
+    }
     b = render_on(c.b, compile_scene(scene, variant_options(ob, c.b)), c.render, &whereB);
     auto label = [&](const std::string& r, const std::string& where, uint32_t seed, bool planted) {
       std::string l = r + " (" + where + "), seed " + std::to_string(seed);
@@ -321,13 +324,15 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
               prims ? double(gpuBytes) / double(prims) : 0.0);
   // On a CPU device every branch a kernel has costs each path, taken or not:
   // what the scene uses is what its kernels pay for.
-  std::printf("features     %s (compiled into the kernels)\n", feature_names(cs.params.accel.y).c_str());
+  std::printf("kinds        %s (compiled into the kernels)\n", kinds_description(cs.params.kinds).c_str());
   // gpu-sort shades each class of materials with a kernel of its own kinds.
   std::printf("shade classes");
-  for (size_t c = 0; c < cs.shadeClasses.size(); ++c)
-    std::printf(" %zu: %s;", c, feature_names(cs.shade_key_features(uint32_t(c) + 1) & FEATURE_MATERIAL_KINDS).c_str());
-  std::printf(" misses: %s (material and texture kinds of each gpu-sort shade kernel)\n",
-              feature_names(cs.shade_key_features(SORT_KEY_MISS) & FEATURE_MATERIAL_KINDS).c_str());
+  for (size_t c = 0; c < cs.shadeClasses.size(); ++c) {
+    const glm::uvec4 k = cs.shade_key_kinds(uint32_t(c) + 1);
+    std::printf(" %zu: %s / %s;", c, kind_list(material_kinds(), k.x, ", ").c_str(), kind_list(texture_kinds(), k.y, ", ").c_str());
+  }
+  std::printf(" misses: textures %s (material / texture kinds of each gpu-sort shade kernel)\n",
+              kind_list(texture_kinds(), cs.shade_key_kinds(SORT_KEY_MISS).y, ", ").c_str());
   if (kernelsDevice) {
     // The variant's kernels as the device's compiler built them for this scene.
     VulkanContext ctx(*kernelsDevice, VulkanContext::validation_requested_by_environment());
@@ -374,7 +379,7 @@ int main(int argc, char** argv) {
   // Short options in parentheses are the CS184 pathtracer's, for its students.
   render->add_option("-o,-f,--output", r.output, "PNG to write (default: SCENE-NAME.png) (CS184: -f)");
   render->add_option("--exr", r.exr, "linear EXR with mean, variance and sample count (default: next to the PNG)");
-  render->add_option("-s,--spp", r.spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")->check(CLI::Range(1, 1 << 24));
+  render->add_option("-s,--spp", r.spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
   render->add_option("-m,--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")
       ->check(CLI::Range(0, 1024));
   render->add_option("--integrator", r.integrator,
@@ -401,7 +406,7 @@ int main(int argc, char** argv) {
   render->add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
   render->add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default gpu");
   render->add_flag("--stage-times", r.stageTimes, "print the GPU time of each kernel stage (Vulkan timestamps)");
-  render->add_option("-r,--resolution", r.resolution, "image size W H, overriding the scene's (CS184: -r)")->expected(2)->check(CLI::Range(1, 16384));
+  render->add_option("-r,--resolution", r.resolution, "image size W H, overriding the scene's (CS184: -r)")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
 
   CompareArgs cmp;
   CLI::App* compare = app.add_subcommand(
@@ -411,11 +416,11 @@ int main(int argc, char** argv) {
   compare->add_option("--images", cmp.images, "compare two stored renders (EXR written by wavepath render) instead")->expected(2);
   compare->add_option("--a", cmp.a, "renderer of image A: cpu or a kernel variant such as gpu, gpu-wg128 (default gpu)");
   compare->add_option("--b", cmp.b, "renderer of image B: cpu or a kernel variant (default cpu)");
-  compare->add_option("--spp", cmp.render.spp, "samples per pixel of each render")->check(CLI::Range(1, 1 << 24));
+  compare->add_option("--spp", cmp.render.spp, "samples per pixel of each render")->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
   compare->add_option("--max-bounces", cmp.render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
   compare->add_option("--integrator", cmp.render.integrator, "integrator, overriding the scene's (darts name)");
   compare->add_option("--seed", cmp.render.seed, "seed of A; B uses seed + 1 (default 1)")->default_val(1);
-  compare->add_option("--resolution", cmp.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
+  compare->add_option("--resolution", cmp.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
   compare->add_option("--report", cmp.report, "write an HTML report to this directory");
   compare->add_option("--device", cmp.render.device, "Vulkan device: index or part of the name");
   compare->add_option("--threads", cmp.render.threads, "CPU threads for the CPU reference")->check(CLI::Range(0, 1024));
@@ -431,7 +436,7 @@ int main(int argc, char** argv) {
   benchCmd->add_option("--variants", bench.variants, "kernel variants (default: all; wavepath devices lists them)")->delimiter(',');
   benchCmd->add_option("--spp", bench.spp, "samples per pixel of each timed render (default 4)")->check(CLI::Range(1, 1 << 20));
   benchCmd->add_option("--repeats", bench.repeats, "timed renders per variant, after one warm-up (default 3)")->check(CLI::Range(1, 1000));
-  benchCmd->add_option("--resolution", bench.resolution, "image size W H, overriding the scenes'")->expected(2)->check(CLI::Range(1, 16384));
+  benchCmd->add_option("--resolution", bench.resolution, "image size W H, overriding the scenes'")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
   benchCmd->add_option("--check-spp", bench.checkSpp, "samples per pixel of the correctness check (default 64)")->check(CLI::Range(1, 1 << 20));
   benchCmd->add_option("--plant-bias", bench.plantedBias, "debug: plant this bias in the variants' check renders")->check(CLI::Range(0.0, 100.0));
   benchCmd->add_option("--device", bench.device, "Vulkan device: index or part of the name");
@@ -453,7 +458,7 @@ int main(int argc, char** argv) {
   convergence->add_option("--reference-spp", conv.referenceSpp, "samples of the reference (default 4096)")->check(CLI::Range(1, 1 << 20));
   convergence->add_option("--integrator", conv.render.integrator, "integrator, overriding the scene's (darts name)");
   convergence->add_option("--max-bounces", conv.render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
-  convergence->add_option("-r,--resolution", conv.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, 16384));
+  convergence->add_option("-r,--resolution", conv.render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
   convergence->add_option("--csv", conv.csv, "write sampler,spp,rmse rows (scripts/plot_convergence.py draws them)");
   convergence->add_option("-t,--threads", conv.render.threads, "CPU threads (default: all cores)")->check(CLI::Range(0, 1024));
 

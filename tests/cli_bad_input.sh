@@ -32,6 +32,7 @@ expect_error() {
 
 out="$work/out.png"
 expect_error "missing scene file" 2 "no-such.json|no such file" -- "$wavepath" render "$data/no-such.json" -o "$out" --spp 1
+expect_error "not a scene file" 2 "bad-image.png|not a scene file wavepath reads" -- "$wavepath" render "$data/bad-image.png" -o "$out" --spp 1
 expect_error "JSON syntax error" 2 "bad-syntax.json:4:24|JSON syntax error" -- "$wavepath" render "$data/bad-syntax.json" -o "$out" --spp 1
 expect_error "unknown key" 2 "bad-unknown-key.json|/camera/fov|unknown key \"fov\"" -- "$wavepath" render "$data/bad-unknown-key.json" -o "$out"
 expect_error "unknown material type" 2 "bad-material-type.json|/surfaces/0/material/type|velvet" -- "$wavepath" render "$data/bad-material-type.json" -o "$out"

@@ -4,10 +4,12 @@
 #include "test_support.h"
 
 #include <cstring>
+#include <map>
 #include <memory>
 #include <tuple>
 
 #include "gpu/wavefront.h"
+#include "scene/kinds.h"
 #include "stats/compare.h"
 #include "util/error.h"
 
@@ -48,11 +50,10 @@ class Gpu : public testing::Test {
     go.integrator = integrator;
     go.spp = spp;
     go.seed = 1;
-    go.plantedBias = gpuBias;
     RenderOptions co = go;
     co.seed = 2;
-    co.plantedBias = 1.0f;
     ImageStats gpu = render(compile_scene(scene, go));
+    plant_bias(gpu, gpuBias);
     Progress quiet("", 0, false);
     ImageStats cpu = render_cpu(compile_scene(scene, reference_options(co)), 0, quiet);
     return compare_images(gpu, cpu);
@@ -65,12 +66,10 @@ class Gpu : public testing::Test {
     RenderOptions a;
     a.spp = 64;
     a.seed = seed;
-    a.plantedBias = bias;
-    a.plantedRegion = region;
     RenderOptions b = a;
     b.seed = seed + 1000;
-    b.plantedBias = 1.0f;
     ImageStats gpu = render(compile_scene(scene, a));
+    plant_bias(gpu, bias, region);
     Progress quiet("", 0, false);
     ImageStats cpu = render_cpu(compile_scene(scene, reference_options(b)), 0, quiet);
     return compare_images(gpu, cpu);
@@ -379,7 +378,7 @@ TEST_F(Gpu, EveryPrimitiveAndLightKindAgreesWithTheCpuReference) {
 // on the Cornell box at 128x128 (64 spp each side) a 2 % bias over the whole
 // image, and a 10 % bias in one 32x32 region, are detected, and with no bias
 // the GPU and the CPU agree in at least 19 of 20 seeds. The biases are planted
-// in the integrator (RenderOptions::plantedBias), not in the image.
+// in the GPU's render (plant_bias: every sample of the region scaled).
 TEST_F(Gpu, CompareDetectsATwoPercentGlobalBias) {
   CompareResult r = cornell_128(1.02f, glm::uvec4(0, 0, ~0u, ~0u), 1);
   EXPECT_FALSE(r.passed()) << r.summary();
@@ -559,26 +558,80 @@ struct FeatureCase {
   const char* what;
 };
 
+const FeatureCase kFeatureCases[] = {
+    {"materials.json", IntegratorKind::PathMis, "metal, mirror, glass, phong, blinn-phong, fresnel blend; quad, sphere and point lights (mis)"},
+    {"materials.json", IntegratorKind::PathNee, "the same, path tracer nee"},
+    {"materials.json", IntegratorKind::PathMats, "the same, path tracer mats"},
+    {"materials.json", IntegratorKind::PathMixture, "the same, path tracer mixture"},
+    {"materials.json", IntegratorKind::Normals, "normals"},
+    {"materials.json", IntegratorKind::AmbientOcclusion, "ambient occlusion"},
+    {"textures.json", std::nullopt, "image, marble and nested checker textures, uv and solid mappings, a checker-textured lamp"},
+    {"smooth-mesh.json", std::nullopt, "OBJ with vertex normals and UVs (smooth shading)"},
+    {"integrators.json", IntegratorKind::PathMixture, "mixture with rough metal, phong, quad and sphere lights"},
+    {"integrators.json", IntegratorKind::PathMats, "mats with rough metal, phong, quad and sphere lights"},
+    {"environment.json", IntegratorKind::PathMis, "HDR environment map, importance-sampled (mis)"},
+    {"environment.json", IntegratorKind::PathMixture, "HDR environment map (mixture)"},
+    {"integrators.json", IntegratorKind::PathHemisphere, "uniform hemisphere sampling (CS184 -H)"},
+    {"camera.json", std::nullopt, "thin lens (aperture, focus distance), cmj sampler, 2:1 image"},
+};
+
 TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
-  const FeatureCase cases[] = {
-      {"materials.json", IntegratorKind::PathMis, "metal, mirror, glass, phong, blinn-phong, fresnel blend; quad, sphere and point lights (mis)"},
-      {"materials.json", IntegratorKind::PathNee, "the same, path tracer nee"},
-      {"materials.json", IntegratorKind::PathMats, "the same, path tracer mats"},
-      {"materials.json", IntegratorKind::PathMixture, "the same, path tracer mixture"},
-      {"materials.json", IntegratorKind::Normals, "normals"},
-      {"materials.json", IntegratorKind::AmbientOcclusion, "ambient occlusion"},
-      {"textures.json", std::nullopt, "image, marble and nested checker textures, uv and solid mappings, a checker-textured lamp"},
-      {"smooth-mesh.json", std::nullopt, "OBJ with vertex normals and UVs (smooth shading)"},
-      {"integrators.json", IntegratorKind::PathMixture, "mixture with rough metal, phong, quad and sphere lights"},
-      {"integrators.json", IntegratorKind::PathMats, "mats with rough metal, phong, quad and sphere lights"},
-      {"environment.json", IntegratorKind::PathMis, "HDR environment map, importance-sampled (mis)"},
-      {"environment.json", IntegratorKind::PathMixture, "HDR environment map (mixture)"},
-      {"integrators.json", IntegratorKind::PathHemisphere, "uniform hemisphere sampling (CS184 -H)"},
-      {"camera.json", std::nullopt, "thin lens (aperture, focus distance), cmj sampler, 2:1 image"},
-  };
-  for (const FeatureCase& c : cases) {
+  for (const FeatureCase& c : kFeatureCases) {
     CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/features/") + c.scene), 0, 64, 1.0f, c.integrator);
     EXPECT_TRUE(r.passed()) << c.what << ": " << r.summary();
+  }
+}
+
+// Every kind of every table in kinds.glsl is used by a feature case, and
+// its code is needed: with the kind's bit cleared from the scene's masks (as
+// a forgotten bit would), the kernels render an image the CPU reference
+// disagrees with. (With the masks as compiled, EveryFeatureAgreesWithTheCpuReference
+// shows agreement.) A kind added to a table without a feature scene that
+// uses it fails here.
+TEST_F(Gpu, EveryKindIsUsedByAFeatureSceneAndCompilingItOutIsCaught) {
+  struct Table {
+    const std::vector<KindInfo>* kinds;
+    int mask;  // its component of SceneParams.kinds
+    const char* what;
+  };
+  const Table tables[] = {{&material_kinds(), 0, "material"}, {&texture_kinds(), 1, "texture"}, {&light_kinds(), 2, "light"},
+                          {&feature_kinds(), 3, "feature"}};
+  // Kinds whose absence no comparison can see: the code of a light material
+  // (one comparison: it scatters nothing) and of a constant texture (what
+  // every lookup ends in) is never compiled out; without CMJ or uniform
+  // hemisphere sampling the kernels sample independently or by the BSDF,
+  // unbiased too (Scene.KindMasksNameWhatTheSceneUses checks those bits).
+  auto unobservable = [](int mask, uint32_t id) {
+    return (mask == 0 && id == MAT_LIGHT) || (mask == 1 && id == TEX_CONSTANT) ||
+           (mask == 3 && (id == FEATURE_CMJ || id == FEATURE_UNIFORM_HEMISPHERE));
+  };
+  Progress quiet("", 0, false);
+  std::map<size_t, ImageStats> cpu;  // per feature case, rendered on first use
+  for (const Table& t : tables) {
+    for (const KindInfo& k : *t.kinds) {
+      RenderOptions o;
+      o.spp = 128;  // the fresnel blend covers a few pixels of its scene
+      o.seed = 1;
+      size_t c = 0;
+      CompiledScene cs;
+      for (; c < std::size(kFeatureCases); ++c) {
+        o.integrator = kFeatureCases[c].integrator;
+        cs = compile_scene(load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene)), o);
+        if (cs.params.kinds[t.mask] & KIND_BIT(k.id)) break;
+      }
+      ASSERT_LT(c, std::size(kFeatureCases)) << "no feature scene uses " << t.what << " kind " << k.name;
+      if (unobservable(t.mask, k.id)) continue;
+      if (!cpu.count(c)) {
+        RenderOptions co = o;
+        co.seed = 2;
+        cpu[c] = render_cpu(compile_scene(load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene)),
+                                          reference_options(co)), 0, quiet);
+      }
+      cs.params.kinds[t.mask] &= ~KIND_BIT(k.id);
+      CompareResult r = compare_images(render(cs), cpu[c]);
+      EXPECT_FALSE(r.passed()) << t.what << " kind " << k.name << " compiled out of " << kFeatureCases[c].scene
+                               << " went unnoticed: " << r.summary();
+    }
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <fstream>
 
+#include "scene/kinds.h"
 #include "scene/transform.h"
 #include "util/error.h"
 
@@ -46,7 +47,7 @@ TEST(Scene, CornellBoxLoads) {
   glm::vec3 forward = glm::vec3(s.camera.toWorld * glm::vec4(0, 0, -1, 0));
   EXPECT_NEAR(forward.z, 1.0f, 1e-6f);  // looks down -Z in camera space, +Z in the world
   int lights = 0;
-  for (const auto& m : s.materials) lights += m.info.z != WP_INVALID;
+  for (const auto& m : s.materials) lights += m.emission != WP_INVALID;
   EXPECT_EQ(lights, 1);
 }
 
@@ -125,56 +126,74 @@ TEST(Scene, QuadFrontIsTheTransformedZAxisEvenWhenMirrored) {
   }
 }
 
-// The kernels compile out what a scene does not use (SceneParams.accel.y,
-// specialization constant 4): the mask must name everything a scene uses, and
-// nothing it does not.
-TEST(Scene, FeatureMaskNamesWhatTheSceneUses) {
-  auto features = [](const char* path) {
-    return compile_scene(load_scene(source_path(path)), RenderOptions{}).params.accel.y;
+// The kernels compile out what a scene does not use (SceneParams.kinds,
+// specialization constants): the masks must name every kind a scene uses,
+// and nothing it does not.
+TEST(Scene, KindMasksNameWhatTheSceneUses) {
+  auto kinds = [](const char* path, RenderOptions o = RenderOptions{}) { return compile_scene(load_scene(source_path(path)), o).params.kinds; };
+  auto bits = [](std::initializer_list<uint32_t> ids) {
+    uint32_t m = 0;
+    for (uint32_t id : ids) m |= KIND_BIT(id);
+    return m;
   };
-  EXPECT_EQ(features("scenes/cornell-box.json"), 0u);  // Lambertian, constant colours, triangle lights
-  uint32_t materials = features("tests/data/features/materials.json");
-  for (uint32_t f : {FEATURE_SPHERES, FEATURE_BLEND, FEATURE_METAL, FEATURE_DIELECTRIC, FEATURE_PHONG, FEATURE_BLINN_PHONG,
-                     FEATURE_CHECKER, FEATURE_POINT_LIGHTS, FEATURE_SPHERE_LIGHTS})
-    EXPECT_TRUE(materials & f) << "feature " << f;
-  EXPECT_FALSE(materials & (FEATURE_MARBLE | FEATURE_IMAGE | FEATURE_ENVIRONMENT));
-  EXPECT_TRUE(materials & FEATURE_SHADING_DATA);  // quads carry planar UVs
-  uint32_t textures = features("tests/data/features/textures.json");
-  EXPECT_EQ(textures & (FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE), FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE);
+  const glm::uvec4 box = kinds("scenes/cornell-box.json");
+  EXPECT_EQ(box, glm::uvec4(bits({MAT_LAMBERTIAN, MAT_LIGHT}), bits({TEX_CONSTANT}), bits({LIGHT_AREA}), 0u));
+  const glm::uvec4 materials = kinds("tests/data/features/materials.json");
+  EXPECT_EQ(materials.x, bits({MAT_LAMBERTIAN, MAT_LIGHT, MAT_METAL, MAT_DIELECTRIC, MAT_PHONG, MAT_BLINN_PHONG, MAT_BLEND}));
+  EXPECT_EQ(materials.y, bits({TEX_CONSTANT, TEX_CHECKER, TEX_FRESNEL}));
+  EXPECT_EQ(materials.z, bits({LIGHT_AREA, LIGHT_SPHERE, LIGHT_POINT}));
+  EXPECT_EQ(materials.w, bits({FEATURE_SPHERES, FEATURE_SHADING_DATA}));  // quads carry planar UVs
+  const glm::uvec4 textures = kinds("tests/data/features/textures.json");
+  EXPECT_EQ(textures.y & bits({TEX_CHECKER, TEX_MARBLE, TEX_IMAGE}), bits({TEX_CHECKER, TEX_MARBLE, TEX_IMAGE}));
   // Emission: a checker-textured lamp there; in materials.json checkers, but
   // every light one colour.
-  EXPECT_TRUE(textures & FEATURE_EMISSION_TEXTURES);
-  EXPECT_FALSE(materials & FEATURE_EMISSION_TEXTURES);
-  EXPECT_TRUE(features("tests/data/features/smooth-mesh.json") & FEATURE_SHADING_DATA);
-  EXPECT_TRUE(features("tests/data/features/environment.json") & (FEATURE_ENVIRONMENT | FEATURE_IMAGE));
+  EXPECT_TRUE(textures.w & KIND_BIT(FEATURE_EMISSION_TEXTURES));
+  EXPECT_TRUE(kinds("tests/data/features/smooth-mesh.json").w & KIND_BIT(FEATURE_SHADING_DATA));
+  const glm::uvec4 environment = kinds("tests/data/features/environment.json");
+  EXPECT_TRUE(environment.z & KIND_BIT(LIGHT_ENVIRONMENT));
+  EXPECT_TRUE(environment.y & KIND_BIT(TEX_IMAGE));
   // The sampler counts too: the camera kernel compiles CMJ out for others.
-  EXPECT_TRUE(features("tests/data/features/camera.json") & FEATURE_CMJ);
-  EXPECT_FALSE(features("tests/data/features/materials.json") & FEATURE_CMJ);
+  EXPECT_TRUE(kinds("tests/data/features/camera.json").w & KIND_BIT(FEATURE_CMJ));
+  EXPECT_FALSE(materials.w & KIND_BIT(FEATURE_CMJ));
   RenderOptions independent;
   independent.sampler = SamplerKind::Independent;
-  EXPECT_FALSE(compile_scene(load_scene(source_path("tests/data/features/camera.json")), independent).params.accel.y & FEATURE_CMJ);
+  EXPECT_FALSE(kinds("tests/data/features/camera.json", independent).w & KIND_BIT(FEATURE_CMJ));
   // So does CS184's -H, whose sampling is otherwise compiled out (and the
   // BSDF's, unbiased too, would take its place unnoticed by comparisons).
   RenderOptions hemisphere;
   hemisphere.integrator = IntegratorKind::PathHemisphere;
-  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/integrators.json")), hemisphere).params.accel.y &
-              FEATURE_UNIFORM_HEMISPHERE);
-  EXPECT_FALSE(features("tests/data/features/integrators.json") & FEATURE_UNIFORM_HEMISPHERE);
+  EXPECT_TRUE(kinds("tests/data/features/integrators.json", hemisphere).w & KIND_BIT(FEATURE_UNIFORM_HEMISPHERE));
+  EXPECT_FALSE(kinds("tests/data/features/integrators.json").w & KIND_BIT(FEATURE_UNIFORM_HEMISPHERE));
   // wavepath info names them.
-  EXPECT_EQ(feature_names(0u), "none");
-  EXPECT_EQ(feature_names(FEATURE_SPHERES | FEATURE_CHECKER | FEATURE_EMISSION_TEXTURES), "spheres, checker, textured emission");
+  EXPECT_EQ(kinds_description(glm::uvec4(0u)), "materials none; textures none; lights none; features none");
+  EXPECT_EQ(kinds_description(box), "materials lambertian, diffuse_light; textures constant; lights area lights; features none");
+}
+
+// Each kind table lists ids 0, 1, 2, ... (an id is a bit of a 32-bit mask),
+// and names each kind once.
+TEST(Scene, KindTablesHaveConsecutiveIdsAndDistinctNames) {
+  for (const std::vector<KindInfo>* table : {&material_kinds(), &texture_kinds(), &light_kinds(), &feature_kinds()}) {
+    ASSERT_LE(table->size(), 32u);
+    for (size_t i = 0; i < table->size(); ++i) {
+      EXPECT_EQ((*table)[i].id, uint32_t(i)) << (*table)[i].name;
+      for (size_t j = 0; j < i; ++j) EXPECT_STRNE((*table)[i].name, (*table)[j].name);
+      EXPECT_EQ(kind_named(*table, (*table)[i].name), std::optional<uint32_t>(uint32_t(i)));
+    }
+  }
+  EXPECT_EQ(kind_named(material_kinds(), "glass"), std::nullopt);
+  EXPECT_EQ(kind_list(light_kinds(), KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_AREA)), "area lights or point lights");
 }
 
 // Sorting by material class (gpu-sort) shades each class with a kernel that
 // holds only its kinds: a material in a class without its kinds would be
 // shaded as something else. Every material that primitives use must land in
-// a class that has its lobe and texture kinds; classes must differ; and
+// a class that has its material and texture kinds; classes must differ; and
 // beyond SHADE_CLASSES_MAX they share the last, which has all their kinds.
 TEST(Scene, ShadeClassesHoldTheKindsOfTheirMaterials) {
   auto check = [](const CompiledScene& cs, const Scene& scene, const std::string& what) {
     ASSERT_LE(cs.shadeClasses.size(), size_t(SHADE_CLASSES_MAX)) << what;
     for (size_t a = 0; a + 1 < cs.shadeClasses.size(); ++a)
-      for (size_t b = a + 1; b < cs.shadeClasses.size(); ++b) EXPECT_NE(cs.shadeClasses[a], cs.shadeClasses[b]) << what;
+      for (size_t b = a + 1; b < cs.shadeClasses.size(); ++b) EXPECT_TRUE(cs.shadeClasses[a] != cs.shadeClasses[b]) << what;
     for (size_t m = 0; m < cs.materials.size(); ++m) {
       const shader::Material& mat = cs.materials[m];
       const bool used = std::any_of(scene.triangles.begin(), scene.triangles.end(), [&](const SceneTriangle& t) { return t.material == m; }) ||
@@ -182,15 +201,11 @@ TEST(Scene, ShadeClassesHoldTheKindsOfTheirMaterials) {
       if (!used) continue;
       ASSERT_NE(mat.children.w, SORT_KEY_MISS) << what << ", material " << m;  // sort key: class + 1
       ASSERT_LE(mat.children.w, cs.shadeClasses.size()) << what << ", material " << m;
-      const uint32_t kernel = cs.shade_key_features(mat.children.w);
-      const uint32_t type = mat.info.x == MAT_METAL ? FEATURE_METAL : mat.info.x == MAT_DIELECTRIC ? FEATURE_DIELECTRIC
-                            : mat.info.x == MAT_PHONG ? FEATURE_PHONG : mat.info.x == MAT_BLINN_PHONG ? FEATURE_BLINN_PHONG
-                            : mat.info.x == MAT_BLEND ? FEATURE_BLEND : 0u;
-      EXPECT_EQ(kernel & type, type) << what << ", material " << m;
+      const glm::uvec4 kernel = cs.shade_key_kinds(mat.children.w);
+      EXPECT_TRUE(kernel.x & KIND_BIT(mat.info.x)) << what << ", material " << m;
       if (mat.info.y != WP_INVALID) {
-        const uint32_t tex = cs.textures[mat.info.y].info.x & TEX_TYPE_MASK;
-        const uint32_t kind = tex == TEX_CHECKER ? FEATURE_CHECKER : tex == TEX_MARBLE ? FEATURE_MARBLE : tex == TEX_IMAGE ? FEATURE_IMAGE : 0u;
-        EXPECT_EQ(kernel & kind, kind) << what << ", material " << m;
+        const uint32_t tex = KIND_BIT(cs.textures[mat.info.y].info.x & TEX_TYPE_MASK);
+        EXPECT_EQ(kernel.y & tex, tex) << what << ", material " << m;
       }
     }
   };
@@ -199,41 +214,42 @@ TEST(Scene, ShadeClassesHoldTheKindsOfTheirMaterials) {
     CompiledScene cs = compile_scene(scene, RenderOptions{});
     check(cs, scene, path);
     // Only the kinds a class needs: the first class's kernel lacks some.
-    EXPECT_NE(cs.shade_key_features(1), cs.params.accel.y) << path;
+    EXPECT_TRUE(cs.shade_key_kinds(1) != cs.params.kinds) << path;
   }
   {
     Scene scene = load_scene(source_path("tests/data/features/materials.json"));
     CompiledScene cs = compile_scene(scene, RenderOptions{});
-    EXPECT_EQ(cs.shade_key_features(SORT_KEY_MISS) & FEATURE_MATERIAL_KINDS, 0u);
-    EXPECT_EQ(cs.shade_key_features(SORT_KEY_MISS) & ~uint32_t(FEATURE_MATERIAL_KINDS), cs.params.accel.y & ~uint32_t(FEATURE_MATERIAL_KINDS));
+    const glm::uvec4 misses = cs.shade_key_kinds(SORT_KEY_MISS);
+    EXPECT_EQ(misses.x, 0u);
+    EXPECT_EQ(glm::uvec2(misses.z, misses.w), glm::uvec2(cs.params.kinds.z, cs.params.kinds.w));
   }
   // Emission and the environment are looked up by every kernel: the
   // checker-textured lamp's kind, and the environment's image, stay in the
   // misses' kernel.
-  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/textures.json")), RenderOptions{}).shade_key_features(SORT_KEY_MISS) &
-              FEATURE_CHECKER);
-  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/environment.json")), RenderOptions{}).shade_key_features(SORT_KEY_MISS) &
-              FEATURE_IMAGE);
+  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/textures.json")), RenderOptions{}).shade_key_kinds(SORT_KEY_MISS).y &
+              KIND_BIT(TEX_CHECKER));
+  EXPECT_TRUE(compile_scene(load_scene(source_path("tests/data/features/environment.json")), RenderOptions{}).shade_key_kinds(SORT_KEY_MISS).y &
+              KIND_BIT(TEX_IMAGE));
   // 20 kinds of material (5 lobe kinds by 4 kinds of albedo texture), one
   // sphere each: more than SHADE_CLASSES_MAX classes.
   Scene scene;
   scene.camera = Camera{};
-  shader::Texture marble = constant_texture(glm::vec3(0.5f));
-  marble.info.x = TEX_MARBLE;
+  SceneTexture marble = constant_texture(glm::vec3(0.5f));
+  marble.kind = TEX_MARBLE;
   const uint32_t plain = add_texture(scene, constant_texture(glm::vec3(0.5f))), marbled = add_texture(scene, marble);
-  shader::Texture checker = constant_texture(glm::vec3(0.5f));
-  checker.info = glm::uvec4(TEX_CHECKER, plain, plain, 0u);
+  SceneTexture checker;
+  checker.kind = TEX_CHECKER;
+  checker.even = checker.odd = plain;
   const uint32_t checkered = add_texture(scene, checker);
-  checker.info.z = marbled;
+  checker.odd = marbled;
   const uint32_t both = add_texture(scene, checker);
   for (uint32_t type : {MAT_LAMBERTIAN, MAT_METAL, MAT_DIELECTRIC, MAT_PHONG, MAT_BLINN_PHONG}) {
     for (uint32_t albedo : {plain, checkered, marbled, both}) {
-      shader::Material m{};
-      m.info = glm::uvec4(type, albedo, WP_INVALID, WP_INVALID);
-      m.children = glm::uvec4(WP_INVALID);
-      m.params = glm::vec4(type == MAT_DIELECTRIC ? 1.5f : 10.0f, 0.0f, 0.0f, 0.0f);
+      SceneMaterial m;
+      m.kind = type;
+      m.albedo = albedo;
+      m.param = type == MAT_DIELECTRIC ? 1.5f : 10.0f;
       scene.materials.push_back(m);
-      scene.materialNames.push_back("m");
       SceneSphere sp;
       sp.toWorld = glm::translate(glm::mat4(1.0f), glm::vec3(float(scene.spheres.size()) * 3.0f, 0.0f, 0.0f));
       sp.material = uint32_t(scene.materials.size() - 1);
@@ -259,6 +275,24 @@ TEST(Scene, AcceleratorSplitMethodsByName) {
   }
   // Without a method the builder picks one of the SAH builds by size.
   EXPECT_EQ(load_scene(write_scene("accel.json", R"({"accelerator": {"type": "bbh"}})")).accelerator.split, SplitMethod::Auto);
+}
+
+// load_scene picks the importer by content where it is telling, else by
+// extension; a file of no format it reads is refused, naming the file.
+TEST(Scene, TheImporterIsPickedByContentThenExtension) {
+  EXPECT_EQ(scene_format("a.json", "{\"camera\": {}}"), SceneFormat::Darts);
+  EXPECT_EQ(scene_format("a.scene", "  \n{\"camera\": {}}"), SceneFormat::Darts);
+  EXPECT_EQ(scene_format("a.JSON", "not json"), SceneFormat::Darts);  // its importer names the syntax error
+  EXPECT_EQ(scene_format("a.png", "\x89PNG\r\n"), SceneFormat::Unknown);
+  EXPECT_EQ(scene_format("a", ""), SceneFormat::Unknown);
+  // A darts scene under another name loads.
+  EXPECT_EQ(load_scene(write_scene("renamed.scene", R"({"camera": {"vfov": 30}})")).camera.vfovDegrees, 30.0f);
+  try {
+    load_scene(source_path("tests/data/bad-image.png"));
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad-image.png: not a scene file wavepath reads"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SceneErrors, SyntaxErrorsGiveLineAndColumn) {

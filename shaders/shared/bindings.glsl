@@ -32,6 +32,26 @@
 #define BINDING_QUEUE_TEXELS 24  // the queues, R32UI
 #define BINDING_COUNT 25
 
+// Specialization constants of the kernels, by id: kernel.glsl declares them
+// (SPEC_ANY_HIT in raycast.comp, SPEC_SHADE_KEY in shade.comp), and the host
+// sets each by the same name (src/gpu/wavefront.cpp, make_pipeline).
+#define SPEC_WORKGROUP_SIZE 0
+#define SPEC_INTEGRATOR 1
+#define SPEC_LIGHT_SAMPLES 2
+#define SPEC_BVH_LAYOUT 3
+#define SPEC_FEATURES 4
+#define SPEC_STACK_SIZE 5
+#define SPEC_COMPACTION 6
+#define SPEC_SORT_BY_MATERIAL 7
+#define SPEC_RAYS_PER_INVOCATION 8
+#define SPEC_WORKGROUP_INTERLEAVE 9
+#define SPEC_ANY_HIT 10
+#define SPEC_SHADE_KEY 11
+#define SPEC_MATERIAL_KINDS 12
+#define SPEC_TEXTURE_KINDS 13
+#define SPEC_LIGHT_KINDS 14
+#define SPEC_COUNT 15
+
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
 #define WORKGROUP_SIZE 64

@@ -1,10 +1,12 @@
 // bsdf.glsl — materials as sample / eval / pdf triples in world space.
 //
-// At a hit, scene.glsl resolves the material (blends flattened, textures looked
-// up) into a Bsdf: up to BSDF_MAX_LOBES weighted lobes whose weights sum to 1.
-// Lobes are either smooth (they have a density: Lambertian, rough metal, Phong,
-// Blinn-Phong) or delta (mirror metal, dielectric): eval and pdf see only the
-// smooth lobes, and bsdf_sample reports when it picked a delta lobe.
+// At a hit, material_at.glsl resolves the material (blends flattened,
+// textures looked up) into a Bsdf: up to BSDF_MAX_LOBES weighted lobes whose
+// weights sum to 1. Each lobe is of a material kind (kinds.glsl), whose
+// functions live in materials/KIND.glsl. Lobes are either smooth (they have a
+// density: Lambertian, rough metal, Phong, Blinn-Phong) or delta (mirror
+// metal, dielectric): eval and pdf see only the smooth lobes, and bsdf_sample
+// reports when it picked a delta lobe.
 //
 // Conventions: wo points away from the surface towards the previous vertex, wi
 // towards the next; ns and ng face wo. eval returns f * |cos(wi)|, sample returns
@@ -14,9 +16,8 @@
 #ifndef WP_BSDF_GLSL
 #define WP_BSDF_GLSL
 
-#define BSDF_MAX_LOBES 4
 // Lobes a BSDF of this scene can have: one unless it has blend materials.
-#define BSDF_LOBES_OF_SCENE (SCENE_HAS(FEATURE_BLEND) ? BSDF_MAX_LOBES : 1u)
+#define BSDF_LOBES_OF_SCENE (MATERIAL_COMPILED(MAT_BLEND) ? BSDF_MAX_LOBES : 1u)
 
 struct Bsdf {
   vec3 ns;  // shading normal, on wo's side of the geometric surface
@@ -28,31 +29,6 @@ struct Bsdf {
   float lobeParam[BSDF_MAX_LOBES];  // exponent, roughness or ior
   float lobeWeight[BSDF_MAX_LOBES];
 };
-
-bool lobe_is_delta(uint type, float param) {
-  return (SCENE_HAS(FEATURE_DIELECTRIC) && type == MAT_DIELECTRIC) || (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL && param <= 0.0f);
-}
-
-// Loops over lobes run to the constant BSDF_LOBES_OF_SCENE and skip unused
-// slots: with constant indices the compiler keeps the lobe arrays in registers
-// (lavapipe spills dynamically indexed local arrays to memory). Each material's
-// branch is guarded by SCENE_HAS, so scenes without it do not pay for it.
-
-bool bsdf_has_smooth_lobe(Bsdf b) {
-  bool any = false;
-  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
-  }
-  return any;
-}
-
-bool bsdf_has_delta_lobe(Bsdf b) {
-  bool any = false;
-  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
-  }
-  return any;
-}
 
 vec3 reflect_about(vec3 wo, vec3 n) {
   return n * (2.0f * dot(wo, n)) - wo;
@@ -70,24 +46,77 @@ float fresnel_dielectric(float cosI, float eta) {
   return 0.5f * (rs * rs + rp * rp);
 }
 
+// Each material kind's lobe functions (no_lobe.glsl lists them), one file a
+// kind, as WP_MATERIAL_KINDS names them.
+#include "materials/no_lobe.glsl"
+#include "materials/lambertian.glsl"
+#include "materials/metal.glsl"
+#include "materials/dielectric.glsl"
+#include "materials/phong.glsl"
+#include "materials/blinn_phong.glsl"
+
+// The lobe functions of a lobe of kind `type`, dispatched through the kind
+// table: one branch per kind, each compiled only where the scene has the kind.
+#define WP_LOBE_IS_DELTA(id, name, prefix, lobes) \
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_is_delta(param);
+#define WP_LOBE_PDF(id, name, prefix, lobes) \
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_pdf(param, ns, wo, wi);
+#define WP_LOBE_EVAL(id, name, prefix, lobes) \
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_eval(param, color, ns, wo, wi);
+#define WP_LOBE_SAMPLE(id, name, prefix, lobes) \
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_sample(param, ns, wo, u);
+#define WP_LOBE_SAMPLE_DELTA(id, name, prefix, lobes) \
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_sample_delta(param, color, front, ns, ng, wo, uPick, wi);
+
+bool lobe_is_delta(uint type, float param) {
+  WP_MATERIAL_KINDS(WP_LOBE_IS_DELTA)
+  return false;
+}
+
 // Density (solid angle) with which a smooth lobe of `type` samples wi; ns is
-// the shading normal on wo's side.
+// the shading normal on wo's side. 0 for delta lobes.
 float lobe_pdf(uint type, float param, vec3 ns, vec3 wo, vec3 wi) {
-  if (type == MAT_LAMBERTIAN) return max(dot(ns, wi), 0.0f) * WP_INV_PI;
-  if (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL) return fuzzed_direction_pdf(wi, reflect_about(wo, ns), param);
-  if (SCENE_HAS(FEATURE_PHONG) && type == MAT_PHONG) return cosine_power_pdf(dot(wi, reflect_about(wo, ns)), param);
-  if (SCENE_HAS(FEATURE_BLINN_PHONG) && type == MAT_BLINN_PHONG) {
-    vec3 h = normalize(wo + wi);
-    float woH = dot(wo, h);
-    return woH > 0.0f ? cosine_power_pdf(dot(h, ns), param) / (4.0f * woH) : 0.0f;
-  }
-  return 0.0f;  // delta lobes
+  WP_MATERIAL_KINDS(WP_LOBE_PDF)
+  return 0.0f;
 }
 
 // f * cos of a smooth lobe (zero below the surface).
 vec3 lobe_eval(uint type, float param, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
-  if (type == MAT_LAMBERTIAN) return color * (max(dot(ns, wi), 0.0f) * WP_INV_PI);
-  return color * lobe_pdf(type, param, ns, wo, wi);
+  WP_MATERIAL_KINDS(WP_LOBE_EVAL)
+  return vec3(0.0f);
+}
+
+// Direction from a smooth lobe, or a zero vector when the lobe produced none.
+vec3 lobe_sample(uint type, float param, vec3 ns, vec3 wo, vec3 u) {
+  WP_MATERIAL_KINDS(WP_LOBE_SAMPLE)
+  return vec3(0.0f);
+}
+
+// Direction from a delta lobe, and f * |cos| / pdf (zero when absorbed).
+vec3 lobe_sample_delta(uint type, float param, vec3 color, bool front, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+  WP_MATERIAL_KINDS(WP_LOBE_SAMPLE_DELTA)
+  wi = vec3(0.0f);
+  return vec3(0.0f);
+}
+
+// Loops over lobes run to the constant BSDF_LOBES_OF_SCENE and skip unused
+// slots: with constant indices the compiler keeps the lobe arrays in registers
+// (lavapipe spills dynamically indexed local arrays to memory).
+
+bool bsdf_has_smooth_lobe(Bsdf b) {
+  bool any = false;
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
+  }
+  return any;
+}
+
+bool bsdf_has_delta_lobe(Bsdf b) {
+  bool any = false;
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (i < b.lobeCount && lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
+  }
+  return any;
 }
 
 // Reflection only: both directions on the same side of the geometric and the
@@ -118,37 +147,11 @@ float bsdf_pdf(Bsdf b, vec3 wo, vec3 wi) {
   return pdf;
 }
 
-// Direction from a smooth lobe, or a zero vector when the lobe produced none.
-vec3 lobe_sample(uint type, float param, vec3 ns, vec3 wo, vec3 u) {
-  vec3 t;
-  vec3 bt;
-  if (type == MAT_LAMBERTIAN) {
-    make_frame(ns, t, bt);
-    return frame_to_world(square_to_cosine_hemisphere(vec2(u.x, u.y)), t, bt, ns);
-  }
-  if (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL) {
-    vec3 d = reflect_about(wo, ns) + square_to_uniform_ball(u) * param;
-    float len = length(d);
-    return len > 0.0f ? d / len : vec3(0.0f);
-  }
-  if (SCENE_HAS(FEATURE_PHONG) && type == MAT_PHONG) {
-    vec3 r = reflect_about(wo, ns);
-    make_frame(r, t, bt);
-    return frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, r);
-  }
-  if (SCENE_HAS(FEATURE_BLINN_PHONG) && type == MAT_BLINN_PHONG) {
-    // A half vector around the normal, then the mirror of wo about it.
-    make_frame(ns, t, bt);
-    vec3 h = frame_to_world(square_to_cosine_power(vec2(u.x, u.y), param), t, bt, ns);
-    return dot(wo, h) > 0.0f ? reflect_about(wo, h) : vec3(0.0f);
-  }
-  return vec3(0.0f);
-}
-
 // Samples wi. Returns f * |cos| / pdf (zero when the sample is absorbed), writes
 // the pdf (of the smooth lobes' mixture) and whether a delta lobe was taken, in
 // which case pdf is 0 and MIS does not apply. u.z picks the lobe and is then
-// reused (rescaled) for the dielectric's choice between reflection and refraction.
+// reused (rescaled) for the lobe's own choice (the dielectric's between
+// reflection and refraction).
 vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool) isDelta) {
   wi = vec3(0.0f);
   pdf = 0.0f;
@@ -170,28 +173,9 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
       uPick = clamp((u.z - below) / b.lobeWeight[i], 0.0f, 0.99999994f);
     }
   }
-  if (SCENE_HAS(FEATURE_DIELECTRIC) && type == MAT_DIELECTRIC) {
+  if (lobe_is_delta(type, param)) {
     isDelta = true;
-    float eta = b.front ? param : 1.0f / param;
-    float cosI = dot(wo, b.ns);
-    float f = fresnel_dielectric(cosI, eta);
-    if (uPick < f) {
-      wi = reflect_about(wo, b.ns);
-      if (dot(wi, b.ng) <= 0.0f) return vec3(0.0f);
-    } else {
-      float sin2T = (1.0f - cosI * cosI) / (eta * eta);
-      float cosT = sqrt(max(0.0f, 1.0f - sin2T));
-      wi = normalize(b.ns * (cosI / eta - cosT) - wo / eta);
-      if (dot(wi, b.ng) >= 0.0f) return vec3(0.0f);
-    }
-    // Choosing reflection with probability F cancels F: white either way
-    // (radiance is not scaled by eta^2, as in darts).
-    return color;
-  }
-  if (SCENE_HAS(FEATURE_METAL) && type == MAT_METAL && param <= 0.0f) {
-    isDelta = true;
-    wi = reflect_about(wo, b.ns);
-    return dot(wi, b.ng) > 0.0f ? color : vec3(0.0f);
+    return lobe_sample_delta(type, param, color, b.front, b.ns, b.ng, wo, uPick, wi);
   }
   wi = lobe_sample(type, param, b.ns, wo, vec3(u.x, u.y, u.w));
   pdf = bsdf_pdf(b, wo, wi);

@@ -46,9 +46,9 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.rng = rng_seed(pixel, sampleIndex, scene.counts.y);
   vec2 jitter = vec2(rng_next(p.rng), rng_next(p.rng));
   vec2 lensU = vec2(rng_next(p.rng), rng_next(p.rng));
-  // SCENE_HAS: compiled out of the kernels for other samplers, since its
+  // FEATURE_COMPILED: compiled out of the kernels for other samplers, since its
   // integer divisions cost every camera ray even where not taken.
-  if (SCENE_HAS(FEATURE_CMJ) && scene.mode.y == SAMPLER_CMJ && sampleIndex < scene.mode.z) {
+  if (FEATURE_COMPILED(FEATURE_CMJ) && scene.mode.y == SAMPLER_CMJ && sampleIndex < scene.mode.z) {
     // The camera's dimensions (pixel area, lens) from per-pixel CMJ patterns;
     // later bounces stay independent.
     uint pattern = pcg_hash(pixel ^ pcg_hash(scene.counts.y));
@@ -73,14 +73,6 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.radiance = vec3(0.0f);
   p.flags = PATH_SPECULAR;  // depth 0; camera rays count emitters with full weight
   p.bsdfPdf = 0.0f;
-}
-
-// 1, except where `wavepath compare --plant-bias` or a test plants a bias to
-// show that the statistical comparison detects it.
-float planted_bias(uint pixel) {
-  uvec2 xy = pixel_xy(pixel);
-  bool inside = xy.x >= scene.debugRegion.x && xy.x < scene.debugRegion.z && xy.y >= scene.debugRegion.y && xy.y < scene.debugRegion.w;
-  return inside ? scene.debug.x : 1.0f;
 }
 
 // A shadow ray that adds `contribution` to the path's pixel when the segment
@@ -119,9 +111,9 @@ struct ShadowRays {
 };
 
 // The normals and ambient-occlusion integrators: one hit, no paths.
-void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, float radianceScale) {
+void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) {
   if (INTEGRATOR_OF_SCENE == INTEGRATOR_NORMALS) {
-    p.radiance += (s.ns + vec3(1.0f)) * (0.5f * radianceScale);
+    p.radiance += (s.ns + vec3(1.0f)) * 0.5f;
     return;
   }
   // Ambient occlusion: the cosine-weighted fraction of the hemisphere that is
@@ -135,7 +127,7 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, 
   sr.origin = offset_ray(s.p, b.ng);
   sr.dir = wi;
   sr.tmax = WP_INF;
-  sr.contribution = vec3(radianceScale);
+  sr.contribution = vec3(1.0f);
 }
 
 // Accounts for what the path's ray hit and prepares the next bounce. Writes
@@ -144,7 +136,6 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr, 
 bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   uint lightSamples = LIGHT_SAMPLES_OF_SCENE;
   for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) shadow_ray_none(srs.ray[j]);
-  float radianceScale = planted_bias(p.pixel);
   uint mode = INTEGRATOR_OF_SCENE;  // equals scene.mode.x
   bool preview = mode == INTEGRATOR_NORMALS || mode == INTEGRATOR_AO;
   bool mixture = mode == INTEGRATOR_MIXTURE;
@@ -153,19 +144,19 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   if (h.prim == WP_INVALID) {
     if (preview) return false;
     float w = 1.0f;
-    if (SCENE_HAS(FEATURE_ENVIRONMENT) && scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
+    if (LIGHT_COMPILED(LIGHT_ENVIRONMENT) && scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this direction of the environment map.
       float lightPdf = load_emitter(scene.environment.y).pmf * environment_pdf(p.dir);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
     }
-    p.radiance += p.throughput * background_radiance(p.dir) * (w * radianceScale);
+    p.radiance += p.throughput * background_radiance(p.dir) * w;
     return false;
   }
   SurfaceHit s = surface_at(p.origin, p.dir, h);
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
   if (preview) {
-    shade_preview(p, s, b, srs.ray[0], radianceScale);
+    shade_preview(p, s, b, srs.ray[0]);
     return false;
   }
   uint depth = path_depth(p);
@@ -179,7 +170,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
       float lightPdf = emitter_pdf(s.emitter, p.origin, s, p.dir, h.t);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
     }
-    p.radiance += p.throughput * le * (w * radianceScale);
+    p.radiance += p.throughput * le * w;
   }
   if (depth >= scene.image.z || b.lobeCount == 0u) return false;
   bool hasSmooth = bsdf_has_smooth_lobe(b);
@@ -196,7 +187,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
     float nPdf = float(lightSamples) * ls.pdf;
     float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
-    srs.ray[j].contribution = p.throughput * f * ls.radiance * (w * radianceScale / nPdf);
+    srs.ray[j].contribution = p.throughput * f * ls.radiance * (w / nPdf);
     aim_shadow_ray(s.p, b.ng, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
   }
 
@@ -213,7 +204,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (!sample_emitter(s.p, vec3(uBsdf.x, uBsdf.y, uBsdf.z), ls) || ls.isDelta != 0u) return false;
     wi = ls.wi;
     isDelta = false;
-  } else if (SCENE_HAS(FEATURE_UNIFORM_HEMISPHERE) && (scene.counts.w & SCENE_FLAG_HEMISPHERE) != 0u && hasSmooth &&
+  } else if (FEATURE_COMPILED(FEATURE_UNIFORM_HEMISPHERE) && (scene.counts.w & SCENE_FLAG_HEMISPHERE) != 0u && hasSmooth &&
              !bsdf_has_delta_lobe(b)) {
     // CS184's -H: uniform over the hemisphere around the shading normal.
     vec3 t;
@@ -251,6 +242,65 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
 
 bool radiance_is_finite(vec3 l) {
   return !(isnan(l.x) || isnan(l.y) || isnan(l.z) || isinf(l.x) || isinf(l.y) || isinf(l.z));
+}
+
+// What one sample of radiance l adds to its pixel's sums (PixelAccum, which
+// the GPU accumulates per batch and the host folds into ImageStats; the CPU
+// reference adds it to ImageStats directly): l and a count of one, and the
+// squares of l and of its illuminance (for adaptive sampling). The one
+// definition of what a pixel accumulates.
+PixelAccum sample_moments(vec3 l) {
+  float y = illuminance(l);
+  PixelAccum a;
+  a.sum = vec4(l.x, l.y, l.z, 1.0f);
+  a.sumSq = vec4(l.x * l.x, l.y * l.y, l.z * l.z, y * y);
+  return a;
+}
+
+// Rays traced and traversals truncated by trace_sample.
+struct SampleRays {
+  uint closest;    // closest-hit rays (the camera ray and each bounce's)
+  uint shadow;     // next-event estimation's shadow rays
+  uint truncated;  // traversals that reached the step cap (the image would be wrong)
+};
+
+// One sample of one pixel, from the camera ray through every bounce's closest
+// hit, shading and shadow rays; the path's radiance is the sample. The
+// megakernel (gpu-mega) and the CPU reference run this loop; the wavefront
+// kernels run the same steps (path_begin, trace_ray, path_shade, the shadow
+// rays) as stages over queues of paths. On lavapipe one invocation's loops
+// share a budget of 65,535 iterations: the host lowers the traversal step cap
+// (scene.counts.z) so that a whole path's traversals fit.
+PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays) {
+  rays.closest = 0u;
+  rays.shadow = 0u;
+  rays.truncated = 0u;
+  PathState p;
+  path_begin(p, pixel, sampleIndex);
+  // path_shade ends every path at max bounces: at most max + 1 passes.
+  for (uint pass = 0u; pass <= scene.image.z; ++pass) {
+    Hit h;
+    rays.closest += 1u;
+    if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
+      rays.truncated += 1u;
+      break;
+    }
+    ShadowRays srs;
+    bool alive = path_shade(p, h, srs);
+    for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
+      ShadowRay sr = srs.ray[j];
+      if (sr.tmax <= 0.0f) continue;
+      Hit blocker;
+      rays.shadow += 1u;
+      if (trace_ray(sr.origin, sr.dir, sr.tmax, true, blocker) != TRACE_OK) {
+        rays.truncated += 1u;
+      } else if (blocker.prim == WP_INVALID) {
+        p.radiance += sr.contribution;
+      }
+    }
+    if (!alive) break;
+  }
+  return p;
 }
 
 #endif  // WP_INTEGRATOR_GLSL

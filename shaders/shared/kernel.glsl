@@ -2,52 +2,61 @@
 #include "common.glsl"
 #include "types.glsl"
 
-// The integrator (INTEGRATOR_*) is specialization constant 1, set from the
-// scene when the pipelines are built: the compiler then drops the other
-// integrators' code, which on lavapipe costs time even when never taken.
-// C++ reads it from the scene (integrator.glsl: INTEGRATOR_OF_SCENE).
-layout(constant_id = 1) const uint kIntegrator = INTEGRATOR_PATH;
+#include "bindings.glsl"
+
+// Specialization constants (ids in bindings.glsl, shared with the host): the
+// host sets them from the scene and the kernel variant when it builds the
+// pipelines, and the compiler drops the code they rule out, which on lavapipe
+// costs time even when never taken.
+// The integrator (INTEGRATOR_*); C++ reads it from the scene (integrator.glsl:
+// INTEGRATOR_OF_SCENE).
+layout(constant_id = SPEC_INTEGRATOR) const uint kIntegrator = INTEGRATOR_PATH;
 #define INTEGRATOR_OF_SCENE kIntegrator
-// Light samples per vertex (scene.mode.w), specialization constant 2, so the
-// usual single sample compiles to straight-line code.
-layout(constant_id = 2) const uint kLightSamples = 1u;
+// Light samples per vertex (scene.mode.w), so the usual single sample
+// compiles to straight-line code.
+layout(constant_id = SPEC_LIGHT_SAMPLES) const uint kLightSamples = 1u;
 #define LIGHT_SAMPLES_OF_SCENE kLightSamples
 // The shadow-ray array of a vertex is sized by it too: one slot, as a rule.
 #define LIGHT_SAMPLE_SLOTS kLightSamples
-// The BVH layout (scene.accel.x), the features the scene uses (accel.y) and
-// the traversal stack size (accel.z), constants 3 to 5: each kernel holds only
-// the traversal it runs, only the code of the materials, textures and lights
-// the scene has, and a stack no larger than the tree needs (the wide walk moves
-// every entry of it on a push or a pop: scene.glsl).
-layout(constant_id = 3) const uint kBvhLayout = BVH_LAYOUT_WIDE;
-layout(constant_id = 4) const uint kSceneFeatures = FEATURE_ALL;
-layout(constant_id = 5) const uint kStackSize = BVH_STACK_MAX;
+// The BVH layout (scene.accel.x), the kinds the scene uses (scene.kinds,
+// kinds.glsl) and the traversal stack size (accel.z): each kernel holds only
+// the traversal it runs, only the code of the materials, textures, lights and
+// features the scene has, and a stack no larger than the tree needs (the
+// wide walk moves every entry of it on a push or a pop: traverse_wide.glsl).
+layout(constant_id = SPEC_BVH_LAYOUT) const uint kBvhLayout = BVH_LAYOUT_WIDE;
+layout(constant_id = SPEC_MATERIAL_KINDS) const uint kMaterialKinds = ALL_KINDS;
+layout(constant_id = SPEC_TEXTURE_KINDS) const uint kTextureKinds = ALL_KINDS;
+layout(constant_id = SPEC_LIGHT_KINDS) const uint kLightKinds = ALL_KINDS;
+layout(constant_id = SPEC_FEATURES) const uint kFeatures = ALL_KINDS;
+layout(constant_id = SPEC_STACK_SIZE) const uint kStackSize = BVH_STACK_MAX;
 #define BVH_LAYOUT_OF_SCENE kBvhLayout
-#define SCENE_HAS(feature) ((kSceneFeatures & (feature)) != 0u)
+#define MATERIAL_KINDS_OF_SCENE kMaterialKinds
+#define TEXTURE_KINDS_OF_SCENE kTextureKinds
+#define LIGHT_KINDS_OF_SCENE kLightKinds
+#define FEATURES_OF_SCENE kFeatures
 #define TRAVERSAL_STACK_SIZE kStackSize
 #define TRAVERSAL_STACK_SLOTS kStackSize
 #define WP_NOTE_STACK_DEPTH(sp)  // C++ only: the tests check the stack's size
 #define WP_NOTE_STEP()  // C++ only: the ray-casting benchmark counts the walks' iterations
-// Path compaction (constant 6): shade appends only the paths still alive to
-// the next bounce's queue, so each bounce dispatches only live paths. Without
-// it (variant gpu-nocompact, to measure what compaction is worth) every path
+// Path compaction: shade appends only the paths still alive to the next
+// bounce's queue, so each bounce dispatches only live paths. Without it
+// (variant gpu-nocompact, to measure what compaction is worth) every path
 // keeps its queue slot and finished ones are marked PATH_DEAD and skipped.
-layout(constant_id = 6) const bool kCompaction = true;
-// Sorting paths by material class between extend and shade (constant 7,
-// variant gpu-sort): the sort kernel appends each path to its key's queue,
-// prepare sizes one shade dispatch per key, and one shade kernel per key
-// reads its queue.
-layout(constant_id = 7) const bool kSortByMaterial = false;
-// Rays per invocation of the tracing kernels (constant 8; trace_items.glsl):
-// several on CPU devices, whose SIMD lanes would otherwise wait for the
-// slowest ray of their group. A constant, not a push constant: a kernel
-// holding both loops ran single rays 10 % slower.
-layout(constant_id = 8) const uint kRaysPerInvocation = 1u;
-// Workgroup interleave (constant 9; dispatch_item below): 1, or for kernels
-// that take work in image order on CPU devices, the number of columns a
-// dispatch's workgroups are dealt to.
-layout(constant_id = 9) const uint kWorkgroupInterleave = 1u;
-#include "bindings.glsl"
+layout(constant_id = SPEC_COMPACTION) const bool kCompaction = true;
+// Sorting paths by material class between extend and shade (variant
+// gpu-sort): the sort kernel appends each path to its key's queue, prepare
+// sizes one shade dispatch per key, and one shade kernel per key reads its
+// queue.
+layout(constant_id = SPEC_SORT_BY_MATERIAL) const bool kSortByMaterial = false;
+// Rays per invocation of the tracing kernels (trace_items.glsl): several on
+// CPU devices, whose SIMD lanes would otherwise wait for the slowest ray of
+// their group. A constant, not a push constant: a kernel holding both loops
+// ran single rays 10 % slower.
+layout(constant_id = SPEC_RAYS_PER_INVOCATION) const uint kRaysPerInvocation = 1u;
+// Workgroup interleave (dispatch_item below): 1, or for kernels that take
+// work in image order on CPU devices, the number of columns a dispatch's
+// workgroups are dealt to.
+layout(constant_id = SPEC_WORKGROUP_INTERLEAVE) const uint kWorkgroupInterleave = 1u;
 #include "rng.glsl"
 #include "sampling.glsl"
 #include "noise.glsl"
@@ -56,10 +65,10 @@ layout(constant_id = 9) const uint kWorkgroupInterleave = 1u;
 #include "scene.glsl"
 #include "integrator.glsl"
 
-// The workgroup size is specialization constant 0 (WORKGROUP_SIZE unless a
-// kernel variant sets it), so one SPIR-V module serves every size.
-layout(local_size_x_id = 0) in;
-layout(constant_id = 0) const uint kWorkgroupSize = WORKGROUP_SIZE;
+// The workgroup size (WORKGROUP_SIZE unless a kernel variant sets it), so one
+// SPIR-V module serves every size.
+layout(local_size_x_id = SPEC_WORKGROUP_SIZE) in;
+layout(constant_id = SPEC_WORKGROUP_SIZE) const uint kWorkgroupSize = WORKGROUP_SIZE;
 
 // The item of this invocation in a dispatch over `count` items, one to an
 // invocation (the tracing kernels' one-ray path, the megakernel; the host
@@ -167,11 +176,10 @@ void accumulate_path(PathState p) {
     atomicAdd(counters[COUNTER_NONFINITE], 1u);
     return;
   }
-  vec3 l = p.radiance;
+  PixelAccum s = sample_moments(p.radiance);
   PixelAccum a = accum[p.pixel];
-  a.sum += vec4(l, 1.0f);
-  float y = illuminance(l);
-  a.sumSq += vec4(l * l, y * y);  // w: for adaptive sampling
+  a.sum += s.sum;
+  a.sumSq += s.sumSq;
   accum[p.pixel] = a;
 }
 

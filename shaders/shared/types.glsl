@@ -7,11 +7,9 @@
 #ifndef WP_TYPES_GLSL
 #define WP_TYPES_GLSL
 
+#include "limits.glsl"
+
 // ---- limits shared by the BVH builders and the traversal kernels ------------
-// Deepest binary BVH the builder may produce; the traversal stack never needs
-// more slots than that.
-#define BVH_MAX_DEPTH 80
-#define BVH_MAX_LEAF_SIZE 255
 // Primitive groups the wide walk sets aside on its stack at most, beside one
 // node group per level below the root (scene.glsl, trace_wide).
 #define WIDE_STACK_PRIM_GROUPS 2u
@@ -32,23 +30,7 @@
 // Hit.prim: bit 31 marks a sphere; WP_INVALID marks a miss.
 #define HIT_SPHERE_BIT 0x80000000u
 
-// Material types (Material.info.x).
-#define MAT_LAMBERTIAN 0u
-#define MAT_LIGHT 1u        // darts diffuse_light: emits, does not scatter
-#define MAT_METAL 2u        // mirror direction perturbed by a ball of radius `roughness`
-#define MAT_DIELECTRIC 3u   // smooth glass: Fresnel reflection and refraction (delta)
-#define MAT_PHONG 4u        // cos^n lobe around the mirror direction
-#define MAT_BLINN_PHONG 5u  // cos^n lobe of the half vector around the normal
-#define MAT_BLEND 6u        // (1 - amount) * a + amount * b
-
-// Texture types (Texture.info.x), and the flag that selects solid mapping.
-#define TEX_CONSTANT 0u
-#define TEX_CHECKER 1u
-#define TEX_MARBLE 2u
-#define TEX_IMAGE 3u
-#define TEX_FRESNEL 4u        // blend amounts only: dielectric reflectance at the hit
-#define TEX_TYPE_MASK 0xffu
-#define TEX_SOLID 0x100u      // look up at the mapped hit point, not at (u, v, 0)
+#include "kinds.glsl"
 
 // Emitter.prim: a point light (index into pointLights) rather than a surface;
 // or the environment map.
@@ -240,42 +222,15 @@ struct SceneParams {
   vec4 background;   // rgb radiance of escaped rays
   uvec4 image;       // x: width, y: height, z: max bounces, w: Russian roulette start depth
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
-  vec4 debug;        // x: radiance scale inside debugRegion (1 unless a bias is planted); y: AO ray length
-  uvec4 debugRegion; // pixels [x0, x1) x [y0, y1) the planted bias applies to
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
-  uvec4 accel;       // x: BVH_LAYOUT_*, y: FEATURE_* the scene uses, z: traversal stack slots needed, w: unused
+  uvec4 accel;       // x: BVH_LAYOUT_*, y: unused, z: traversal stack slots needed, w: unused
+  // The kinds the scene uses (kinds.glsl), one bit per kind id: x material
+  // kinds, y texture kinds, z light kinds, w other features. The kernels get
+  // them as specialization constants and compile out the code of the rest.
+  uvec4 kinds;
 };
 
-// SceneParams.accel.y: what the scene uses. On the GPU it is specialization
-// constant 4, and the code of every feature a scene lacks compiles out of the
-// kernels: lavapipe runs every branch of a kernel for every path, taken or
-// not, so an unused material or texture kind would cost every path its time.
-#define FEATURE_SPHERES 0x1u
-#define FEATURE_BLEND 0x2u         // blend materials: several lobes per BSDF
-#define FEATURE_METAL 0x4u
-#define FEATURE_DIELECTRIC 0x8u
-#define FEATURE_PHONG 0x10u
-#define FEATURE_BLINN_PHONG 0x20u
-#define FEATURE_CHECKER 0x40u
-#define FEATURE_MARBLE 0x80u
-#define FEATURE_IMAGE 0x100u       // image textures (the environment map's included)
-#define FEATURE_SHADING_DATA 0x200u  // triangles with vertex normals or UVs
-#define FEATURE_POINT_LIGHTS 0x400u
-#define FEATURE_SPHERE_LIGHTS 0x800u
-#define FEATURE_ENVIRONMENT 0x1000u
-#define FEATURE_CMJ 0x2000u        // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
-#define FEATURE_EMISSION_TEXTURES 0x4000u  // an emitting material whose radiance is not one constant colour
-#define FEATURE_UNIFORM_HEMISPHERE 0x8000u  // SCENE_FLAG_HEMISPHERE: directions uniform over the hemisphere (CS184 -H)
-#define FEATURE_ALL 0xffffu
-// The bits that follow the material a ray hit: its lobe kinds and the kinds
-// of the textures its BSDF reads. A shade class's kernel (SORT_KEYS) keeps
-// those of its class's materials, besides the scene's other bits and the
-// texture kinds of every emission and of the environment.
-#define FEATURE_MATERIAL_KINDS (FEATURE_BLEND | FEATURE_METAL | FEATURE_DIELECTRIC | FEATURE_PHONG | FEATURE_BLINN_PHONG | FEATURE_CHECKER | FEATURE_MARBLE | FEATURE_IMAGE)
-
-// Most next-event-estimation samples per path vertex (CS184's -l).
-#define MAX_LIGHT_SAMPLES 8u
 
 // SceneParams.mode.y: how camera samples are placed.
 #define SAMPLER_INDEPENDENT 0u

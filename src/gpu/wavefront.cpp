@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "cpu/reference.h"
+#include "render/accumulate.h"
 #include "util/error.h"
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
@@ -321,7 +322,7 @@ struct WavefrontRenderer::Impl {
     const uint32_t cap = scene.params.counts.z;
     if (!settings.megakernel) return cap;
     const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
-    const uint64_t budget = 60000, traversals = bounces + 1 + bounces * lightSamples;
+    const uint64_t budget = TRAVERSAL_STEP_BUDGET, traversals = bounces + 1 + bounces * lightSamples;
     const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;
     if (perRay < kMegakernelMinimumCap) {
       throw RenderError("the megakernel variant fits " + std::to_string(bounces) + " bounces into lavapipe's loop budget only with " +
@@ -420,23 +421,30 @@ struct WavefrontRenderer::Impl {
   vk::raii::Pipeline make_pipeline(Kernel k) { return make_pipeline(k, PipelineOptions()); }
   vk::raii::Pipeline make_pipeline(Kernel k, PipelineOptions o) {
     vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
-    // The specialization constants of kernel.glsl: 0 the workgroup size, 1 the
-    // integrator, 2 light samples per vertex, 3 the BVH layout, 4 the scene's
-    // feature mask, 5 the traversal stack size, 6 path compaction, 7 sorting
-    // by material (bools: a 32-bit 0 or 1), 8 rays per invocation of the
-    // tracing kernels, 9 their workgroup interleave, 10 the ray caster's any
-    // hit (raycast.comp), 11 the sort key shade runs over (shade.comp), whose
-    // feature mask is its class's.
+    // The specialization constants of the kernels, by their ids (bindings.glsl).
     const shader::uvec4& accel = scene.params.accel;
     // More slots than the register stack holds select the indexed stack.
     bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && !cpu_device());
     uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
-    constexpr uint32_t kConstants = 12;
-    const uint32_t features = o.shadeKey == SORT_KEYS ? accel.y : scene.shade_key_features(o.shadeKey);
-    const uint32_t values[kConstants] = {settings.workgroupSize, scene.params.mode.x, scene.params.mode.w, accel.x,
-                                         features, stackSlots, settings.compaction ? 1u : 0u, sorting ? 1u : 0u,
-                                         o.single ? 1u : tracingRays, o.interleaved ? workgroup_interleave() : 1u, o.anyHit ? 1u : 0u,
-                                         o.shadeKey};
+    // A sorted shade kernel holds its class's kinds only.
+    const glm::uvec4 kinds = o.shadeKey == SORT_KEYS ? scene.params.kinds : scene.shade_key_kinds(o.shadeKey);
+    constexpr uint32_t kConstants = SPEC_COUNT;
+    uint32_t values[kConstants] = {};
+    values[SPEC_WORKGROUP_SIZE] = settings.workgroupSize;
+    values[SPEC_INTEGRATOR] = scene.params.mode.x;
+    values[SPEC_LIGHT_SAMPLES] = scene.params.mode.w;
+    values[SPEC_BVH_LAYOUT] = accel.x;
+    values[SPEC_MATERIAL_KINDS] = kinds.x;
+    values[SPEC_TEXTURE_KINDS] = kinds.y;
+    values[SPEC_LIGHT_KINDS] = kinds.z;
+    values[SPEC_FEATURES] = kinds.w;
+    values[SPEC_STACK_SIZE] = stackSlots;
+    values[SPEC_COMPACTION] = settings.compaction ? 1u : 0u;  // bools are 32-bit 0 or 1
+    values[SPEC_SORT_BY_MATERIAL] = sorting ? 1u : 0u;
+    values[SPEC_RAYS_PER_INVOCATION] = o.single ? 1u : tracingRays;
+    values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
+    values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
+    values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp
     vk::SpecializationMapEntry entries[kConstants];
     for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
     vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
@@ -746,14 +754,7 @@ struct WavefrontRenderer::Impl {
   // and its counters into the totals.
   void fold(ImageStats& image, uint64_t& truncated) {
     const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
-    for (size_t p = 0; p < image.pixels(); ++p) {
-      for (int c = 0; c < 3; ++c) {
-        image.sum[3 * p + size_t(c)] += acc[p].sum[c];
-        image.sumSq[3 * p + size_t(c)] += acc[p].sumSq[c];
-      }
-      image.count[p] += acc[p].sum.w;
-      image.illuminanceSumSq[p] += acc[p].sumSq.w;
-    }
+    for (size_t p = 0; p < image.pixels(); ++p) add_to_pixel(image, p, acc[p]);
     const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
     truncated += counters[COUNTER_TRUNCATED];
     image.nonFinite += counters[COUNTER_NONFINITE];

@@ -35,8 +35,6 @@ Aabb sphere_bounds(const glm::mat4& m) {
   return b;
 }
 
-constexpr size_t kMaxMixtureEmitters = 16384;
-
 float luminance(glm::vec3 c) {
   return shader::ShaderMath{}.illuminance(c);
 }
@@ -47,75 +45,50 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
   return glm::vec3(rg.x, rg.y, glm::unpackHalf2x16(packed.y).x);
 }
 
-// The FEATURE_* bits of what a compiled scene uses (before its empty arrays
-// get their placeholder element); `emitters` are the emitter table's prims,
-// `environment` whether an environment map replaces the background.
-uint32_t scene_features(const CompiledScene& cs, const std::vector<uint32_t>& emitters, bool spheres, bool environment) {
-  uint32_t f = spheres ? FEATURE_SPHERES : 0u;
+// The kinds a compiled scene uses (SceneParams.kinds; kinds.glsl), before its
+// empty arrays get their placeholder element: every material's and texture's
+// kind, the light kinds of the emitter table's prims (`emitters`), and the
+// features. `environment`: an environment map replaces the background. The
+// sampler's and the integrator's features are added by compile_scene.
+glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emitters, bool spheres, bool environment) {
+  glm::uvec4 k(0u);
   for (const shader::Material& m : cs.materials) {
-    if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) f |= FEATURE_EMISSION_TEXTURES;
-    switch (m.info.x) {
-      case MAT_BLEND: f |= FEATURE_BLEND; break;
-      case MAT_METAL: f |= FEATURE_METAL; break;
-      case MAT_DIELECTRIC: f |= FEATURE_DIELECTRIC; break;
-      case MAT_PHONG: f |= FEATURE_PHONG; break;
-      case MAT_BLINN_PHONG: f |= FEATURE_BLINN_PHONG; break;
-      default: break;
-    }
+    k.x |= KIND_BIT(m.info.x);
+    if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) k.w |= KIND_BIT(FEATURE_EMISSION_TEXTURES);
   }
-  for (const shader::Texture& t : cs.textures) {
-    switch (t.info.x & TEX_TYPE_MASK) {
-      case TEX_CHECKER: f |= FEATURE_CHECKER; break;
-      case TEX_MARBLE: f |= FEATURE_MARBLE; break;
-      case TEX_IMAGE: f |= FEATURE_IMAGE; break;
-      default: break;
-    }
-  }
-  if (!cs.triangleShading.empty()) f |= FEATURE_SHADING_DATA;
+  for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (uint32_t prim : emitters) {
-    if (prim == EMITTER_ENVIRONMENT) f |= FEATURE_ENVIRONMENT;
-    else if (prim & EMITTER_POINT_BIT) f |= FEATURE_POINT_LIGHTS;
-    else if (prim & HIT_SPHERE_BIT) f |= FEATURE_SPHERE_LIGHTS;
+    if (prim == EMITTER_ENVIRONMENT) k.z |= KIND_BIT(LIGHT_ENVIRONMENT);
+    else if (prim & EMITTER_POINT_BIT) k.z |= KIND_BIT(LIGHT_POINT);
+    else if (prim & HIT_SPHERE_BIT) k.z |= KIND_BIT(LIGHT_SPHERE);
+    else k.z |= KIND_BIT(LIGHT_AREA);
   }
-  if (environment) f |= FEATURE_ENVIRONMENT;
-  return f;
+  if (environment) k.z |= KIND_BIT(LIGHT_ENVIRONMENT);
+  if (spheres) k.w |= KIND_BIT(FEATURE_SPHERES);
+  if (!cs.triangleShading.empty()) k.w |= KIND_BIT(FEATURE_SHADING_DATA);
+  return k;
 }
 
-// The FEATURE_* kinds texture t's lookup runs: its own, and a checker's
+// The texture kinds texture t's lookup runs: its own, and a checker's
 // squares' (nested up to TEXTURE_MAX_NESTING deep, as texture_eval follows).
 uint32_t texture_kinds(const std::vector<shader::Texture>& textures, uint32_t t, int depth = 0) {
   if (t == WP_INVALID || t >= textures.size()) return 0u;
   const shader::Texture& tex = textures[t];
-  switch (tex.info.x & TEX_TYPE_MASK) {
-    case TEX_CHECKER:
-      return depth >= TEXTURE_MAX_NESTING ? FEATURE_CHECKER
-                                          : FEATURE_CHECKER | texture_kinds(textures, tex.info.y, depth + 1) |
-                                                texture_kinds(textures, tex.info.z, depth + 1);
-    case TEX_MARBLE: return FEATURE_MARBLE;
-    case TEX_IMAGE: return FEATURE_IMAGE;
-    default: return 0u;
-  }
+  const uint32_t kind = tex.info.x & TEX_TYPE_MASK;
+  if (kind != TEX_CHECKER || depth >= TEXTURE_MAX_NESTING) return KIND_BIT(kind);
+  return KIND_BIT(kind) | texture_kinds(textures, tex.info.y, depth + 1) | texture_kinds(textures, tex.info.z, depth + 1);
 }
 
-// The FEATURE_MATERIAL_KINDS a ray that hits material m needs for its BSDF:
-// its lobe kinds (a blend's children's too) and its textures' kinds. (Its
+// The kinds a ray that hits material m needs for its BSDF: x its material
+// kinds (a blend's children's too), y the texture kinds it looks up. (Its
 // emission's kinds every shade kernel has: shade_classes.)
-uint32_t material_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
+glm::uvec2 material_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
   const shader::Material& mat = cs.materials[m];
-  uint32_t f = texture_kinds(cs.textures, mat.info.y) | texture_kinds(cs.textures, mat.info.w);
-  switch (mat.info.x) {
-    case MAT_BLEND:
-      f |= FEATURE_BLEND;
-      // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
-      if (depth < int(BSDF_MAX_LOBES)) f |= material_kinds(cs, mat.children.x, depth + 1) | material_kinds(cs, mat.children.y, depth + 1);
-      break;
-    case MAT_METAL: f |= FEATURE_METAL; break;
-    case MAT_DIELECTRIC: f |= FEATURE_DIELECTRIC; break;
-    case MAT_PHONG: f |= FEATURE_PHONG; break;
-    case MAT_BLINN_PHONG: f |= FEATURE_BLINN_PHONG; break;
-    default: break;
-  }
-  return f;
+  glm::uvec2 k(KIND_BIT(mat.info.x), texture_kinds(cs.textures, mat.info.y) | texture_kinds(cs.textures, mat.info.w));
+  // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
+  if (mat.info.x == MAT_BLEND && depth < int(BSDF_MAX_LOBES))
+    k |= material_kinds(cs, mat.children.x, depth + 1) | material_kinds(cs, mat.children.y, depth + 1);
+  return k;
 }
 
 // Groups the materials that primitives use into shade classes by the kinds
@@ -134,7 +107,7 @@ void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
   for (uint32_t m = 0; m < cs.materials.size(); ++m) {
     cs.materials[m].children.w = SORT_KEY_MISS + 1u;  // for unused materials: any class will do
     if (!used[m]) continue;
-    const uint32_t kinds = material_kinds(cs, m);
+    const glm::uvec2 kinds = material_kinds(cs, m);
     auto found = std::find(cs.shadeClasses.begin(), cs.shadeClasses.end(), kinds);
     uint32_t c = uint32_t(found - cs.shadeClasses.begin());
     if (found == cs.shadeClasses.end()) {
@@ -150,35 +123,6 @@ void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
 }
 
 }  // namespace
-
-std::string feature_names(uint32_t mask) {
-  static const std::pair<uint32_t, const char*> kNames[] = {
-      {FEATURE_SPHERES, "spheres"},
-      {FEATURE_BLEND, "blend"},
-      {FEATURE_METAL, "metal"},
-      {FEATURE_DIELECTRIC, "dielectric"},
-      {FEATURE_PHONG, "phong"},
-      {FEATURE_BLINN_PHONG, "blinn-phong"},
-      {FEATURE_CHECKER, "checker"},
-      {FEATURE_MARBLE, "marble"},
-      {FEATURE_IMAGE, "image textures"},
-      {FEATURE_SHADING_DATA, "vertex normals or UVs"},
-      {FEATURE_POINT_LIGHTS, "point lights"},
-      {FEATURE_SPHERE_LIGHTS, "sphere lights"},
-      {FEATURE_ENVIRONMENT, "environment map"},
-      {FEATURE_CMJ, "cmj sampler"},
-      {FEATURE_EMISSION_TEXTURES, "textured emission"},
-      {FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling"},
-  };
-  static_assert(FEATURE_ALL == 0xffffu, "every feature bit has a name above");
-  std::string out;
-  for (const auto& [bit, name] : kNames) {
-    if ((mask & bit) == 0u) continue;
-    if (!out.empty()) out += ", ";
-    out += name;
-  }
-  return out.empty() ? "none" : out;
-}
 
 shader::SceneView CompiledScene::view() const {
   shader::SceneView v;
@@ -199,9 +143,10 @@ shader::SceneView CompiledScene::view() const {
   return v;
 }
 
-uint32_t CompiledScene::shade_key_features(uint32_t key) const {
-  const uint32_t kinds = shadeCommonKinds | (key != SORT_KEY_MISS && key <= shadeClasses.size() ? shadeClasses[key - 1] : 0u);
-  return params.accel.y & (~uint32_t(FEATURE_MATERIAL_KINDS) | kinds);
+glm::uvec4 CompiledScene::shade_key_kinds(uint32_t key) const {
+  const bool hits = key != SORT_KEY_MISS && key <= shadeClasses.size();
+  const glm::uvec2 cls = hits ? shadeClasses[key - 1] : glm::uvec2(0u);
+  return glm::uvec4(cls.x & params.kinds.x, (cls.y | shadeCommonKinds) & params.kinds.y, params.kinds.z, params.kinds.w);
 }
 
 double CompiledScene::bvh_sah_cost() const {
@@ -307,12 +252,64 @@ std::vector<shader::Emitter> build_alias_table(const std::vector<double>& weight
   return table;
 }
 
+// The scene's textures and images as the kernels read them: each texture a
+// record (types.glsl), the images' texels back to back as RGBA half floats.
+struct PackedTextures {
+  std::vector<shader::Texture> textures;
+  std::vector<glm::uvec2> texels;
+};
+
+static PackedTextures pack_textures(const Scene& scene) {
+  PackedTextures out;
+  std::vector<uint32_t> firstTexel;
+  for (const LinearImage& img : scene.images) {
+    firstTexel.push_back(uint32_t(out.texels.size()));
+    for (const glm::vec3& c : img.pixels)
+      out.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
+  }
+  for (const SceneTexture& in : scene.textures) {
+    shader::Texture t{};
+    t.info = glm::uvec4(in.kind | (in.solid ? TEX_SOLID : 0u), 0u, 0u, 0u);
+    rows_3x4(in.mapping, t.map0, t.map1, t.map2);
+    switch (in.kind) {
+      case TEX_CHECKER:
+        t.info.y = in.even;
+        t.info.z = in.odd;
+        t.color0.w = in.scale;
+        break;
+      case TEX_MARBLE:
+        t.color0 = glm::vec4(in.color, in.scale);
+        t.color1 = glm::vec4(in.veins, 0.0f);
+        break;
+      case TEX_IMAGE: {
+        const LinearImage& img = scene.images.at(in.image);
+        t.info.y = firstTexel[in.image];
+        t.info.z = uint32_t(img.width);
+        t.info.w = uint32_t(img.height);
+        break;
+      }
+      case TEX_FRESNEL: t.color0.x = in.ior; break;
+      default: t.color0 = glm::vec4(in.color, 0.0f); break;
+    }
+    out.textures.push_back(t);
+  }
+  return out;
+}
+
+static shader::Material pack_material(const SceneMaterial& in) {
+  shader::Material m{};
+  m.info = glm::uvec4(in.kind, in.albedo, in.emission, in.amount);
+  m.children = glm::uvec4(in.a, in.b, WP_INVALID, WP_INVALID);  // w: the sort key (shade_classes)
+  m.params = glm::vec4(in.param, 0.0f, 0.0f, 0.0f);
+  return m;
+}
+
 // Luminance of each material's mean emitted radiance (0: it does not emit).
-static std::vector<double> material_radiance(const Scene& scene) {
+static std::vector<double> material_radiance(const Scene& scene, const PackedTextures& packed) {
   std::vector<double> radiance(scene.materials.size(), 0.0);
   for (size_t m = 0; m < scene.materials.size(); ++m) {
-    uint32_t tex = scene.materials[m].info.z;
-    if (tex != WP_INVALID) radiance[m] = luminance(texture_mean(scene.textures, scene.texels, tex));
+    uint32_t tex = scene.materials[m].emission;
+    if (tex != WP_INVALID) radiance[m] = luminance(texture_mean(packed.textures, packed.texels, tex));
   }
   return radiance;
 }
@@ -338,7 +335,7 @@ static BvhInput bvh_input(const Scene& scene, const std::vector<double>& radianc
 }
 
 BvhInput bvh_input(const Scene& scene) {
-  return bvh_input(scene, material_radiance(scene));
+  return bvh_input(scene, material_radiance(scene, pack_textures(scene)));
 }
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
@@ -347,7 +344,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   const size_t numSpheres = scene.spheres.size();
   if (numTris + numSpheres >= size_t(EMITTER_ENVIRONMENT)) throw InputError(scene.sourcePath + ": too many primitives");
 
-  const std::vector<double> materialRadiance = material_radiance(scene);
+  PackedTextures packed = pack_textures(scene);
+  const std::vector<double> materialRadiance = material_radiance(scene, packed);
   BvhInput input = bvh_input(scene, materialRadiance);
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
@@ -441,10 +439,10 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     out.spheres.push_back(g);
   }
 
-  out.materials = scene.materials;
-  out.textures = scene.textures;
-  out.texels = scene.texels;
-  out.pointLights = scene.pointLights;
+  for (const SceneMaterial& m : scene.materials) out.materials.push_back(pack_material(m));
+  out.textures = std::move(packed.textures);
+  out.texels = std::move(packed.texels);
+  for (const ScenePointLight& l : scene.pointLights) out.pointLights.push_back(shader::PointLight{glm::vec4(l.position, 1.0f), glm::vec4(l.intensity, 0.0f)});
 
   // Emitters: every primitive whose material emits, and every point light,
   // picked in proportion to power (luminance of the mean emitted radiance
@@ -475,11 +473,11 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // The environment map: power of its mean radiance falling on a disc the
   // size of the scene (only steers the choice among emitters).
   uint32_t environmentEmitter = WP_INVALID;
-  if (scene.environmentTexture != WP_INVALID) {
-    const shader::Texture& env = out.textures[scene.environmentTexture];
+  if (scene.environment != WP_INVALID) {
+    const shader::Texture& env = out.textures[scene.environment];
     out.environmentCdf = environment_cdf(env, out.texels);
     double radius = sceneBounds.empty() ? 0.0 : 0.5 * double(glm::length(sceneBounds.hi - sceneBounds.lo));
-    double p = luminance(texture_mean(out.textures, out.texels, scene.environmentTexture)) * WP_PI * WP_PI * radius * radius * 4.0;
+    double p = luminance(texture_mean(out.textures, out.texels, scene.environment)) * WP_PI * WP_PI * radius * radius * 4.0;
     if (p > 0.0) {
       environmentEmitter = uint32_t(prims.size());
       prims.push_back(EMITTER_ENVIRONMENT);
@@ -494,8 +492,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
   out.emitters = build_alias_table(power);
   for (size_t i = 0; i < prims.size(); ++i) out.emitters[i].prim = prims[i];
-  const uint32_t features = scene_features(out, prims, numSpheres > 0, scene.environmentTexture != WP_INVALID);
-  shade_classes(out, scene.environmentTexture);
+  glm::uvec4 kinds = scene_kinds(out, prims, numSpheres > 0, scene.environment != WP_INVALID);
+  shade_classes(out, scene.environment);
   if (out.triangles.empty()) out.triangles.push_back(shader::Triangle{});
   if (out.spheres.empty()) out.spheres.push_back(shader::Sphere{});
   // Buffers are never empty: bind a zero element where the scene has none.
@@ -518,10 +516,10 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.camLens = glm::vec4(std::tan(glm::radians(cam.vfovDegrees) * 0.5f), float(cam.width) / float(cam.height),
                         cam.apertureRadius, cam.focusDistance);
   p.background = glm::vec4(scene.background, 0.0f);
-  p.environment = glm::uvec4(scene.environmentTexture, environmentEmitter, 0u, 0u);
-  if (scene.environmentTexture != WP_INVALID) {
-    p.environment.z = out.textures[scene.environmentTexture].info.z;
-    p.environment.w = out.textures[scene.environmentTexture].info.w;
+  p.environment = glm::uvec4(scene.environment, environmentEmitter, 0u, 0u);
+  if (scene.environment != WP_INVALID) {
+    p.environment.z = out.textures[scene.environment].info.z;
+    p.environment.w = out.textures[scene.environment].info.w;
   }
   p.image = glm::uvec4(uint32_t(cam.width), uint32_t(cam.height), uint32_t(maxBounces),
                        uint32_t(scene.integrator.russianRouletteDepth));
@@ -536,9 +534,9 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (kind == IntegratorKind::PathMixture) mode = INTEGRATOR_MIXTURE;
   // The mixture's exact light density visits every emitter at every bounce;
   // the shade kernel's loop budget (and patience) bound how many that may be.
-  if (mode == INTEGRATOR_MIXTURE && prims.size() > kMaxMixtureEmitters) {
+  if (mode == INTEGRATOR_MIXTURE && prims.size() > MAX_MIXTURE_EMITTERS) {
     throw InputError(scene.sourcePath + ": \"path tracer mixture\" evaluates every emitter at every bounce; this scene has " +
-                     std::to_string(prims.size()) + " emitters (at most " + std::to_string(kMaxMixtureEmitters) +
+                     std::to_string(prims.size()) + " emitters (at most " + std::to_string(MAX_MIXTURE_EMITTERS) +
                      "): use \"path tracer mis\"");
   }
   SamplerKind sampler = options.sampler ? *options.sampler : scene.sampler;
@@ -549,11 +547,10 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.mode = glm::uvec4(mode, sampler == SamplerKind::Cmj ? SAMPLER_CMJ : SAMPLER_INDEPENDENT, uint32_t(out.spp),
                       uint32_t(options.lightSamples));
   p.counts = glm::uvec4(uint32_t(prims.size()), options.seed, options.traversalStepCap, flags);
-  p.debug = glm::vec4(options.plantedBias, 0.0f, 0.0f, 0.0f);
-  p.debugRegion = options.plantedRegion;
-  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, features | (sampler == SamplerKind::Cmj ? FEATURE_CMJ : 0u) |
-                           ((flags & SCENE_FLAG_HEMISPHERE) != 0u ? FEATURE_UNIFORM_HEMISPHERE : 0u),
-                       stackSlots, 0u);
+  if (sampler == SamplerKind::Cmj) kinds.w |= KIND_BIT(FEATURE_CMJ);
+  if ((flags & SCENE_FLAG_HEMISPHERE) != 0u) kinds.w |= KIND_BIT(FEATURE_UNIFORM_HEMISPHERE);
+  p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, 0u, stackSlots, 0u);
+  p.kinds = kinds;
   return out;
 }
 

@@ -26,15 +26,9 @@ struct RenderOptions {
   int spp = -1;          // -1: the scene's sampler count
   int maxBounces = -1;   // -1: the scene's integrator setting
   uint32_t seed = 0;
-  // Iterations one traversal may take before it reports itself truncated.
-  // lavapipe ends all loops of an invocation silently after 65,535 iterations
-  // in total; one traversal per invocation with this cap stays below that.
-  uint32_t traversalStepCap = 60000;
-  // Multiplies every radiance contribution to the pixels of plantedRegion
-  // (x0, y0, x1, y1; all pixels by default). 1 except when a bias is planted
-  // to show that the statistical comparison catches it.
-  float plantedBias = 1.0f;
-  glm::uvec4 plantedRegion{0u, 0u, ~0u, ~0u};
+  // Iterations one traversal may take before it reports itself truncated
+  // (limits.glsl).
+  uint32_t traversalStepCap = TRAVERSAL_STEP_BUDGET;
   AdaptiveSampling adaptive;  // off unless batch > 0
   int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
   BvhLayout bvhLayout = BvhLayout::Wide;
@@ -71,17 +65,18 @@ struct CompiledScene {
   double bvhBuildSeconds = 0.0;
   SplitMethod bvhSplit = SplitMethod::Sah;  // how the builder split (the scene's method, Auto resolved by size)
   // Shade classes (sorting by material class, types.glsl): per class, the
-  // FEATURE_MATERIAL_KINDS its materials need; each material's sort key (its
-  // class + 1) is its children.w. And the kinds every shade kernel needs
-  // (emission, the environment), the misses' kernel included.
-  std::vector<uint32_t> shadeClasses;
+  // material kinds (x) and texture kinds (y) its materials need; each
+  // material's sort key (its class + 1) is its children.w. And the texture
+  // kinds every shade kernel needs (emission, the environment), the misses'
+  // kernel included.
+  std::vector<glm::uvec2> shadeClasses;
   uint32_t shadeCommonKinds = 0;
 
   shader::SceneView view() const;
-  // The feature mask of the shade kernel for sort key `key`: class + 1, or
-  // SORT_KEY_MISS. The scene's mask less the material kinds the key's paths
-  // cannot need.
-  uint32_t shade_key_features(uint32_t key) const;
+  // The kinds (as SceneParams.kinds) of the shade kernel for sort key `key`:
+  // class + 1, or SORT_KEY_MISS. The scene's kinds less the material and
+  // texture kinds the key's paths cannot need.
+  glm::uvec4 shade_key_kinds(uint32_t key) const;
   // The SAH cost of the tree in its layout. The 8-wide tree's is computed
   // from its nodes on each call (wide_sah_cost; 0.7 s at 10M triangles), so
   // that compiling a scene for a render does not pay for it.
@@ -92,10 +87,6 @@ struct CompiledScene {
 };
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
-
-// The FEATURE_* bits of a feature mask (SceneParams.accel.y) by name, in bit
-// order, separated by ", "; "none" for 0. What the kernels compile in.
-std::string feature_names(uint32_t mask);
 
 // The primitives' bounds, numbered as compile_scene numbers them: the
 // triangles, then the spheres.

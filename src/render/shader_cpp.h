@@ -29,9 +29,13 @@ inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texel
 #include "../../shaders/shared/types.glsl"
 #include "../../shaders/shared/bindings.glsl"
 
-// The CPU takes the real branches only; skipping absent features is the
-// kernels' optimization (kernel.glsl), so here every feature counts as present.
-#define SCENE_HAS(feature) true
+// The CPU takes the real branches only; compiling out the kinds a scene
+// lacks is the kernels' optimization (kernel.glsl), so here every kind and
+// feature counts as present.
+#define MATERIAL_KINDS_OF_SCENE ALL_KINDS
+#define TEXTURE_KINDS_OF_SCENE ALL_KINDS
+#define LIGHT_KINDS_OF_SCENE ALL_KINDS
+#define FEATURES_OF_SCENE ALL_KINDS
 
 // The scene-independent functions (RNG, sampling, intersection, BSDFs). They
 // are members only so that C++ treats them as inline; they use no state.
@@ -100,8 +104,8 @@ static_assert(sizeof(Material) == 48 && offsetof(Material, children) == 16 && of
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 192 && offsetof(SceneParams, mode) == 144 && offsetof(SceneParams, environment) == 160 &&
-              offsetof(SceneParams, accel) == 176);
+static_assert(sizeof(SceneParams) == 176 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
+              offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 // write_shadow_ray and read_shadow_ray (kernel.glsl) move shadow rays as three

@@ -1,6 +1,4 @@
-// load_scene.h — darts JSON scenes (Dartmouth CS 87/287 schema, see
-// docs/scene-format.md). Every problem is an InputError naming the file and
-// the JSON path (or line and column for syntax errors).
+// load_scene.h — a scene file of any format wavepath reads, as a Scene.
 #pragma once
 
 #include <string>
@@ -9,6 +7,16 @@
 
 namespace wp {
 
+// The formats load_scene tells apart.
+enum class SceneFormat { Darts, Unknown };
+
+// The format of a file with this name whose first bytes are `head`: by
+// content where it is telling (a JSON object), else by extension.
+SceneFormat scene_format(const std::string& path, const std::string& head);
+
+// Loads `path` with the importer of its format (importers.h). Throws
+// InputError naming the file and the problem; an unreadable or unknown file
+// too.
 Scene load_scene(const std::string& path);
 
 }  // namespace wp

@@ -1,7 +1,5 @@
 #include "scene/scene.h"
 
-#include <glm/gtc/packing.hpp>
-
 #include "scene/texture_image.h"
 #include "util/error.h"
 
@@ -28,43 +26,38 @@ std::optional<SamplerKind> sampler_named(const std::string& name) {
   return std::nullopt;
 }
 
-shader::Texture constant_texture(glm::vec3 color) {
-  shader::Texture t{};
-  t.info.x = TEX_CONSTANT;
-  t.color0 = glm::vec4(color, 0.0f);
-  t.map0 = glm::vec4(1, 0, 0, 0);
-  t.map1 = glm::vec4(0, 1, 0, 0);
-  t.map2 = glm::vec4(0, 0, 1, 0);
+SceneTexture constant_texture(glm::vec3 color) {
+  SceneTexture t;
+  t.kind = TEX_CONSTANT;
+  t.color = color;
   return t;
 }
 
-uint32_t add_texture(Scene& scene, const shader::Texture& texture) {
+uint32_t add_texture(Scene& scene, const SceneTexture& texture) {
   scene.textures.push_back(texture);
   return uint32_t(scene.textures.size() - 1);
 }
 
 uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name) {
-  shader::Material m{};
-  m.info = glm::uvec4(MAT_LAMBERTIAN, add_texture(scene, constant_texture(albedo)), WP_INVALID, WP_INVALID);
-  m.children = glm::uvec4(WP_INVALID);
+  SceneMaterial m;
+  m.kind = MAT_LAMBERTIAN;
+  m.name = name;
+  m.albedo = add_texture(scene, constant_texture(albedo));
   scene.materials.push_back(m);
-  scene.materialNames.push_back(name);
   return uint32_t(scene.materials.size() - 1);
 }
 
-shader::Texture image_texture(Scene& scene, const std::string& path, const std::string& where) {
+SceneTexture image_texture(Scene& scene, const std::string& path, const std::string& where) {
   LinearImage img;
   try {
     img = load_linear_image(path);
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + (where.empty() ? "" : " (" + where + ")"));
   }
-  shader::Texture t = constant_texture(glm::vec3(0.0f));
-  t.info = glm::uvec4(TEX_IMAGE, uint32_t(scene.texels.size()), uint32_t(img.width), uint32_t(img.height));
-  scene.texels.reserve(scene.texels.size() + img.pixels.size());
-  for (const glm::vec3& c : img.pixels) {
-    scene.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
-  }
+  SceneTexture t;
+  t.kind = TEX_IMAGE;
+  t.image = uint32_t(scene.images.size());
+  scene.images.push_back(std::move(img));
   return t;
 }
 

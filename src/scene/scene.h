@@ -1,6 +1,8 @@
-// scene.h — a scene as the loaders produce it: world-space triangles, spheres
-// with their transforms, materials, the camera and the render settings. The
-// BVH (src/bvh) and the GPU layout (src/render/compiled_scene.h) are built from it.
+// scene.h — a scene as the importers produce it, in no renderer's layout:
+// the camera and render settings, world-space triangles, spheres with their
+// transforms, and descriptions of materials, textures, images and lights by
+// their kinds (kinds.glsl). Every importer (darts JSON today) fills one, and
+// only compile_scene (src/render) packs it into the records the kernels read.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -10,7 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "render/shader_cpp.h"
+#include "../../shaders/shared/common.glsl"
+#include "../../shaders/shared/limits.glsl"
+#include "scene/kinds.h"
+#include "scene/texture_image.h"
 
 namespace wp {
 
@@ -76,6 +81,39 @@ struct SceneSphere {
   uint32_t material;
 };
 
+// A colour (or scalar) over a surface, of a texture kind (TEX_*).
+struct SceneTexture {
+  uint32_t kind = TEX_CONSTANT;
+  glm::vec3 color{0.0f};     // constant: the colour; marble: the base colour
+  glm::vec3 veins{0.0f};     // marble: the veins' colour
+  float scale = 1.0f;        // checker and marble: squares or pattern per unit
+  float ior = 1.5f;          // fresnel: the index whose reflectance is the value
+  uint32_t even = WP_INVALID;   // checker: the textures of its even and odd squares
+  uint32_t odd = WP_INVALID;
+  uint32_t image = WP_INVALID;  // image: index into Scene::images
+  bool solid = false;           // looked up at the hit point, not at (u, v, 0)
+  glm::mat4 mapping{1.0f};      // applied to the lookup point
+};
+
+// A material of a material kind (MAT_*). Colours are textures (indices into
+// Scene::textures), so any colour may vary over the surface.
+struct SceneMaterial {
+  uint32_t kind = MAT_LAMBERTIAN;
+  std::string name;                // for messages
+  uint32_t albedo = WP_INVALID;    // lambertian, metal, phong, blinn-phong
+  uint32_t emission = WP_INVALID;  // emitted radiance (any kind may emit; diffuse_light only emits)
+  float param = 0.0f;              // metal: roughness; dielectric: ior; phong, blinn-phong: exponent
+  uint32_t amount = WP_INVALID;    // blend: the weight of b (a texture's mean, or a fresnel texture)
+  uint32_t a = WP_INVALID;         // blend: its two materials
+  uint32_t b = WP_INVALID;
+};
+
+// A CS184-style point light: radiant intensity (W/sr) in every direction.
+struct ScenePointLight {
+  glm::vec3 position{0.0f};
+  glm::vec3 intensity{0.0f};
+};
+
 struct Scene {
   std::string sourcePath;
   Camera camera;
@@ -84,30 +122,29 @@ struct Scene {
   glm::vec3 background{0.0f};
   // An image texture used as an equirectangular environment map in place of
   // the constant background, or WP_INVALID.
-  uint32_t environmentTexture = WP_INVALID;
+  uint32_t environment = WP_INVALID;
   AcceleratorSettings accelerator;
   IntegratorSettings integrator;
-  std::vector<shader::Material> materials;
-  std::vector<std::string> materialNames;  // parallel to materials, for messages
-  std::vector<shader::Texture> textures;   // materials refer to these by index
-  std::vector<glm::uvec2> texels;          // every image, RGBA half floats, back to back
-  std::vector<shader::PointLight> pointLights;
+  std::vector<SceneMaterial> materials;
+  std::vector<SceneTexture> textures;  // materials refer to these by index
+  std::vector<LinearImage> images;     // image textures refer to these by index
+  std::vector<ScenePointLight> pointLights;
   std::vector<SceneTriangle> triangles;
   std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;
 };
 
-// A texture of one colour everywhere, with the identity mapping.
-shader::Texture constant_texture(glm::vec3 color);
+// A texture of one colour everywhere.
+SceneTexture constant_texture(glm::vec3 color);
 
 // Appends a texture / a Lambertian material of constant albedo; returns its index.
-uint32_t add_texture(Scene& scene, const shader::Texture& texture);
+uint32_t add_texture(Scene& scene, const SceneTexture& texture);
 uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name = "lambertian");
 
-// Loads an image file (see texture_image.h) into the scene's texels and
-// returns an image texture over them (identity mapping), not yet added.
-// `where` is appended to error messages.
-shader::Texture image_texture(Scene& scene, const std::string& path, const std::string& where);
+// Loads an image file (see texture_image.h) into the scene's images and
+// returns an image texture of it (identity mapping), not yet added. `where`
+// is appended to error messages.
+SceneTexture image_texture(Scene& scene, const std::string& path, const std::string& where);
 // The same, added to the scene; returns the texture's index.
 uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where);
 

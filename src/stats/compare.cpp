@@ -142,4 +142,18 @@ std::string CompareResult::summary() const {
   return out;
 }
 
+void plant_bias(ImageStats& image, double factor, glm::uvec4 region) {
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      if (uint32_t(x) < region.x || uint32_t(x) >= region.z || uint32_t(y) < region.y || uint32_t(y) >= region.w) continue;
+      const size_t p = size_t(y) * size_t(image.width) + size_t(x);
+      for (size_t c = 0; c < 3; ++c) {
+        image.sum[3 * p + c] *= factor;
+        image.sumSq[3 * p + c] *= factor * factor;
+      }
+      image.illuminanceSumSq[p] *= factor * factor;
+    }
+  }
+}
+
 }  // namespace wp

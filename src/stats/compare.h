@@ -53,6 +53,13 @@ struct CompareResult {
   std::string summary() const;
 };
 
+// Plants a bias in a render: every sample of the pixels [x0, x1) x [y0, y1)
+// of `region` (all pixels by default) scaled by `factor`, as if the renderer
+// had scaled them (the sums by factor, the sums of squares by its square).
+// For showing what the comparison detects (`wavepath compare --plant-bias`,
+// the tests); renderers carry no such hook.
+void plant_bias(ImageStats& image, double factor, glm::uvec4 region = glm::uvec4(0u, 0u, ~0u, ~0u));
+
 // Throws InputError if the images differ in size.
 CompareResult compare_images(const ImageStats& a, const ImageStats& b, const CompareSettings& settings = {});
 

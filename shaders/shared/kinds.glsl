@@ -1,0 +1,91 @@
+// kinds.glsl — every kind of material, texture and light, and every other
+// feature the kernels can compile out, each listed once.
+//
+// A kind's id is also its bit in a kind mask (bit 1 << id): SceneParams.kinds
+// holds the masks of what a scene uses (x materials, y textures, z lights,
+// w features), compile_scene derives them from the ids it packs, and the
+// kernels receive them as specialization constants (kernel.glsl). Code for a
+// kind is guarded by MATERIAL_COMPILED(MAT_...) and its siblings below, so a
+// kernel holds only the kinds its scene uses (on lavapipe every branch of a
+// kernel costs every path its time, taken or not), and a kind cannot be left
+// out of a mask by forgetting a bit: the bit is the id. Two kinds are never
+// compiled out: a light material's check (one comparison) and the constant
+// texture every lookup ends in. In C++ (the CPU reference) every kind is
+// compiled.
+//
+// The tables are X-macros: WP_MATERIAL_KINDS(X) expands X(id, name, prefix,
+// lobes) once per material kind, and so on. Adding a material kind means a
+// define and a row here and its functions in materials/NAME.glsl (included by
+// bsdf.glsl); the BSDF dispatch, the masks, `wavepath info` and the loaders'
+// lists of valid names follow from the row. docs/architecture.md has the recipe.
+#ifndef WP_KINDS_GLSL
+#define WP_KINDS_GLSL
+
+// What a material kind's lobe can do (the `lobes` column).
+#define LOBE_DIFFUSE 0x1u       // a diffuse lobe: a density over the hemisphere
+#define LOBE_GLOSSY 0x2u        // a glossy lobe: a density around a preferred direction
+#define LOBE_DELTA 0x4u         // can be a delta lobe (a mirror, smooth glass): no density, no MIS
+#define LOBE_TRANSMISSIVE 0x8u  // scatters through the surface
+#define LOBE_EMISSIVE 0x10u     // only emits; scatters nothing (bsdf_at gives no lobe)
+#define LOBE_COMPOSITE 0x20u    // mixes other materials, which bsdf_at flattens into their lobes
+
+// Material kinds (Material.info.x). Columns: id; the kind's name (darts scene
+// files use it); the prefix of its lobe functions in materials/*.glsl (kinds
+// that have no lobe of their own use no_lobe); what its lobe can do.
+#define MAT_LAMBERTIAN 0u
+#define MAT_LIGHT 1u        // darts diffuse_light: emits, does not scatter
+#define MAT_METAL 2u        // mirror direction perturbed by a ball of radius `roughness`
+#define MAT_DIELECTRIC 3u   // smooth glass: Fresnel reflection and refraction (delta)
+#define MAT_PHONG 4u        // cos^n lobe around the mirror direction
+#define MAT_BLINN_PHONG 5u  // cos^n lobe of the half vector around the normal
+#define MAT_BLEND 6u        // (1 - amount) * a + amount * b
+#define WP_MATERIAL_KINDS(X)                                                 \
+  X(MAT_LAMBERTIAN, "lambertian", lambertian, LOBE_DIFFUSE)                  \
+  X(MAT_LIGHT, "diffuse_light", no_lobe, LOBE_EMISSIVE)                      \
+  X(MAT_METAL, "metal", metal, LOBE_GLOSSY | LOBE_DELTA)                     \
+  X(MAT_DIELECTRIC, "dielectric", dielectric, LOBE_DELTA | LOBE_TRANSMISSIVE) \
+  X(MAT_PHONG, "phong", phong, LOBE_GLOSSY)                                  \
+  X(MAT_BLINN_PHONG, "blinn-phong", blinn_phong, LOBE_GLOSSY)                \
+  X(MAT_BLEND, "blend", no_lobe, LOBE_COMPOSITE)
+
+// Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
+// solid mapping. Columns: id, name.
+#define TEX_CONSTANT 0u
+#define TEX_CHECKER 1u
+#define TEX_MARBLE 2u
+#define TEX_IMAGE 3u    // the environment map's included
+#define TEX_FRESNEL 4u  // blend amounts only: dielectric reflectance at the hit
+#define WP_TEXTURE_KINDS(X) \
+  X(TEX_CONSTANT, "constant") X(TEX_CHECKER, "checker") X(TEX_MARBLE, "marble") X(TEX_IMAGE, "image") X(TEX_FRESNEL, "fresnel")
+#define TEX_TYPE_MASK 0xffu
+#define TEX_SOLID 0x100u  // look up at the mapped hit point, not at (u, v, 0)
+
+// Light kinds: what next-event estimation samples. Columns: id, name.
+#define LIGHT_AREA 0u         // emissive triangles, sampled by area
+#define LIGHT_SPHERE 1u       // emissive spheres, sampled by solid angle
+#define LIGHT_POINT 2u        // CS184-style point lights
+#define LIGHT_ENVIRONMENT 3u  // an environment map (also where it only replaces the background)
+#define WP_LIGHT_KINDS(X) \
+  X(LIGHT_AREA, "area lights") X(LIGHT_SPHERE, "sphere lights") X(LIGHT_POINT, "point lights") X(LIGHT_ENVIRONMENT, "environment map")
+
+// Other features a scene may use. Columns: id, name.
+#define FEATURE_SPHERES 0u
+#define FEATURE_SHADING_DATA 1u         // triangles with vertex normals or UVs
+#define FEATURE_CMJ 2u                  // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
+#define FEATURE_EMISSION_TEXTURES 3u    // an emitting material whose radiance is not one constant colour
+#define FEATURE_UNIFORM_HEMISPHERE 4u   // SCENE_FLAG_HEMISPHERE: directions uniform over the hemisphere (CS184 -H)
+#define WP_FEATURES(X)                                                                                            \
+  X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
+  X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling")
+
+// The bit of a kind in its mask, and whether the code being compiled holds a
+// kind. *_KINDS_OF_SCENE are the masks: specialization constants in the
+// kernels (kernel.glsl), every bit in C++ (shader_cpp.h).
+#define KIND_BIT(id) (1u << (id))
+#define MATERIAL_COMPILED(id) ((MATERIAL_KINDS_OF_SCENE & KIND_BIT(id)) != 0u)
+#define TEXTURE_COMPILED(id) ((TEXTURE_KINDS_OF_SCENE & KIND_BIT(id)) != 0u)
+#define LIGHT_COMPILED(id) ((LIGHT_KINDS_OF_SCENE & KIND_BIT(id)) != 0u)
+#define FEATURE_COMPILED(id) ((FEATURES_OF_SCENE & KIND_BIT(id)) != 0u)
+#define ALL_KINDS 0xffffffffu
+
+#endif  // WP_KINDS_GLSL

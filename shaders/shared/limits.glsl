@@ -1,0 +1,32 @@
+// limits.glsl — the bounds that loaders, the host and the kernels must agree
+// on, each defined once. Shared by GLSL and C++ (plain defines).
+#ifndef WP_LIMITS_GLSL
+#define WP_LIMITS_GLSL
+
+// Deepest binary BVH the builder may produce; the traversal stack never needs
+// more slots than that.
+#define BVH_MAX_DEPTH 80
+#define BVH_MAX_LEAF_SIZE 255
+// Lobes a BSDF holds at most: a blend tree flattens to at most this many
+// leaves (the loaders refuse more), so bsdf_at's loops are bounded.
+#define BSDF_MAX_LOBES 4
+// Checker textures nest at most this deep (texture_eval follows the picks).
+#define TEXTURE_MAX_NESTING 8
+// Most next-event-estimation samples per path vertex (CS184's -l).
+#define MAX_LIGHT_SAMPLES 8u
+// Widest and tallest image, in pixels: the kernels find a pixel's row and
+// column by a float division that is exact for quotients below 2^14
+// (pixel_xy in integrator.glsl).
+#define MAX_IMAGE_SIZE 16384
+// Most samples per pixel a render may ask for.
+#define MAX_SAMPLES_PER_PIXEL (1 << 24)
+// Iterations one BVH traversal may take before it reports itself truncated.
+// lavapipe ends all loops of an invocation silently after 65,535 iterations
+// in total; a traversal capped here stays below that, and the megakernel
+// shares it among a whole path's traversals.
+#define TRAVERSAL_STEP_BUDGET 60000u
+// Most emitters the mixture integrator allows: its exact light density visits
+// every emitter at every bounce.
+#define MAX_MIXTURE_EMITTERS 16384u
+
+#endif  // WP_LIMITS_GLSL

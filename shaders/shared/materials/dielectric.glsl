@@ -1,0 +1,31 @@
+// dielectric.glsl — smooth glass of index `ior` (param): Fresnel reflection
+// and refraction, both delta. Lobe functions as no_lobe.glsl describes them.
+#ifndef WP_DIELECTRIC_GLSL
+#define WP_DIELECTRIC_GLSL
+
+bool dielectric_is_delta(float ior) {
+  return true;
+}
+
+// Reflects with probability F (uPick < F), else refracts.
+vec3 dielectric_sample_delta(float ior, vec3 color, bool front, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+  float eta = front ? ior : 1.0f / ior;
+  float cosI = dot(wo, ns);
+  float f = fresnel_dielectric(cosI, eta);
+  if (uPick < f) {
+    wi = reflect_about(wo, ns);
+    if (dot(wi, ng) <= 0.0f) return vec3(0.0f);
+  } else {
+    float sin2T = (1.0f - cosI * cosI) / (eta * eta);
+    float cosT = sqrt(max(0.0f, 1.0f - sin2T));
+    wi = normalize(ns * (cosI / eta - cosT) - wo / eta);
+    if (dot(wi, ng) >= 0.0f) return vec3(0.0f);
+  }
+  // Choosing reflection with probability F cancels F: white either way
+  // (radiance is not scaled by eta^2, as in darts).
+  return color;
+}
+
+WP_NO_SMOOTH_LOBE(dielectric)
+
+#endif  // WP_DIELECTRIC_GLSL

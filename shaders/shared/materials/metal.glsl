@@ -1,0 +1,32 @@
+// metal.glsl — darts' metal: the mirror direction perturbed by a point of the
+// ball of radius `roughness` (param), a delta mirror when it is 0. As darts
+// defines it, f * cos is the albedo times the sampling density, so sampling
+// returns exactly the albedo and directions below the surface are absorbed.
+// Lobe functions as no_lobe.glsl describes them.
+#ifndef WP_METAL_GLSL
+#define WP_METAL_GLSL
+
+bool metal_is_delta(float roughness) {
+  return roughness <= 0.0f;
+}
+
+float metal_pdf(float roughness, vec3 ns, vec3 wo, vec3 wi) {
+  return fuzzed_direction_pdf(wi, reflect_about(wo, ns), roughness);
+}
+
+vec3 metal_eval(float roughness, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
+  return color * metal_pdf(roughness, ns, wo, wi);
+}
+
+vec3 metal_sample(float roughness, vec3 ns, vec3 wo, vec3 u) {
+  vec3 d = reflect_about(wo, ns) + square_to_uniform_ball(u) * roughness;
+  float len = length(d);
+  return len > 0.0f ? d / len : vec3(0.0f);
+}
+
+vec3 metal_sample_delta(float roughness, vec3 color, bool front, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+  wi = reflect_about(wo, ns);
+  return dot(wi, ng) > 0.0f ? color : vec3(0.0f);
+}
+
+#endif  // WP_METAL_GLSL

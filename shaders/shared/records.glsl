@@ -1,0 +1,139 @@
+// records.glsl — the scene's records, decoded from the RGBA32UI texels they
+// are read through (bindings.glsl), field by field as the structs in
+// types.glsl lay them out; on the host the same code reads the uploaded
+// arrays through texelFetch on plain pointers. Unused fields cost nothing: a
+// texel fetch whose result is not used is removed by the compiler.
+#ifndef WP_RECORDS_GLSL
+#define WP_RECORDS_GLSL
+
+vec3 texel_xyz(uvec4 t) {
+  return vec3(uintBitsToFloat(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z));
+}
+
+BvhNode load_node(uint i) {
+  int at = int(i) * BVH_NODE_TEXELS;
+  uvec4 a = texelFetch(nodeTexels, at);
+  uvec4 b = texelFetch(nodeTexels, at + 1);
+  BvhNode n;
+  n.bmin = texel_xyz(a);
+  n.leftFirst = a.w;
+  n.bmax = texel_xyz(b);
+  n.count = b.w;
+  return n;
+}
+
+WideNode load_wide_node(uint i) {
+  int at = int(i) * WIDE_NODE_TEXELS;
+  uvec4 a = texelFetch(wideNodeTexels, at);
+  uvec4 b = texelFetch(wideNodeTexels, at + 1);
+  WideNode n;
+  n.origin = texel_xyz(a);
+  n.exyzImask = a.w;
+  n.childBase = b.x;
+  n.primBase = b.y;
+  n.meta0123 = b.z;
+  n.meta4567 = b.w;
+  n.qlo = texelFetch(wideNodeTexels, at + 2);
+  n.qloZqhiX = texelFetch(wideNodeTexels, at + 3);
+  n.qhi = texelFetch(wideNodeTexels, at + 4);
+  return n;
+}
+
+Triangle load_triangle(uint i) {
+  int at = int(i) * TRIANGLE_TEXELS;
+  uvec4 a = texelFetch(triangleTexels, at);
+  uvec4 b = texelFetch(triangleTexels, at + 1);
+  uvec4 c = texelFetch(triangleTexels, at + 2);
+  Triangle t;
+  t.v0 = texel_xyz(a);
+  t.material = a.w;
+  t.v1 = texel_xyz(b);
+  t.emitter = b.w;
+  t.v2 = texel_xyz(c);
+  t.shading = c.w;
+  return t;
+}
+
+TriangleShading load_shading(uint i) {
+  int at = int(i) * TRIANGLE_SHADING_TEXELS;
+  uvec4 a = texelFetch(shadingTexels, at);
+  uvec4 b = texelFetch(shadingTexels, at + 1);
+  uvec4 c = texelFetch(shadingTexels, at + 2);
+  uvec4 d = texelFetch(shadingTexels, at + 3);
+  TriangleShading sh;
+  sh.n0 = texel_xyz(a);
+  sh.u0 = uintBitsToFloat(a.w);
+  sh.n1 = texel_xyz(b);
+  sh.v0 = uintBitsToFloat(b.w);
+  sh.n2 = texel_xyz(c);
+  sh.hasNormals = c.w;
+  sh.uv12 = vec4(uintBitsToFloat(d.x), uintBitsToFloat(d.y), uintBitsToFloat(d.z), uintBitsToFloat(d.w));
+  return sh;
+}
+
+vec4 texel_vec4(uvec4 t) {
+  return vec4(uintBitsToFloat(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z), uintBitsToFloat(t.w));
+}
+
+Sphere load_sphere(uint i) {
+  int at = int(i) * SPHERE_TEXELS;
+  Sphere sp;
+  sp.toWorld0 = texel_vec4(texelFetch(sphereTexels, at));
+  sp.toWorld1 = texel_vec4(texelFetch(sphereTexels, at + 1));
+  sp.toWorld2 = texel_vec4(texelFetch(sphereTexels, at + 2));
+  sp.toObject0 = texel_vec4(texelFetch(sphereTexels, at + 3));
+  sp.toObject1 = texel_vec4(texelFetch(sphereTexels, at + 4));
+  sp.toObject2 = texel_vec4(texelFetch(sphereTexels, at + 5));
+  uvec4 g = texelFetch(sphereTexels, at + 6);
+  sp.material = g.x;
+  sp.emitter = g.y;
+  sp.area = uintBitsToFloat(g.z);
+  sp.pad = g.w;
+  return sp;
+}
+
+Material load_material(uint i) {
+  int at = int(i) * MATERIAL_TEXELS;
+  Material m;
+  m.info = texelFetch(materialTexels, at);
+  m.children = texelFetch(materialTexels, at + 1);
+  m.params = texel_vec4(texelFetch(materialTexels, at + 2));
+  return m;
+}
+
+Texture load_texture(uint i) {
+  int at = int(i) * TEXTURE_TEXELS;
+  Texture t;
+  t.info = texelFetch(textureTexels, at);
+  t.color0 = texel_vec4(texelFetch(textureTexels, at + 1));
+  t.color1 = texel_vec4(texelFetch(textureTexels, at + 2));
+  t.map0 = texel_vec4(texelFetch(textureTexels, at + 3));
+  t.map1 = texel_vec4(texelFetch(textureTexels, at + 4));
+  t.map2 = texel_vec4(texelFetch(textureTexels, at + 5));
+  return t;
+}
+
+PointLight load_point_light(uint i) {
+  int at = int(i) * POINT_LIGHT_TEXELS;
+  PointLight l;
+  l.position = texel_vec4(texelFetch(pointLightTexels, at));
+  l.intensity = texel_vec4(texelFetch(pointLightTexels, at + 1));
+  return l;
+}
+
+Emitter load_emitter(uint i) {
+  uvec4 t = texelFetch(emitterTexels, int(i) * EMITTER_TEXELS);
+  Emitter e;
+  e.prim = t.x;
+  e.alias = t.y;
+  e.threshold = uintBitsToFloat(t.z);
+  e.pmf = uintBitsToFloat(t.w);
+  return e;
+}
+
+// Entry i of the environment map's sampling distribution.
+float cdf_at(uint i) {
+  return texelFetch(environmentCdf, int(i)).x;
+}
+
+#endif  // WP_RECORDS_GLSL

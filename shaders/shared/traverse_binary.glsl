@@ -1,0 +1,120 @@
+// traverse_binary.glsl — the primitive tests of both walks, and the walk of
+// the binary BVH (BvhNode).
+//
+//
+// Loop budget: lavapipe silently ends all loops of a shader invocation after
+// 65,535 iterations in total, and counts the iterations of nested loops in ways
+// a counter cannot follow. So each walk is one flat loop whose every iteration
+// does a bounded amount of work and counts itself against scene.counts.z
+// (below the budget). A walk that reaches the cap returns TRACE_TRUNCATED,
+// which the host turns into an error.
+
+#ifndef WP_TRAVERSE_BINARY_GLSL
+#define WP_TRAVERSE_BINARY_GLSL
+
+#define TRACE_OK 0u
+#define TRACE_TRUNCATED 1u
+
+// Tests primitive record i (a triangle, or a sphere's placeholder), loaded as
+// tri, and keeps the nearer hit.
+void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
+  float t;
+  if (tri.material != WP_INVALID) {
+    float u;
+    float v;
+    if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v)) {
+      hit.t = t;
+      hit.prim = i;
+      hit.u = u;
+      hit.v = v;
+    }
+  } else if (FEATURE_COMPILED(FEATURE_SPHERES)) {
+    Sphere sp = load_sphere(tri.shading);
+    vec3 ol = xform_point(sp.toObject0, sp.toObject1, sp.toObject2, o);
+    vec3 dl = xform_vector(sp.toObject0, sp.toObject1, sp.toObject2, d);
+    if (intersect_unit_sphere(ol, dl, hit.t, t)) {
+      hit.t = t;
+      hit.prim = tri.shading | HIT_SPHERE_BIT;
+      hit.u = 0.0f;
+      hit.v = 0.0f;
+    }
+  }
+}
+
+// Tests primitive record i and keeps the nearer hit.
+void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
+  intersect_loaded_prim(i, load_triangle(i), o, d, sh, hit);
+}
+
+// The binary BVH (BvhNode), ordered and stack-based: each iteration visits one
+// node (testing both children's boxes) or tests one primitive.
+uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+  hit.t = tmax;
+  hit.prim = WP_INVALID;
+  hit.u = 0.0f;
+  hit.v = 0.0f;
+  vec3 invDir = vec3(1.0f) / d;
+  RayShear sh = make_ray_shear(d);
+  // Nodes are named by their (leftFirst, count) pair, read when their parent
+  // tested their boxes, so each node is fetched from memory once.
+  uvec2 stack[TRAVERSAL_STACK_SIZE];
+  uint sp = 0u;
+  BvhNode root = load_node(0u);
+  uvec2 node = uvec2(root.leftFirst, root.count);
+  bool haveNode = true;  // `node` is still to be visited
+  uint leafNext = 0u;    // primitives [leafNext, leafEnd) of the current leaf remain
+  uint leafEnd = 0u;
+  uint steps = 0u;
+  uint cap = scene.counts.z;
+  // An empty scene's root has an inverted box, which the slab test alone would
+  // take for the whole space.
+  bool empty = root.bmin.x > root.bmax.x;
+  if (root.count == 0u && (empty || intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF)) return TRACE_OK;
+  while (true) {
+    steps += 1u;
+    if (steps > cap) return TRACE_TRUNCATED;
+    WP_NOTE_STEP();
+    if (leafNext < leafEnd) {
+      intersect_prim(leafNext, o, d, sh, hit);
+      leafNext += 1u;
+      if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
+      continue;
+    }
+    if (!haveNode) {
+      if (sp == 0u) break;
+      sp -= 1u;
+      node = stack[sp];
+    }
+    haveNode = false;
+    if (node.y != 0u) {
+      leafNext = node.x;
+      leafEnd = node.x + node.y;
+      continue;
+    }
+    BvhNode n0 = load_node(node.x);
+    BvhNode n1 = load_node(node.x + 1u);
+    float d0 = intersect_aabb(o, invDir, n0.bmin, n0.bmax, hit.t);
+    float d1 = intersect_aabb(o, invDir, n1.bmin, n1.bmax, hit.t);
+    uvec2 near = uvec2(n0.leftFirst, n0.count);
+    uvec2 far = uvec2(n1.leftFirst, n1.count);
+    if (d1 < d0) {
+      float td = d0;
+      d0 = d1;
+      d1 = td;
+      uvec2 tn = near;
+      near = far;
+      far = tn;
+    }
+    if (d0 == WP_INF) continue;  // neither child: pop on the next iteration
+    node = near;
+    haveNode = true;
+    if (d1 != WP_INF) {
+      stack[sp] = far;
+      sp += 1u;
+      WP_NOTE_STACK_DEPTH(sp);
+    }
+  }
+  return TRACE_OK;
+}
+
+#endif  // WP_TRAVERSE_BINARY_GLSL
