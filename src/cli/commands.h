@@ -1,0 +1,30 @@
+// commands.h — the subcommands of the `wavepath` command line, one file each
+// in src/cli/. Each add_* declares its subcommand's options on `app` and
+// returns the function that runs it once the command line is parsed; main.cpp
+// runs the one given and turns errors into exit codes.
+//
+// Exit status: 0 success (compare: the images agree), 1 compare: they differ
+// (bench: a variant disagreed with the CPU reference and was not timed), 2 bad
+// input (scene, mesh, options), 3 rendering failed (no Vulkan device, out of
+// memory, validation messages, truncated traversal).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace wp::cli {
+
+struct Command {
+  CLI::App* app;             // the subcommand, to tell whether it was given
+  std::function<int()> run;  // runs it; throws InputError / RenderError
+};
+
+Command add_render(CLI::App& app);
+Command add_compare(CLI::App& app);
+Command add_bench(CLI::App& app);
+Command add_convergence(CLI::App& app);
+Command add_info(CLI::App& app);
+Command add_devices(CLI::App& app);
+
+}  // namespace wp::cli

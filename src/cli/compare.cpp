@@ -1,0 +1,97 @@
+#include <cstdio>
+#include <memory>
+
+#include "cli/commands.h"
+#include "cli/render_args.h"
+#include "report/html_report.h"
+#include "stats/compare.h"
+#include "util/error.h"
+
+namespace wp::cli {
+
+namespace {
+
+struct CompareArgs {
+  RenderArgs render;  // scene, spp, bounces, seed, device, threads, quiet, validation
+  std::vector<std::string> images;
+  std::string a = "gpu";
+  std::string b = "cpu";
+  std::string report;
+  float plantBias = 1.0f;
+  std::vector<uint32_t> plantRegion;
+};
+
+// Renders the scene twice with independent seeds (or reads two EXR renders) and
+// decides whether both estimate the same image. Exit 0: agree, 1: differ.
+int run_compare(const CompareArgs& c) {
+  ImageStats a, b;
+  ReportLabels labels;
+  if (!c.images.empty()) {
+    a = read_exr(c.images[0]);
+    b = read_exr(c.images[1]);
+    labels = ReportLabels{c.images[0] + " vs " + c.images[1], c.images[0], c.images[1]};
+  } else {
+    for (const std::string& r : {c.a, c.b})
+      if (r != "cpu") kernel_variant(r);  // fails early, naming the known variants
+    Scene scene = load_scene_with_overrides(c.render);
+    RenderOptions oa = options_from(c.render, c.render.seed), ob = options_from(c.render, c.render.seed + 1);
+    std::string whereA, whereB;
+    a = render_on(c.a, compile_scene(scene, variant_options(oa, c.a)), c.render, &whereA);
+    if (c.plantBias != 1.0f) {
+      const std::vector<uint32_t>& r = c.plantRegion;
+      plant_bias(a, c.plantBias, r.empty() ? glm::uvec4(0u, 0u, ~0u, ~0u) : glm::uvec4(r[0], r[1], r[2], r[3]));
+    }
+    b = render_on(c.b, compile_scene(scene, variant_options(ob, c.b)), c.render, &whereB);
+    auto label = [&](const std::string& r, const std::string& where, uint32_t seed, bool planted) {
+      std::string l = r + " (" + where + "), seed " + std::to_string(seed);
+      if (planted) {
+        char factor[32];
+        std::snprintf(factor, sizeof(factor), "%g", double(c.plantBias));
+        l += std::string(", planted bias x") + factor;
+      }
+      return l;
+    };
+    labels = ReportLabels{c.render.scene, label(c.a, whereA, c.render.seed, c.plantBias != 1.0f),
+                          label(c.b, whereB, c.render.seed + 1, false)};
+  }
+  CompareResult result = compare_images(a, b);
+  std::printf("%s\n", result.summary().c_str());
+  if (!c.report.empty()) {
+    write_html_report(c.report, a, b, result, labels);
+    std::printf("report: %s/index.html\n", c.report.c_str());
+  }
+  return result.passed() ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_compare(CLI::App& app) {
+  auto cmp = std::make_shared<CompareArgs>();
+  CLI::App* compare = app.add_subcommand(
+      "compare", "render a scene twice with independent seeds (default: GPU against the CPU reference), or read two EXR "
+                 "renders, and decide statistically whether they estimate the same image. Exit 0: agree, 1: differ");
+  compare->add_option("scene", cmp->render.scene, "scene file (darts JSON)");
+  compare->add_option("--images", cmp->images, "compare two stored renders (EXR written by wavepath render) instead")->expected(2);
+  compare->add_option("--a", cmp->a, "renderer of image A: cpu or a kernel variant such as gpu, gpu-wg128 (default gpu)");
+  compare->add_option("--b", cmp->b, "renderer of image B: cpu or a kernel variant (default cpu)");
+  compare->add_option("--spp", cmp->render.spp, "samples per pixel of each render")->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
+  compare->add_option("--max-bounces", cmp->render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));
+  compare->add_option("--integrator", cmp->render.integrator, "integrator, overriding the scene's (darts name)");
+  compare->add_option("--seed", cmp->render.seed, "seed of A; B uses seed + 1 (default 1)")->default_val(1);
+  compare->add_option("--resolution", cmp->render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
+  compare->add_option("--report", cmp->report, "write an HTML report to this directory");
+  compare->add_option("--device", cmp->render.device, "Vulkan device: index or part of the name");
+  compare->add_option("--threads", cmp->render.threads, "CPU threads for the CPU reference")->check(CLI::Range(0, 1024));
+  compare->add_option("--plant-bias", cmp->plantBias, "debug: multiply A's radiance by this factor, to see what the test detects")
+      ->check(CLI::Range(0.0, 100.0));
+  compare->add_option("--plant-region", cmp->plantRegion, "debug: only inside pixels X0 Y0 X1 Y1 (exclusive ends)")->expected(4);
+  compare->add_flag("-q,--quiet", cmp->render.quiet, "no progress line");
+  compare->add_flag("--validation", cmp->render.validation, "enable Vulkan validation; any message is a failure");
+  return {compare, [cmp] {
+            if (cmp->images.empty() == cmp->render.scene.empty())
+              throw InputError("compare needs either a scene file or --images A.exr B.exr (not both)");
+            return run_compare(*cmp);
+          }};
+}
+
+}  // namespace wp::cli

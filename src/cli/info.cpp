@@ -1,0 +1,86 @@
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "cli/commands.h"
+#include "gpu/vulkan_context.h"
+#include "gpu/wavefront.h"
+#include "render/compiled_scene.h"
+#include "scene/kinds.h"
+#include "scene/load_scene.h"
+#include "util/error.h"
+
+namespace wp::cli {
+
+namespace {
+
+// What the renderer would build for a scene: sizes, BVH quality and memory.
+int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant, const std::string* kernelsDevice) {
+  RenderOptions options = variant_options(RenderOptions{}, variant);  // an unknown variant fails before any work
+  if (kernelsDevice && variant == "cpu") throw InputError("--kernels: the cpu reference has no kernels");
+  auto t0 = std::chrono::steady_clock::now();
+  Scene scene = load_scene(scenePath);
+  double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (maxLeafSize > 0) scene.accelerator.maxLeafSize = maxLeafSize;
+  CompiledScene cs = compile_scene(scene, options);
+  size_t gpuBytes = cs.gpu_bytes();
+  size_t prims = scene.triangles.size() + scene.spheres.size();
+  std::printf("scene        %s\n", scenePath.c_str());
+  std::printf("primitives   %zu triangles, %zu spheres, %zu materials, %u emitters\n", scene.triangles.size(),
+              scene.spheres.size(), scene.materials.size(), cs.params.counts.x);
+  std::printf("image        %dx%d, %d spp, %u max bounces\n", cs.width, cs.height, cs.spp, cs.params.image.z);
+  std::printf("load         %.3f s (parsing and OBJ)\n", loadSeconds);
+  bool wide = cs.bvhLayout == BvhLayout::Wide;
+  std::printf("BVH          %s, %s, %zu nodes, depth %d, SAH cost %.2f, built in %.3f s (%.3g Mprims/s)\n",
+              wide ? "8-wide compressed" : "binary", split_method_name(cs.bvhSplit), wide ? cs.wideNodes.size() : cs.nodes.size(),
+              cs.bvhDepth, cs.bvh_sah_cost(), cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
+  std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
+              prims ? double(gpuBytes) / double(prims) : 0.0);
+  // On a CPU device every branch a kernel has costs each path, taken or not:
+  // what the scene uses is what its kernels pay for.
+  std::printf("kinds        %s (compiled into the kernels)\n", kinds_description(cs.params.kinds).c_str());
+  // gpu-sort shades each class of materials with a kernel of its own kinds.
+  std::printf("shade classes");
+  for (size_t c = 0; c < cs.shadeClasses.size(); ++c) {
+    const glm::uvec4 k = cs.shade_key_kinds(uint32_t(c) + 1);
+    std::printf(" %zu: %s / %s;", c, kind_list(material_kinds(), k.x, ", ").c_str(), kind_list(texture_kinds(), k.y, ", ").c_str());
+  }
+  std::printf(" misses: textures %s (material / texture kinds of each gpu-sort shade kernel)\n",
+              kind_list(texture_kinds(), cs.shade_key_kinds(SORT_KEY_MISS).y, ", ").c_str());
+  if (kernelsDevice) {
+    // The variant's kernels as the device's compiler built them for this scene.
+    VulkanContext ctx(*kernelsDevice, VulkanContext::validation_requested_by_environment());
+    WavefrontSettings settings = kernel_variant(variant).settings;
+    settings.captureStatistics = true;
+    WavefrontRenderer renderer(ctx, cs, settings);
+    std::vector<KernelStatistics> kernels = renderer.kernel_statistics();
+    std::printf("kernels      as compiled for %s (%s):\n", ctx.info().name.c_str(), ctx.info().driver.c_str());
+    for (const KernelStatistics& k : kernels) {
+      std::printf("  %s (%s):", k.kernel.c_str(), k.executable.c_str());
+      for (const auto& [name, value] : k.values) std::printf(" %s %s;", name.c_str(), value.c_str());
+      std::printf("\n");
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_info(CLI::App& app) {
+  struct InfoArgs {
+    std::string scene;
+    int maxLeafSize = 0;
+    std::string variant = "gpu";
+    std::string device;
+  };
+  auto a = std::make_shared<InfoArgs>();
+  CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
+  info->add_option("scene", a->scene, "scene file (darts JSON)")->required();
+  info->add_option("--max-leaf-size", a->maxLeafSize, "override the scene's BVH leaf size")->check(CLI::Range(1, BVH_MAX_LEAF_SIZE));
+  info->add_option("--variant", a->variant, "the kernel variant (or cpu) whose BVH layout to build; default gpu");
+  CLI::Option* infoKernels = info->add_flag("--kernels", "also compile the variant's kernels and show the driver's statistics of each (registers, spills, ...)");
+  info->add_option("--device", a->device, "Vulkan device for --kernels: index or part of the name")->needs(infoKernels);
+  return {info, [a, infoKernels] { return run_info(a->scene, a->maxLeafSize, a->variant, *infoKernels ? &a->device : nullptr); }};
+}
+
+}  // namespace wp::cli

@@ -1,0 +1,59 @@
+// render_args.h — what the commands that render (render, compare,
+// convergence) share: their scene and render options, the overrides those
+// options make to a scene, and rendering on the CPU reference or a kernel
+// variant.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gpu/wavefront.h"
+#include "image/image.h"
+#include "render/compiled_scene.h"
+#include "scene/scene.h"
+
+namespace wp::cli {
+
+struct RenderArgs {
+  std::string scene;
+  std::string output;
+  std::string exr;
+  int spp = -1;
+  int maxBounces = -1;
+  uint32_t seed = 0;
+  std::string device;
+  bool cpu = false;
+  int threads = 0;
+  bool quiet = false;
+  bool validation = false;
+  std::vector<int> resolution;
+  bool stageTimes = false;
+  std::string variant = "gpu";
+  std::string integrator;  // darts integrator name, overriding the scene's
+  std::string sampler;     // independent or cmj
+  float aperture = -1.0f;  // lens radius, overriding the scene's (CS184 -b)
+  float focusDistance = -1.0f;  // (CS184 -d)
+  std::string environment;      // environment map replacing the background (CS184 -e)
+  std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
+  int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
+};
+
+// The render options the arguments ask for, with `seed`. Throws InputError
+// for an unknown integrator or sampler or a bad adaptive setting.
+RenderOptions options_from(const RenderArgs& a, uint32_t seed);
+
+// The scene file with the arguments' overrides (resolution, lens, environment).
+Scene load_scene_with_overrides(const RenderArgs& a);
+
+// Renders with `renderer`: "cpu" (the reference) or a kernel variant ("gpu",
+// "gpu-wg128", ...) on the chosen Vulkan device. Sets *where to a description
+// of what rendered it, and *times (if given) to the GPU's per-stage times.
+ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
+                     StageTimes* times = nullptr);
+
+// Checks where an output file goes before any time is spent on the work
+// whose result it holds.
+void require_output_directory(const std::string& path);
+
+}  // namespace wp::cli
