@@ -6,11 +6,11 @@ set -u
 wavepath=$1
 data=$2
 source "$(dirname "$0")/testlib.sh"
-common=(--scenes "$data/furnace.json" --variants gpu,gpu-wg32 --spp 1 --repeats 2 --check-spp 16)
+common=(--scenes "$data/furnace.json" --variants gpu,gpu-oneray --spp 1 --repeats 2 --check-spp 16)
 
 "$wavepath" bench "${common[@]}" --out "$work/r.json" --csv "$work/r.csv" >"$work/out" 2>&1
 check "bench exits 0 when every variant passes its check" $?
-check "the table shows both variants timed" $(grep -cE '^  gpu(-wg32)? +pass' "$work/out" | grep -qx 2; echo $?)
+check "the table shows both variants timed" $(grep -cE '^  gpu(-oneray)? +pass' "$work/out" | grep -qx 2; echo $?)
 check "JSON has both variants with timings" $([ "$(grep -c '"check_passed": true' "$work/r.json")" -eq 2 ] &&
   grep -q '"samples_per_second"' "$work/r.json" && grep -q '"extend"' "$work/r.json"; echo $?)
 check "JSON counts the rays traced and their rates" $(grep -q '"closest_hit_rays": [1-9]' "$work/r.json" &&

@@ -39,7 +39,7 @@ bad "images of different sizes" "differ in size" -- "$wavepath" compare --images
 bad "not an EXR" "not an OpenEXR file" -- "$wavepath" compare --images "$work/a.png" "$work/b.exr"
 bad "scene and images together" "not both" -- "$wavepath" compare "$data/furnace.json" --images "$work/a.exr" "$work/b.exr"
 bad "unknown kernel variant" "unknown kernel variant \"tpu\"" -- "$wavepath" compare "$data/furnace.json" --a tpu
-"$wavepath" compare "$data/furnace.json" --a gpu-wg128 --b gpu --spp 16 -q >"$work/out" 2>&1
+"$wavepath" compare "$data/furnace.json" --a gpu-oneray --b gpu --spp 16 -q >"$work/out" 2>&1
 check "one kernel variant against another: exit 0" $?
 
 # The report in a real browser: every embedded image decodes, and it renders.

@@ -80,24 +80,16 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
   r[28u] = uvec2(0u, 0u); r[29u] = uvec2(0u, 0u); r[30u] = uvec2(0u, 0u); r[31u] = uvec2(0u, 0u);
 // Every entry one place down where c (a push makes room for the new top).
 #define WP_REGISTER_STACK_DOWN(r, c) \
-  WP_MOVE(r, c, 31u, 30u); WP_MOVE(r, c, 30u, 29u); WP_MOVE(r, c, 29u, 28u); WP_MOVE(r, c, 28u, 27u); \
-  WP_MOVE(r, c, 27u, 26u); WP_MOVE(r, c, 26u, 25u); WP_MOVE(r, c, 25u, 24u); WP_MOVE(r, c, 24u, 23u); \
-  WP_MOVE(r, c, 23u, 22u); WP_MOVE(r, c, 22u, 21u); WP_MOVE(r, c, 21u, 20u); WP_MOVE(r, c, 20u, 19u); \
-  WP_MOVE(r, c, 19u, 18u); WP_MOVE(r, c, 18u, 17u); WP_MOVE(r, c, 17u, 16u); WP_MOVE(r, c, 16u, 15u); \
-  WP_MOVE(r, c, 15u, 14u); WP_MOVE(r, c, 14u, 13u); WP_MOVE(r, c, 13u, 12u); WP_MOVE(r, c, 12u, 11u); \
-  WP_MOVE(r, c, 11u, 10u); WP_MOVE(r, c, 10u, 9u); WP_MOVE(r, c, 9u, 8u); WP_MOVE(r, c, 8u, 7u); \
-  WP_MOVE(r, c, 7u, 6u); WP_MOVE(r, c, 6u, 5u); WP_MOVE(r, c, 5u, 4u); WP_MOVE(r, c, 4u, 3u); \
-  WP_MOVE(r, c, 3u, 2u); WP_MOVE(r, c, 2u, 1u); WP_MOVE(r, c, 1u, 0u);
+  WP_MOVE(r, c, 31u, 30u); WP_MOVE(r, c, 30u, 29u); WP_MOVE(r, c, 29u, 28u); WP_MOVE(r, c, 28u, 27u); WP_MOVE(r, c, 27u, 26u); WP_MOVE(r, c, 26u, 25u); WP_MOVE(r, c, 25u, 24u); WP_MOVE(r, c, 24u, 23u); \
+  WP_MOVE(r, c, 23u, 22u); WP_MOVE(r, c, 22u, 21u); WP_MOVE(r, c, 21u, 20u); WP_MOVE(r, c, 20u, 19u); WP_MOVE(r, c, 19u, 18u); WP_MOVE(r, c, 18u, 17u); WP_MOVE(r, c, 17u, 16u); WP_MOVE(r, c, 16u, 15u); \
+  WP_MOVE(r, c, 15u, 14u); WP_MOVE(r, c, 14u, 13u); WP_MOVE(r, c, 13u, 12u); WP_MOVE(r, c, 12u, 11u); WP_MOVE(r, c, 11u, 10u); WP_MOVE(r, c, 10u, 9u); WP_MOVE(r, c, 9u, 8u); WP_MOVE(r, c, 8u, 7u); \
+  WP_MOVE(r, c, 7u, 6u); WP_MOVE(r, c, 6u, 5u); WP_MOVE(r, c, 5u, 4u); WP_MOVE(r, c, 4u, 3u); WP_MOVE(r, c, 3u, 2u); WP_MOVE(r, c, 2u, 1u); WP_MOVE(r, c, 1u, 0u);
 // Every entry one place up where c (a pop drops the top).
 #define WP_REGISTER_STACK_UP(r, c) \
-  WP_MOVE(r, c, 0u, 1u); WP_MOVE(r, c, 1u, 2u); WP_MOVE(r, c, 2u, 3u); WP_MOVE(r, c, 3u, 4u); \
-  WP_MOVE(r, c, 4u, 5u); WP_MOVE(r, c, 5u, 6u); WP_MOVE(r, c, 6u, 7u); WP_MOVE(r, c, 7u, 8u); \
-  WP_MOVE(r, c, 8u, 9u); WP_MOVE(r, c, 9u, 10u); WP_MOVE(r, c, 10u, 11u); WP_MOVE(r, c, 11u, 12u); \
-  WP_MOVE(r, c, 12u, 13u); WP_MOVE(r, c, 13u, 14u); WP_MOVE(r, c, 14u, 15u); WP_MOVE(r, c, 15u, 16u); \
-  WP_MOVE(r, c, 16u, 17u); WP_MOVE(r, c, 17u, 18u); WP_MOVE(r, c, 18u, 19u); WP_MOVE(r, c, 19u, 20u); \
-  WP_MOVE(r, c, 20u, 21u); WP_MOVE(r, c, 21u, 22u); WP_MOVE(r, c, 22u, 23u); WP_MOVE(r, c, 23u, 24u); \
-  WP_MOVE(r, c, 24u, 25u); WP_MOVE(r, c, 25u, 26u); WP_MOVE(r, c, 26u, 27u); WP_MOVE(r, c, 27u, 28u); \
-  WP_MOVE(r, c, 28u, 29u); WP_MOVE(r, c, 29u, 30u); WP_MOVE(r, c, 30u, 31u);
+  WP_MOVE(r, c, 0u, 1u); WP_MOVE(r, c, 1u, 2u); WP_MOVE(r, c, 2u, 3u); WP_MOVE(r, c, 3u, 4u); WP_MOVE(r, c, 4u, 5u); WP_MOVE(r, c, 5u, 6u); WP_MOVE(r, c, 6u, 7u); WP_MOVE(r, c, 7u, 8u); \
+  WP_MOVE(r, c, 8u, 9u); WP_MOVE(r, c, 9u, 10u); WP_MOVE(r, c, 10u, 11u); WP_MOVE(r, c, 11u, 12u); WP_MOVE(r, c, 12u, 13u); WP_MOVE(r, c, 13u, 14u); WP_MOVE(r, c, 14u, 15u); WP_MOVE(r, c, 15u, 16u); \
+  WP_MOVE(r, c, 16u, 17u); WP_MOVE(r, c, 17u, 18u); WP_MOVE(r, c, 18u, 19u); WP_MOVE(r, c, 19u, 20u); WP_MOVE(r, c, 20u, 21u); WP_MOVE(r, c, 21u, 22u); WP_MOVE(r, c, 22u, 23u); WP_MOVE(r, c, 23u, 24u); \
+  WP_MOVE(r, c, 24u, 25u); WP_MOVE(r, c, 25u, 26u); WP_MOVE(r, c, 26u, 27u); WP_MOVE(r, c, 27u, 28u); WP_MOVE(r, c, 28u, 29u); WP_MOVE(r, c, 29u, 30u); WP_MOVE(r, c, 30u, 31u);
 
 // The 8-wide compressed BVH (WideNode), after Ylitie et al. 2017. The walk
 // keeps a node group (the hit interior children of a node still to visit) and

@@ -101,12 +101,4 @@ inline Aabb node_box(const shader::BvhNode& n) {
   return b;
 }
 
-// Tree rotations (Kensler, "Tree Rotations for Improving Bounding Volume
-// Hierarchies", 2008): passes over the tree, each swapping a node's child with
-// a grandchild on the other side wherever that shrinks the surface area of the
-// child it reshapes, until a pass finds nothing or `maxPasses` ran. Lowers
-// the SAH cost; leaves keep their primitives, and the depth stays within
-// BVH_MAX_DEPTH. Updates depth, sahCost and buildSeconds.
-void rotate_bvh(Bvh& bvh, int maxPasses = 8);
-
 }  // namespace wp

@@ -72,7 +72,7 @@ Command add_compare(CLI::App& app) {
                  "renders, and decide statistically whether they estimate the same image. Exit 0: agree, 1: differ");
   compare->add_option("scene", cmp->render.scene, "scene file (darts JSON)");
   compare->add_option("--images", cmp->images, "compare two stored renders (EXR written by wavepath render) instead")->expected(2);
-  compare->add_option("--a", cmp->a, "renderer of image A: cpu or a kernel variant such as gpu, gpu-wg128 (default gpu)");
+  compare->add_option("--a", cmp->a, "renderer of image A: cpu or a kernel variant such as gpu, gpu-mega (default gpu)");
   compare->add_option("--b", cmp->b, "renderer of image B: cpu or a kernel variant (default cpu)");
   compare->add_option("--spp", cmp->render.spp, "samples per pixel of each render")->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
   compare->add_option("--max-bounces", cmp->render.maxBounces, "maximum scattering events per path")->check(CLI::Range(0, 1024));

@@ -47,7 +47,7 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed);
 Scene load_scene_with_overrides(const RenderArgs& a);
 
 // Renders with `renderer`: "cpu" (the reference) or a kernel variant ("gpu",
-// "gpu-wg128", ...) on the chosen Vulkan device. Sets *where to a description
+// "gpu-mega", ...) on the chosen Vulkan device. Sets *where to a description
 // of what rendered it, and *times (if given) to the GPU's per-stage times.
 ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
                      StageTimes* times = nullptr);

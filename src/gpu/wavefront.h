@@ -75,7 +75,6 @@ struct KernelVariant {
   std::string description;
   WavefrontSettings settings;
   BvhLayout bvhLayout = BvhLayout::Wide;
-  bool bvhRotations = false;    // the BVH improved by tree rotations
   bool clusteredBuild = false;  // the BVH built by SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide BVH's nodes are picked from the binary tree
 };

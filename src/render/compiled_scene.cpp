@@ -359,15 +359,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   std::vector<uint32_t> order;
   const auto start = std::chrono::steady_clock::now();
   if (wide) {
-    WideBvh w;
-    if (options.bvhRotations) {
-      Bvh bvh = build_bvh(input, binary_settings_for_wide(accel, options.wideCollapse));
-      rotate_bvh(bvh);
-      w = collapse_to_wide(bvh, input.emits, options.wideCollapse, accel.maxLeafSize);
-    } else {
-      // Collapsed from the builder's arrays, without laying out the binary tree.
-      w = build_wide_bvh(input, accel, options.wideCollapse);
-    }
+    // Collapsed from the builder's arrays, without laying out the binary tree.
+    WideBvh w = build_wide_bvh(input, accel, options.wideCollapse);
     out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.wideNodes = std::move(w.nodes);
     order = std::move(w.order);
@@ -376,7 +369,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     out.nodes.push_back(shader::BvhNode{});
   } else {
     Bvh bvh = build_bvh(input, accel);
-    if (options.bvhRotations) rotate_bvh(bvh);
     out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.binarySahCost = bvh.sahCost;
     out.nodes = std::move(bvh.nodes);

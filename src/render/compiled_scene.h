@@ -32,7 +32,6 @@ struct RenderOptions {
   AdaptiveSampling adaptive;  // off unless batch > 0
   int lightSamples = 1;        // next-event estimation samples per path vertex (1..MAX_LIGHT_SAMPLES)
   BvhLayout bvhLayout = BvhLayout::Wide;
-  bool bvhRotations = false;  // improve the SAH tree with tree rotations (rotate_bvh) before use
   bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide layout's nodes are picked from the binary tree
   // Overrides of the scene file's integrator and sampler (command line).

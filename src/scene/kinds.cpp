@@ -2,28 +2,29 @@
 
 namespace wp {
 
+namespace {
+
 #define WP_MATERIAL_ROW(id, name, prefix, lobes) KindInfo{id, name, lobes},
 #define WP_KIND_ROW(id, name) KindInfo{id, name, 0u},
 
-const std::vector<KindInfo>& material_kinds() {
-  static const std::vector<KindInfo> kRows{WP_MATERIAL_KINDS(WP_MATERIAL_ROW)};
-  return kRows;
+struct Tables {
+  std::vector<KindInfo> materials{WP_MATERIAL_KINDS(WP_MATERIAL_ROW)};
+  std::vector<KindInfo> textures{WP_TEXTURE_KINDS(WP_KIND_ROW)};
+  std::vector<KindInfo> lights{WP_LIGHT_KINDS(WP_KIND_ROW)};
+  std::vector<KindInfo> features{WP_FEATURES(WP_KIND_ROW)};
+};
+
+const Tables& tables() {
+  static const Tables kTables;
+  return kTables;
 }
 
-const std::vector<KindInfo>& texture_kinds() {
-  static const std::vector<KindInfo> kRows{WP_TEXTURE_KINDS(WP_KIND_ROW)};
-  return kRows;
-}
+}  // namespace
 
-const std::vector<KindInfo>& light_kinds() {
-  static const std::vector<KindInfo> kRows{WP_LIGHT_KINDS(WP_KIND_ROW)};
-  return kRows;
-}
-
-const std::vector<KindInfo>& feature_kinds() {
-  static const std::vector<KindInfo> kRows{WP_FEATURES(WP_KIND_ROW)};
-  return kRows;
-}
+const std::vector<KindInfo>& material_kinds() { return tables().materials; }
+const std::vector<KindInfo>& texture_kinds() { return tables().textures; }
+const std::vector<KindInfo>& light_kinds() { return tables().lights; }
+const std::vector<KindInfo>& feature_kinds() { return tables().features; }
 
 std::optional<uint32_t> kind_named(const std::vector<KindInfo>& table, const std::string& name) {
   for (const KindInfo& k : table)

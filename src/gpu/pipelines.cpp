@@ -1,0 +1,325 @@
+// The GPU renderer's resources and pipelines: buffers and their texel views,
+// the descriptor set, each kernel's pipeline specialized to the scene and the
+// device, timestamps, and the driver's statistics of each kernel.
+#include <algorithm>
+
+#include "gpu/wavefront_impl.h"
+#include "util/error.h"
+
+// SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
+#include "accumulate.spv.h"
+#include "connect.spv.h"
+#include "connect_multi.spv.h"
+#include "extend.spv.h"
+#include "generate.spv.h"
+#include "megakernel.spv.h"
+#include "prepare.spv.h"
+#include "shade.spv.h"
+#include "sort.spv.h"
+
+namespace wp {
+
+WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
+  const uint64_t maxRange = ctx.info().maxStorageBufferRange;
+  const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+  if (pixels == 0) throw RenderError("the image has no pixels");  // path slots (and ray batches) come from pixels
+  if (settings.workgroupSize == 0 || settings.workgroupSize > ctx.info().maxComputeWorkGroupInvocations) {
+    throw RenderError("workgroup size " + std::to_string(settings.workgroupSize) + " is not supported by " + ctx.info().name);
+  }
+  // Each path may cast one shadow ray per light sample: their buffer and
+  // their dispatch bound the paths per wave too.
+  lightSamples = std::max(1u, scene.params.mode.w);
+  // Paths and shadow rays are also read through texel views (bindings.glsl).
+  const uint64_t maxViewBytes = uint64_t(ctx.info().maxTexelBufferElements) * 16u;
+  sorting = sort_by_material();
+  capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
+                                 std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
+                                 uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,
+                                 std::min<uint64_t>(ctx.info().maxTexelBufferElements, maxRange / sizeof(uint32_t)) / queue_count()});
+  create_buffers(pixels, maxRange);
+  create_pipelines();
+  commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
+                                                        vk::CommandPoolCreateFlagBits::eResetCommandBuffer, ctx.queue_family()));
+  auto props = ctx.physical().getProperties();
+  auto families = ctx.physical().getQueueFamilyProperties();
+  timestamps = props.limits.timestampComputeAndGraphics && families[ctx.queue_family()].timestampValidBits > 0;
+  timestampPeriodNs = props.limits.timestampPeriod;
+}
+
+void WavefrontRenderer::Impl::reserve_queries(uint32_t count) {
+  if (!timestamps || count <= queryCapacity) return;
+  queryCapacity = std::max(count, queryCapacity * 2);
+  queries = vk::raii::QueryPool(ctx.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, queryCapacity));
+}
+
+void WavefrontRenderer::Impl::stamp(vk::CommandBuffer cb, Stage stage) {
+  if (!timestamps) return;
+  stageOf.push_back(stage);
+  cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, uint32_t(stageOf.size()));
+}
+
+void WavefrontRenderer::Impl::collect_times() {
+  if (!timestamps || stageOf.empty()) return;
+  std::vector<uint64_t> ticks(stageOf.size() + 1);
+  auto result = ctx.device().getDispatcher()->vkGetQueryPoolResults(
+      *ctx.device(), *queries, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t), ticks.data(), sizeof(uint64_t),
+      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
+  if (result != VK_SUCCESS) return;
+  for (size_t i = 0; i < stageOf.size(); ++i) {
+    times.seconds[stageOf[i]] += double(ticks[i + 1] - ticks[i]) * timestampPeriodNs * 1e-9;
+    times.dispatches[stageOf[i]] += 1;
+  }
+}
+
+bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
+  switch (binding) {
+    case BINDING_NODES:
+    case BINDING_WIDE_NODES:
+    case BINDING_TRIANGLES:
+    case BINDING_TRIANGLE_SHADING:
+    case BINDING_SPHERES:
+    case BINDING_MATERIALS:
+    case BINDING_EMITTERS:
+    case BINDING_TEXTURES:
+    case BINDING_POINT_LIGHTS:
+    case BINDING_TEXELS:
+    case BINDING_ENVIRONMENT_CDF:
+    case BINDING_PATH_TEXELS:
+    case BINDING_HIT_TEXELS:
+    case BINDING_SHADOW_RAY_TEXELS:
+    case BINDING_QUEUE_TEXELS:
+      return true;
+    default:
+      return false;
+  }
+}
+
+vk::DescriptorType WavefrontRenderer::Impl::descriptor_type(uint32_t binding) {
+  if (binding == BINDING_SCENE) return vk::DescriptorType::eUniformBuffer;
+  return is_texel_binding(binding) ? vk::DescriptorType::eUniformTexelBuffer : vk::DescriptorType::eStorageBuffer;
+}
+
+void WavefrontRenderer::Impl::add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra) {
+  using U = vk::BufferUsageFlagBits;
+  buffers[binding] = std::make_unique<Buffer>(ctx, bytes, U::eStorageBuffer | U::eTransferDst | U::eTransferSrc | extra, false);
+}
+
+void WavefrontRenderer::Impl::add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes, vk::Format format) {
+  add_work(binding, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer);
+  views[view] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(), format, 0, VK_WHOLE_SIZE));
+}
+
+void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange) {
+  buffers.resize(BINDING_COUNT);
+  for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
+  buffers[BINDING_SCENE] = std::make_unique<Buffer>(ctx, sizeof(shader::SceneParams),
+                                                    vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+  shader::SceneParams params = scene.params;
+  params.counts.z = traversal_step_cap();
+  ctx.upload(*buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
+  add_texels(BINDING_NODES, scene.nodes, "BVH nodes");
+  add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
+  add_texels(BINDING_TRIANGLES, scene.triangles, "primitives");
+  add_texels(BINDING_TRIANGLE_SHADING, scene.triangleShading, "vertex normals and UVs");
+  add_texels(BINDING_SPHERES, scene.spheres, "spheres");
+  add_texels(BINDING_MATERIALS, scene.materials, "materials");
+  add_texels(BINDING_EMITTERS, scene.emitters, "emitters");
+  add_texels(BINDING_TEXTURES, scene.textures, "textures");
+  add_texels(BINDING_POINT_LIGHTS, scene.pointLights, "point lights");
+  add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
+  add_texels(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, "environment map distribution", vk::Format::eR32Sfloat);
+  add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
+  add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
+  add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * sizeof(shader::Hit));
+  // Queues 0 and 1, and with sorting by material class each sort key's.
+  add_readable_work(BINDING_QUEUES, BINDING_QUEUE_TEXELS, uint64_t(capacity) * queue_count() * sizeof(uint32_t), vk::Format::eR32Uint);
+  add_work(BINDING_SORT, SORT_KEYS * sizeof(uint32_t));
+  add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
+  add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
+  add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
+  uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
+  if (accumBytes > maxRange) {
+    throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image needs " +
+                      std::to_string(accumBytes >> 20) + " MiB of accumulators, more than the " +
+                      std::to_string(maxRange >> 20) + " MiB per storage buffer " + ctx.info().name + " allows");
+  }
+  add_work(BINDING_ACCUM, accumBytes);
+  readAccum = std::make_unique<Buffer>(ctx, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
+  readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
+}
+
+uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
+  const uint32_t cap = scene.params.counts.z;
+  if (!settings.megakernel) return cap;
+  const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
+  const uint64_t budget = TRAVERSAL_STEP_BUDGET, traversals = bounces + 1 + bounces * lightSamples;
+  const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;
+  if (perRay < kMegakernelMinimumCap) {
+    throw RenderError("the megakernel variant fits " + std::to_string(bounces) + " bounces into lavapipe's loop budget only with " +
+                      std::to_string(perRay) + " traversal steps per ray (at least " + std::to_string(kMegakernelMinimumCap) +
+                      " needed); use fewer bounces or the wavefront kernels");
+  }
+  return uint32_t(std::min<uint64_t>(cap, perRay));
+}
+
+uint32_t WavefrontRenderer::Impl::rays_per_invocation() const {
+  if (settings.raysPerInvocation != 0) return settings.raysPerInvocation;
+  bool several = cpu_device() && scene.params.accel.x == BVH_LAYOUT_WIDE && settings.compaction &&
+                 scene.bvhDepth >= kMultiRayMinDepth;
+  return several ? kRaysPerInvocationOnCpus : 1u;
+}
+
+uint32_t WavefrontRenderer::Impl::groups_for(uint32_t n) const {
+  return (n + settings.workgroupSize - 1) / settings.workgroupSize;
+}
+
+uint32_t WavefrontRenderer::Impl::interleaved_groups(uint32_t n) const {
+  const uint32_t t = workgroup_interleave();
+  return (groups_for(n) + t - 1) / t * t;
+}
+
+uint32_t WavefrontRenderer::Impl::tracing_groups(uint32_t n, uint32_t perInvocation) const {
+  return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
+}
+
+std::vector<std::pair<std::string, const vk::raii::Pipeline*>> WavefrontRenderer::Impl::kernels() const {
+  std::vector<std::pair<std::string, const vk::raii::Pipeline*>> k{
+      {"generate", &generate}, {"prepare", &prepare},       {"extend", &extend},
+      {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
+      {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
+      {"raycast-single", &raycastSingle}, {"occlude", &occlude}, {"occlude-single", &occludeSingle},
+      {"texprobe", &texprobe}};
+  for (size_t i = 0; i < shadeByKey.size(); ++i)
+    k.emplace_back(shadeKeys[i] == SORT_KEY_MISS ? "shade-misses" : "shade-class-" + std::to_string(shadeKeys[i] - 1), &shadeByKey[i]);
+  return k;
+}
+
+vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOptions o) {
+  vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
+  // The specialization constants of the kernels, by their ids (bindings.glsl).
+  const shader::uvec4& accel = scene.params.accel;
+  // More slots than the register stack holds select the indexed stack.
+  bool indexed = settings.stack == TraversalStack::Indexed || (settings.stack == TraversalStack::Auto && !cpu_device());
+  uint32_t stackSlots = indexed ? std::max(accel.z, WIDE_REGISTER_STACK + 1u) : accel.z;
+  // A sorted shade kernel holds its class's kinds only.
+  const glm::uvec4 kinds = o.shadeKey == SORT_KEYS ? scene.params.kinds : scene.shade_key_kinds(o.shadeKey);
+  constexpr uint32_t kConstants = SPEC_COUNT;
+  uint32_t values[kConstants] = {};
+  values[SPEC_WORKGROUP_SIZE] = settings.workgroupSize;
+  values[SPEC_INTEGRATOR] = scene.params.mode.x;
+  values[SPEC_LIGHT_SAMPLES] = scene.params.mode.w;
+  values[SPEC_BVH_LAYOUT] = accel.x;
+  values[SPEC_MATERIAL_KINDS] = kinds.x;
+  values[SPEC_TEXTURE_KINDS] = kinds.y;
+  values[SPEC_LIGHT_KINDS] = kinds.z;
+  values[SPEC_FEATURES] = kinds.w;
+  values[SPEC_STACK_SIZE] = stackSlots;
+  values[SPEC_COMPACTION] = settings.compaction ? 1u : 0u;  // bools are 32-bit 0 or 1
+  values[SPEC_SORT_BY_MATERIAL] = sorting ? 1u : 0u;
+  values[SPEC_RAYS_PER_INVOCATION] = o.single ? 1u : tracingRays;
+  values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
+  values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
+  values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp
+  vk::SpecializationMapEntry entries[kConstants];
+  for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
+  vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
+  vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
+  vk::PipelineCreateFlags flags;
+  if (settings.captureStatistics && ctx.info().pipelineStatistics) flags |= vk::PipelineCreateFlagBits::eCaptureStatisticsKHR;
+  return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo(flags, stage, *pipelineLayout));
+}
+
+void WavefrontRenderer::Impl::create_tracing_pipelines() {
+  prepare = make_pipeline(kernel(prepare_spv));
+  extend = make_pipeline(kernel(extend_spv));
+  if (scene.params.mode.w > 1u) {
+    if (!ctx.info().floatAtomicAdd) {
+      throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
+                        std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
+    }
+    connect = make_pipeline(kernel(connect_multi_spv));
+  } else {
+    connect = make_pipeline(kernel(connect_spv));
+  }
+  raycast = vk::raii::Pipeline(nullptr);  // the ray caster's multi-ray pipelines are remade on use (ray_caster)
+  occlude = vk::raii::Pipeline(nullptr);
+}
+
+void WavefrontRenderer::Impl::create_pipelines() {
+  std::vector<vk::DescriptorSetLayoutBinding> bindings;
+  uint32_t texelBindings = 0;
+  for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
+    bindings.emplace_back(b, descriptor_type(b), 1, vk::ShaderStageFlagBits::eCompute);
+    texelBindings += is_texel_binding(b);
+  }
+  setLayout = vk::raii::DescriptorSetLayout(ctx.device(), vk::DescriptorSetLayoutCreateInfo({}, bindings));
+  vk::PushConstantRange push(vk::ShaderStageFlagBits::eCompute, 0, sizeof(KernelPush));
+  vk::DescriptorSetLayout layouts[] = {*setLayout};
+  pipelineLayout = vk::raii::PipelineLayout(ctx.device(), vk::PipelineLayoutCreateInfo({}, layouts, push));
+  vk::DescriptorPoolSize sizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
+                                    {vk::DescriptorType::eUniformTexelBuffer, texelBindings},
+                                    {vk::DescriptorType::eStorageBuffer, BINDING_COUNT - 1 - texelBindings}};
+  pool = vk::raii::DescriptorPool(ctx.device(), vk::DescriptorPoolCreateInfo(vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet, 1, sizes));
+  set = std::move(vk::raii::DescriptorSets(ctx.device(), vk::DescriptorSetAllocateInfo(*pool, layouts))[0]);
+  std::vector<vk::DescriptorBufferInfo> infos(BINDING_COUNT);
+  std::vector<vk::BufferView> texelViews(BINDING_COUNT);
+  std::vector<vk::WriteDescriptorSet> writes;
+  for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
+    if (is_texel_binding(b)) {
+      texelViews[b] = *views[b];
+      writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, nullptr, &texelViews[b]);
+      continue;
+    }
+    infos[b] = vk::DescriptorBufferInfo(buffers[b]->handle(), 0, VK_WHOLE_SIZE);
+    writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, &infos[b]);
+  }
+  ctx.device().updateDescriptorSets(writes, {});
+  tracingRays = rays_per_invocation();
+  create_tracing_pipelines();
+  generate = make_pipeline(kernel(generate_spv));
+  if (sorting) {
+    sort = make_pipeline(kernel(sort_spv));
+    shadeKeys.push_back(SORT_KEY_MISS);
+    for (uint32_t c = 0; c < scene.shadeClasses.size(); ++c) shadeKeys.push_back(c + 1);
+    for (uint32_t key : shadeKeys) {
+      PipelineOptions o;
+      o.shadeKey = key;
+      shadeByKey.push_back(make_pipeline(kernel(shade_spv), o));
+    }
+  } else {
+    shade = make_pipeline(kernel(shade_spv));
+  }
+  accumulate = make_pipeline(kernel(accumulate_spv));
+  if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), {false, true, false});
+  // texprobe (eval_textures, for the tests) is made on first use.
+}
+
+std::vector<KernelStatistics> WavefrontRenderer::kernel_statistics() const {
+  const VulkanContext& ctx = impl_->ctx;
+  if (!impl_->settings.captureStatistics) throw RenderError("kernel statistics were not captured (WavefrontSettings::captureStatistics)");
+  if (!ctx.info().pipelineStatistics)
+    throw RenderError(ctx.info().name + " reports no kernel statistics (its driver lacks VK_KHR_pipeline_executable_properties)");
+  std::vector<KernelStatistics> out;
+  for (const auto& [name, made] : impl_->kernels()) {
+    if (!**made) continue;  // a kernel this renderer does not use
+    const vk::Pipeline pipeline = **made;
+    std::vector<vk::PipelineExecutablePropertiesKHR> executables = ctx.device().getPipelineExecutablePropertiesKHR(vk::PipelineInfoKHR(pipeline));
+    for (uint32_t i = 0; i < executables.size(); ++i) {
+      KernelStatistics k{name, executables[i].name.data(), {}};
+      for (const vk::PipelineExecutableStatisticKHR& st : ctx.device().getPipelineExecutableStatisticsKHR(vk::PipelineExecutableInfoKHR(pipeline, i))) {
+        std::string value;
+        switch (st.format) {
+          case vk::PipelineExecutableStatisticFormatKHR::eBool32: value = st.value.b32 ? "yes" : "no"; break;
+          case vk::PipelineExecutableStatisticFormatKHR::eInt64: value = std::to_string(st.value.i64); break;
+          case vk::PipelineExecutableStatisticFormatKHR::eUint64: value = std::to_string(st.value.u64); break;
+          case vk::PipelineExecutableStatisticFormatKHR::eFloat64: value = std::to_string(st.value.f64); break;
+        }
+        k.values.emplace_back(st.name.data(), value);
+      }
+      out.push_back(std::move(k));
+    }
+  }
+  return out;
+}
+
+}  // namespace wp

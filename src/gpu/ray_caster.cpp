@@ -1,0 +1,111 @@
+// Work that only the benchmarks and the tests ask of the GPU renderer: closest
+// and any hits of given rays (the ray caster, raycast.comp) and texture
+// lookups (texprobe.comp).
+#include <algorithm>
+#include <cstring>
+
+#include "gpu/wavefront_impl.h"
+
+// SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
+#include "raycast.spv.h"
+#include "texprobe.spv.h"
+
+namespace wp {
+
+const vk::raii::Pipeline& WavefrontRenderer::Impl::ray_caster(bool single, bool anyHit) {
+  vk::raii::Pipeline& p = anyHit ? (single ? occludeSingle : occlude) : (single ? raycastSingle : raycast);
+  if (!*p) p = make_pipeline(kernel(raycast_spv), {single, true, anyHit});
+  return p;
+}
+
+std::vector<shader::Hit> WavefrontRenderer::Impl::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
+                                   bool coherent, bool anyHit) {
+  if (coherent) return run_on_rays(ray_caster(true, anyHit), nullptr, rays, truncated, kernelSeconds);
+  return run_on_rays(ray_caster(false, anyHit), &ray_caster(true, anyHit), rays, truncated, kernelSeconds);
+}
+
+std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pipeline& kernel, const vk::raii::Pipeline* single,
+                                     const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds) {
+  std::vector<shader::Hit> hits(rays.size());
+  const bool timed = timestamps;
+  reserve_queries(2);
+  timestamps = false;  // no per-stage bookkeeping: only the kernel's dispatch is timed
+  double kernelTime = 0.0;
+  const Buffer& rayBuffer = *buffers[BINDING_SHADOW_RAYS];
+  if (!readHits) readHits = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
+  if (!rayBuffer.mapped() && !rayStaging)
+    rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::ShadowRay), vk::BufferUsageFlagBits::eTransferSrc, true);
+  // One chunk through `p`: the rays truncated, and the kernel's GPU time added to kernelTime.
+  auto run_chunk = [&](const vk::raii::Pipeline& p, uint32_t n, uint32_t perInvocation) {
+    ctx.run_now([&](vk::CommandBuffer cb) {
+      if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::ShadowRay)));
+      cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
+      cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
+      stage_barrier(cb);
+      KernelPush push{};
+      push.pathCount = n;
+      push.capacity = capacity;
+      if (timed) {
+        cb.resetQueryPool(*queries, 0, 2);
+        cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
+      }
+      dispatch(cb, p, push, tracing_groups(n, perInvocation), StageTimes::kExtend);
+      if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
+      cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
+      cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
+      vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
+      cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
+    });
+    if (timed) {
+      uint64_t ticks[2] = {0, 0};
+      if (ctx.device().getDispatcher()->vkGetQueryPoolResults(*ctx.device(), *queries, 0, 2, sizeof(ticks), ticks, sizeof(uint64_t),
+                                                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS)
+        kernelTime += double(ticks[1] - ticks[0]) * timestampPeriodNs * 1e-9;
+    }
+    return static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED];
+  };
+  const uint32_t perInvocation = single ? tracingRays : 1u;
+  uint64_t lost = 0;
+  for (size_t start = 0; start < rays.size(); start += capacity) {
+    uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
+    std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, n * sizeof(shader::ShadowRay));
+    uint32_t chunkLost = run_chunk(kernel, n, perInvocation);
+    // A ray past its share of the loop budget: the chunk again, one ray per invocation.
+    if (chunkLost > 0 && perInvocation > 1) {
+      ++oneRayReruns;
+      chunkLost = run_chunk(*single, n, 1);
+    }
+    std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
+    lost += chunkLost;
+  }
+  if (truncated) *truncated = lost;
+  if (kernelSeconds) *kernelSeconds = kernelTime;
+  timestamps = timed;
+  return hits;
+}
+
+std::vector<shader::Hit> WavefrontRenderer::cast_shadow_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
+                                                             double* kernelSeconds, bool coherent) {
+  return impl_->cast_rays(rays, truncated, kernelSeconds, coherent, true);
+}
+
+std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated,
+                                                      double* kernelSeconds, bool coherent) {
+  return impl_->cast_rays(rays, truncated, kernelSeconds, coherent, false);
+}
+
+std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<TextureQuery>& queries) {
+  std::vector<shader::ShadowRay> rays(queries.size());
+  for (size_t i = 0; i < queries.size(); ++i) {
+    rays[i].origin = queries[i].p;
+    rays[i].dir = glm::vec3(queries[i].uv, 0.0f);
+    rays[i].path = queries[i].texture;
+  }
+  if (!*impl_->texprobe) impl_->texprobe = impl_->make_pipeline(kernel(texprobe_spv));
+  std::vector<shader::Hit> out = impl_->run_on_rays(impl_->texprobe, nullptr, rays, nullptr, nullptr);
+  std::vector<glm::vec3> colors(out.size());
+  for (size_t i = 0; i < out.size(); ++i) colors[i] = glm::vec3(out[i].t, out[i].u, out[i].v);
+  return colors;
+}
+
+}  // namespace wp

@@ -1,0 +1,238 @@
+// wavefront_impl.h — the GPU renderer's state, shared by the files that
+// implement it (src/gpu/): resources and pipelines (pipelines.cpp), the
+// wavefront loop (wavefront.cpp), and the ray caster and texture probe that
+// only the benchmarks and the tests use (ray_caster.cpp). Not part of the
+// renderer's interface (wavefront.h).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gpu/vulkan_context.h"
+#include "gpu/wavefront.h"
+#include "util/error.h"
+
+namespace wp {
+
+using shader::KernelPush;
+
+// A kernel's SPIR-V, compiled from shaders/*.comp at build time.
+struct Kernel {
+  const uint32_t* code;
+  size_t bytes;
+};
+
+template <size_t N>
+Kernel kernel(const uint32_t (&code)[N]) {
+  return Kernel{code, N * sizeof(uint32_t)};
+}
+
+// Every stage reads what the previous one wrote, indirect arguments included.
+void stage_barrier(vk::CommandBuffer cb);
+
+struct WavefrontRenderer::Impl {
+  const VulkanContext& ctx;
+  const CompiledScene& scene;
+  WavefrontSettings settings;
+  uint32_t capacity = 0;  // path slots per wave
+  uint32_t lightSamples = 1;  // shadow rays per path and bounce, at most
+  std::vector<std::unique_ptr<Buffer>> buffers;  // indexed by BINDING_*
+  std::vector<vk::raii::BufferView> views;        // the texel buffers' views, indexed by BINDING_*
+  std::unique_ptr<Buffer> readAccum;
+  std::unique_ptr<Buffer> readCounters;
+  // run_on_rays' transfer buffers, made on first use and kept: a fresh pinned
+  // buffer per call made an H100's ray casts 4 to 5 times slower after a few
+  // dozen calls. The staging buffer only where the rays' buffer is not mapped.
+  std::unique_ptr<Buffer> rayStaging, readHits;
+  vk::raii::DescriptorSetLayout setLayout{nullptr};
+  vk::raii::PipelineLayout pipelineLayout{nullptr};
+  vk::raii::DescriptorPool pool{nullptr};
+  vk::raii::DescriptorSet set{nullptr};
+  vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
+      accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, occlude{nullptr},
+      occludeSingle{nullptr}, texprobe{nullptr};
+  // Sorting by material class: one shade kernel per sort key that can occur,
+  // specialized to its class (shadeKeys[i] is shadeByKey[i]'s key), the
+  // misses' first.
+  std::vector<vk::raii::Pipeline> shadeByKey;
+  std::vector<uint32_t> shadeKeys;
+  bool sorting = false;  // by material class (settings.sortByMaterial, not for the megakernel)
+  uint32_t tracingRays = 1;  // rays per invocation of prepare's sizing, extend, connect and raycast (rays_per_invocation)
+  vk::raii::CommandPool commandPool{nullptr};
+  // Timestamps: one after every dispatch of a submission; stageOf[i] names the
+  // stage whose dispatch ended at timestamp i + 1.
+  vk::raii::QueryPool queries{nullptr};
+  uint32_t queryCapacity = 0;
+  std::vector<int> stageOf;
+  bool timestamps = false;
+  double timestampPeriodNs = 1.0;
+  StageTimes times;
+  uint64_t oneRayReruns = 0;  // one_ray_reruns()
+
+  using Stage = StageTimes::Stage;
+
+  Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st);
+
+  // Makes room for `count` timestamps in the query pool.
+  void reserve_queries(uint32_t count);
+
+  void stamp(vk::CommandBuffer cb, Stage stage);
+
+  // Attributes the intervals between a submission's timestamps to stages.
+  void collect_times();
+
+  // The scene's arrays, which the kernels read as texel buffers (bindings.glsl):
+  // records as RGBA32UI, image texels as RG32UI, the environment CDF as R32F.
+  static bool is_texel_binding(uint32_t binding);
+
+  static vk::DescriptorType descriptor_type(uint32_t binding);
+
+  template <typename T>
+  void add_texels(uint32_t binding, const std::vector<T>& data, const char* what, vk::Format format = vk::Format::eR32G32B32A32Uint) {
+    const uint64_t texelBytes = format == vk::Format::eR32G32B32A32Uint ? 16 : format == vk::Format::eR32G32Uint ? 8 : 4;
+    static_assert(sizeof(T) % 4 == 0);
+    if (sizeof(T) % texelBytes != 0) throw RenderError("internal error: a record is not a whole number of texels");
+    uint64_t bytes = data.size() * sizeof(T);
+    uint64_t maxBytes = ctx.info().maxTexelBufferElements * texelBytes;
+    if (bytes > maxBytes) {
+      throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
+                        ctx.info().name + " allows " + std::to_string(maxBytes >> 20) + " MiB per texel buffer");
+    }
+    buffers[binding] = std::make_unique<Buffer>(ctx, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    ctx.upload(*buffers[binding], data.data(), bytes);
+    views[binding] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
+                                                                                  format, 0, VK_WHOLE_SIZE));
+  }
+
+  void add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra = {});
+
+  // A work buffer the kernels also read as RGBA32UI texels, through `view`.
+  void add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes, vk::Format format = vk::Format::eR32G32B32A32Uint);
+
+  void create_buffers(uint32_t pixels, uint64_t maxRange);
+
+  // Lavapipe ends all loops of an invocation after 65,535 iterations in all,
+  // silently. The wavefront kernels trace one ray per invocation, so each ray
+  // may take the scene's whole cap. The megakernel traces every ray of a path
+  // in one invocation: up to max bounces + 1 closest-hit rays and light
+  // samples x max bounces shadow rays, and the bounce loop's own iterations.
+  uint32_t traversal_step_cap() const;
+  static constexpr uint64_t kMegakernelMinimumCap = 256;
+
+  // Rays per invocation of the tracing kernels (trace_items.glsl; with
+  // several, a subgroup's lanes share theirs): several where lanes of a SIMD
+  // group would wait for each other's rays (CPU devices, incoherent rays)
+  // and the walk can resume rays (the wide BVH; with compaction, so every
+  // queued ray is live). Each gets the step cap's
+  // share; where a ray needs more, the work is done again one ray per
+  // invocation (render_samples, run_on_rays). Coherent rays (the ray-casting
+  // benchmark's camera rays and the shadow rays from their hits, cast_rays)
+  // finish together anyway: on the dragon they ran 16 % slower several to an
+  // invocation. (A render's camera rays
+  // are a ninth of its closest-hit rays at 8 bounces: not worth a second
+  // extend kernel.) Nor do the short walks of a shallow tree need balancing:
+  // on the Cornell box (depth 2) renders lost 9 % to the per-ray start and
+  // store, while the 100k-triangle scenes (depth 6 to 10) gained.
+  uint32_t rays_per_invocation() const;
+  static constexpr uint32_t kRaysPerInvocationOnCpus = 16;
+  static constexpr int kMultiRayMinDepth = 4;
+
+  uint32_t groups_for(uint32_t n) const;
+
+  // Workgroup interleave of the kernels that take work in image order, one
+  // item to an invocation (dispatch_item, kernel.glsl): the megakernel and the
+  // ray caster's coherent rays. lavapipe gives each thread one contiguous
+  // block of a dispatch's workgroups, so on CPU devices their workgroups are
+  // dealt out in columns of this many. GPUs schedule workgroups as they free
+  // up. (Extend and connect take one ray to an invocation only on shallow
+  // trees or GPUs; interleaved, they were 9 % slower on the Cornell box, whose
+  // pixels all cost about the same.)
+  uint32_t workgroup_interleave() const { return cpu_device() ? kWorkgroupInterleaveOnCpus : 1u; }
+  static constexpr uint32_t kWorkgroupInterleaveOnCpus = 32;
+
+  // Workgroups for n items of an interleaved kernel, one to an invocation, in
+  // whole rows of the interleave.
+  uint32_t interleaved_groups(uint32_t n) const;
+
+  // Workgroups of the ray caster (or texprobe) for n rays, perInvocation to
+  // an invocation. One ray to an invocation rounds up to whole rows of the
+  // interleave; texprobe, which does not interleave, takes the extra
+  // workgroups' items as out of range.
+  uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const;
+
+  // Queues of paths in the queue buffer: the two that alternate between
+  // bounces and, sorting, the sort keys' (the misses and each class).
+  uint32_t queue_count() const { return QUEUE_SORTED + (sorting ? 1 + uint32_t(scene.shadeClasses.size()) : 0); }
+
+  // Whether the wavefront kernels sort paths by material class.
+  bool sort_by_material() const { return settings.sortByMaterial && !settings.megakernel; }
+
+  // lavapipe and other CPU implementations: SIMD lanes in a loop, private
+  // arrays in memory (the stack and rays-per-invocation choices follow).
+  bool cpu_device() const { return ctx.info().type == "cpu"; }
+
+  // Every kernel, by name, whether or not this renderer made it.
+  std::vector<std::pair<std::string, const vk::raii::Pipeline*>> kernels() const;
+
+  // How a pipeline specializes its kernel beyond the renderer's settings.
+  struct PipelineOptions {
+    bool single = false;       // a tracing kernel takes one ray per invocation, whatever tracingRays says
+    bool interleaved = false;  // workgroups dealt out in columns (workgroup_interleave)
+    bool anyHit = false;       // the ray caster looks for any hit, not the closest
+    uint32_t shadeKey = SORT_KEYS;  // shade: the sort key it shades (SORT_KEYS: all paths, unsorted)
+  };
+
+  vk::raii::Pipeline make_pipeline(Kernel k) { return make_pipeline(k, PipelineOptions()); }
+  vk::raii::Pipeline make_pipeline(Kernel k, PipelineOptions o);
+
+  // The kernels whose code depends on tracingRays, (re)made from it.
+  void create_tracing_pipelines();
+
+  void create_pipelines();
+
+  void dispatch(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t groups, Stage stage);
+
+  // `last`: the barrier and the timestamp after it; false for a dispatch that
+  // may run beside the next one (which times both).
+  void dispatch_indirect(vk::CommandBuffer cb, const vk::raii::Pipeline& p, const KernelPush& push, uint32_t slot, Stage stage,
+                         bool last = true);
+
+  // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
+  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed);
+
+  // Renders every pixel at scene.spp samples; with adaptive sampling, in
+  // batches, dropping the pixels that have converged after each batch.
+  ImageStats render(Progress& progress);
+
+  // Samples [first, end) of `count` pixels: consecutive ones, or (listed)
+  // those in the pixel-list buffer. Folds the results into `image`.
+  void render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end,
+                      uint32_t count, bool listed);
+
+  // The ray caster (raycast.comp), made on first use: renders never need it.
+  // single: one ray per invocation; anyHit: the shadow rays' query. One ray
+  // per invocation is for coherent rays, in image order, so the workgroups
+  // are interleaved (the multi-ray loop spreads its items by itself). For the
+  // benchmark's shadow rays from camera hits, interleaving took the Cornell
+  // dragon from 0.37-0.38 to 0.47-0.48 of Embree.
+  const vk::raii::Pipeline& ray_caster(bool single, bool anyHit);
+
+  std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
+                                     bool coherent, bool anyHit);
+
+  // Runs `kernel` (a ray caster or texprobe) over `rays` in chunks of the path
+  // capacity: each ray in the shadow-ray buffer, each result in the hit
+  // buffer. A ray caster taking tracingRays rays per invocation names
+  // `single`, its one-ray pipeline, for chunks where a ray outran its share
+  // of the loop budget.
+  std::vector<shader::Hit> run_on_rays(const vk::raii::Pipeline& kernel, const vk::raii::Pipeline* single,
+                                       const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds);
+
+  // Adds one submission's float accumulators into the double-precision image,
+  // and its counters into the totals.
+  void fold(ImageStats& image, uint64_t& truncated);
+};
+
+}  // namespace wp
