@@ -277,6 +277,63 @@ TEST(Scene, AcceleratorSplitMethodsByName) {
   EXPECT_EQ(load_scene(write_scene("accel.json", R"({"accelerator": {"type": "bbh"}})")).accelerator.split, SplitMethod::Auto);
 }
 
+// add_mesh, which every importer places its meshes with: triangles in world
+// space, degenerate ones dropped, material slots mapped, vertex normals through
+// the normal matrix where every corner has one, UVs where every corner has one,
+// and problems reported through the importer's callback.
+TEST(Scene, MeshesArePlacedInWorldSpaceWithTheirVertexData) {
+  SceneMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}};
+  mesh.normals = {{0, 0, 1}, {1, 0, 1}};
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}};
+  // A triangle with a normal and a UV at every corner; one with a corner
+  // lacking its normal; a degenerate one (on a line); one without a material.
+  mesh.positionIndices = {0, 1, 2, 0, 2, 3, 0, 1, 4, 1, 2, 3};
+  mesh.normalIndices = {0, 0, 1, 0, WP_INVALID, 0, 0, 0, 0, 0, 0, 0};
+  mesh.uvIndices = {0, 1, 2, 0, 2, 1, 0, 1, 2, 0, 1, WP_INVALID};
+  mesh.materials = {1, 0, 0, WP_INVALID};
+  auto fail = [](const std::string& problem) { throw InputError(problem); };
+  const glm::mat4 toWorld = glm::translate(glm::mat4(1.0f), glm::vec3(5, 0, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(2, 1, 1));
+  Scene scene;
+  add_mesh(scene, mesh, toWorld, {7, 8}, 9, fail);
+  ASSERT_EQ(scene.triangles.size(), 3u);  // the degenerate one dropped
+  const SceneTriangle& a = scene.triangles[0];
+  EXPECT_EQ(a.v[1], glm::vec3(7, 0, 0));
+  EXPECT_EQ(a.material, 8u);               // slot 1
+  EXPECT_EQ(scene.triangles[2].material, 9u);  // no slot: the fallback
+  ASSERT_NE(a.shading, WP_INVALID);
+  const SceneTriangleShading& sa = scene.triangleShading[a.shading];
+  EXPECT_TRUE(sa.hasNormals && sa.hasUvs);
+  // (1, 0, 1) through the inverse transpose of scale (2, 1, 1): (0.5, 0, 1), normalised.
+  EXPECT_NEAR(glm::distance(sa.n[2], glm::normalize(glm::vec3(0.5f, 0, 1))), 0.0f, 1e-6f);
+  EXPECT_EQ(sa.uv[2], glm::vec2(1, 1));
+  const SceneTriangleShading& sb = scene.triangleShading.at(scene.triangles[1].shading);
+  EXPECT_FALSE(sb.hasNormals);  // one corner lacks its normal: flat
+  EXPECT_TRUE(sb.hasUvs);
+  // The last lacks a UV at one corner and has the face's normal only where
+  // given: with neither whole, no shading record at all.
+  mesh.normalIndices[9] = WP_INVALID;
+  Scene flat;
+  add_mesh(flat, mesh, toWorld, {7, 8}, 9, fail);
+  EXPECT_EQ(flat.triangles.back().shading, WP_INVALID);
+  // No fallback for a triangle without a material, and geometry past floats:
+  // each named by its triangle.
+  Scene other;
+  EXPECT_THROW(
+      try { add_mesh(other, mesh, toWorld, {7, 8}, WP_INVALID, fail); } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "triangle 4 has no material");
+        throw;
+      },
+      InputError);
+  mesh.materials = {0, 0, 0, 0};
+  EXPECT_THROW(
+      try { add_mesh(other, mesh, glm::scale(glm::mat4(1.0f), glm::vec3(3e38f)), {7}, WP_INVALID, fail); } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "triangle 3: the transforms place it past the range of floats");  // its corner at x = 2
+        throw;
+      },
+      InputError);
+}
+
 // load_scene picks the importer by content where it is telling, else by
 // extension; a file of no format it reads is refused, naming the file.
 TEST(Scene, TheImporterIsPickedByContentThenExtension) {

@@ -29,13 +29,13 @@ Scene bunny_with_spheres(const AcceleratorSettings& accel) {
   Scene scene;
   scene.accelerator = accel;
   add_lambertian(scene, glm::vec3(0.5f));
-  ObjMesh mesh = load_obj(source_path("scenes/assets/bunny.obj"));
+  const SceneMesh mesh = load_obj(source_path("scenes/assets/bunny.obj")).mesh;
   Aabb box;
   for (glm::vec3 p : mesh.positions) box.grow(p);
   float scale = 10.0f / glm::length(box.hi - box.lo);
-  for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+  for (size_t t = 0; t + 2 < mesh.positionIndices.size(); t += 3) {
     SceneTriangle tri;
-    for (int c = 0; c < 3; ++c) tri.v[c] = (mesh.positions[mesh.indices[t + size_t(c)]] - box.lo) * scale;
+    for (int c = 0; c < 3; ++c) tri.v[c] = (mesh.positions[mesh.positionIndices[t + size_t(c)]] - box.lo) * scale;
     tri.material = 0;
     scene.triangles.push_back(tri);
   }

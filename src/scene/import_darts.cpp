@@ -2,6 +2,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -470,7 +471,7 @@ class DartsImporter {
 
   // The OBJ file of mesh surface j. A mesh placed many times (a grid of
   // dragons) is parsed once.
-  const ObjMesh& mesh_of(const JsonCursor& j) {
+  const ObjFile& mesh_of(const JsonCursor& j) {
     std::string path = resolve(j["filename"].string());
     auto cached = meshes_.find(path);
     if (cached == meshes_.end()) {
@@ -495,7 +496,7 @@ class DartsImporter {
       if (!s.is_object() || !s.has("type") || !s["type"].is_string()) continue;
       std::string type = s["type"].string();
       if (type == "mesh" && s.has("filename") && s["filename"].is_string()) {
-        n += mesh_of(s).triangleMaterials.size();
+        n += mesh_of(s).mesh.triangle_count();
       } else if (type == "group" && s.has("children") && s["children"].is_array()) {
         n += mesh_triangles(s["children"]);
       }
@@ -505,13 +506,14 @@ class DartsImporter {
 
   void load_mesh(const JsonCursor& j, const glm::mat4& xform) {
     std::string rel = j["filename"].string();
-    const ObjMesh& mesh = mesh_of(j);
+    const ObjFile& obj = mesh_of(j);
+    const SceneMesh& mesh = obj.mesh;
     bool override = j.has("material");
     uint32_t fixed = override ? material_of(j) : 0;
     std::string prefix = j.has("material prefix") ? j["material prefix"].string() : "";
-    std::vector<uint32_t> mtlToScene(mesh.materials.size());
-    for (size_t i = 0; i < mesh.materials.size() && !override; ++i) {
-      const ObjMaterial& om = mesh.materials[i];
+    std::vector<uint32_t> mtlToScene(obj.materials.size(), fixed);
+    for (size_t i = 0; i < obj.materials.size() && !override; ++i) {
+      const ObjMaterial& om = obj.materials[i];
       auto named = named_.find(prefix + om.name);
       if (named != named_.end()) {  // a scene material of that name overrides the MTL
         mtlToScene[i] = named->second;
@@ -530,45 +532,16 @@ class DartsImporter {
       leaves_.push_back(1);
       mtlToScene[i] = uint32_t(scene_.materials.size() - 1);
     }
-    glm::mat4 x = xform;
-    glm::mat3 normalXform = normal_matrix(xform);
-    for (size_t t = 0; t < mesh.triangleMaterials.size(); ++t) {
-      int mm = mesh.triangleMaterials[t];
-      if (!override && mm < 0) {
-        j.fail("mesh " + rel + " has faces without a material: give the surface a \"material\"");
-      }
-      glm::vec3 v[3];
-      for (int c = 0; c < 3; ++c) v[c] = glm::vec3(x * glm::vec4(mesh.positions[mesh.indices[3 * t + c]], 1.0f));
-      if (!finite(v[0]) || !finite(v[1]) || !finite(v[2]))
-        j.fail("mesh " + rel + ", triangle " + std::to_string(t + 1) + ": " + kPastFloatRange);
-      // Degenerate triangles are common in scanned meshes; they can never be
-      // hit, so they are dropped rather than rejected.
-      if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) == 0.0f) continue;
-      SceneTriangle tri;
-      for (int c = 0; c < 3; ++c) tri.v[c] = v[c];
-      tri.material = override ? fixed : mtlToScene[size_t(mm)];
-      // Smooth shading where every corner has a usable normal; UVs where every corner has one.
-      SceneTriangleShading sh;
-      sh.hasNormals = true;
-      sh.hasUvs = true;
-      for (int c = 0; c < 3; ++c) {
-        int ni = mesh.normalIndices[3 * t + c];
-        int ti = mesh.texcoordIndices[3 * t + c];
-        glm::vec3 n = ni >= 0 ? normalXform * mesh.normals[size_t(ni)] : glm::vec3(0.0f);
-        if (glm::length(n) > 0.0f) sh.n[c] = glm::normalize(n);
-        else sh.hasNormals = false;
-        if (ti >= 0) sh.uv[c] = mesh.texcoords[size_t(ti)];
-        else sh.hasUvs = false;
-      }
-      if (sh.hasNormals || sh.hasUvs) add_shading(tri) = sh;
-      scene_.triangles.push_back(tri);
-    }
+    if (!override && std::find(mesh.materials.begin(), mesh.materials.end(), WP_INVALID) != mesh.materials.end())
+      j.fail("mesh " + rel + " has faces without a material: give the surface a \"material\"");
+    add_mesh(scene_, mesh, xform, mtlToScene, override ? fixed : WP_INVALID,
+             [&](const std::string& problem) { j.fail("mesh " + rel + ", " + problem); });
   }
 
   std::string file_;
   nlohmann::json doc_;
   Scene scene_;
-  std::map<std::string, ObjMesh> meshes_;  // parsed OBJ files by path
+  std::map<std::string, ObjFile> meshes_;  // parsed OBJ files by path
   std::map<std::string, uint32_t> named_;
   std::vector<int> leaves_;  // per material: the lobes it flattens to (blends: the sum of their children's)
 };

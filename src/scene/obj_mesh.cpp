@@ -62,7 +62,7 @@ void check_face_lines(const std::string& path) {
 
 }  // namespace
 
-ObjMesh load_obj(const std::string& path) {
+ObjFile load_obj(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": cannot open OBJ file (no such file)");
   check_face_lines(path);
@@ -77,7 +77,8 @@ ObjMesh load_obj(const std::string& path) {
     throw InputError(path + ": OBJ parse error: " + (msg.empty() ? "unknown error" : msg));
   }
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
-  ObjMesh mesh;
+  ObjFile file;
+  SceneMesh& mesh = file.mesh;
   size_t vertexCount = attrib.vertices.size() / 3;
   mesh.positions.reserve(vertexCount);
   for (size_t i = 0; i < vertexCount; ++i) {
@@ -97,7 +98,7 @@ ObjMesh load_obj(const std::string& path) {
   for (size_t i = 0; i < attrib.texcoords.size() / 2; ++i) {
     glm::vec2 t(attrib.texcoords[2 * i], attrib.texcoords[2 * i + 1]);
     if (!std::isfinite(t.x) || !std::isfinite(t.y)) throw InputError(path + ": texture coordinate " + std::to_string(i + 1) + " is not finite");
-    mesh.texcoords.push_back(t);
+    mesh.uvs.push_back(t);
   }
   for (const tinyobj::material_t& m : reader.GetMaterials()) {
     ObjMaterial om;
@@ -105,7 +106,7 @@ ObjMesh load_obj(const std::string& path) {
     om.diffuse = glm::vec3(m.diffuse[0], m.diffuse[1], m.diffuse[2]);
     om.emission = glm::vec3(m.emission[0], m.emission[1], m.emission[2]);
     if (!m.diffuse_texname.empty()) om.diffuseMap = (std::filesystem::path(config.mtl_search_path) / m.diffuse_texname).string();
-    mesh.materials.push_back(om);
+    file.materials.push_back(om);
   }
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const tinyobj::mesh_t& m = shape.mesh;
@@ -122,24 +123,23 @@ ObjMesh load_obj(const std::string& path) {
           throw InputError(path + ": shape \"" + shape.name + "\": face " + std::to_string(f + 1) +
                            " refers to a vertex that does not exist");
         }
-        mesh.indices.push_back(uint32_t(vi));
+        mesh.positionIndices.push_back(uint32_t(vi));
         // Normal and UV indices are optional; one out of range is an error, not a crash.
         int ni = m.indices[offset + c].normal_index;
         int ti = m.indices[offset + c].texcoord_index;
-        if (ni >= int(mesh.normals.size()) || ti >= int(mesh.texcoords.size())) {
+        if (ni >= int(mesh.normals.size()) || ti >= int(mesh.uvs.size())) {
           throw InputError(path + ": shape \"" + shape.name + "\": face " + std::to_string(f + 1) +
                            " refers to a normal or texture coordinate that does not exist");
         }
-        mesh.normalIndices.push_back(ni < 0 ? -1 : ni);
-        mesh.texcoordIndices.push_back(ti < 0 ? -1 : ti);
+        mesh.normalIndices.push_back(ni < 0 ? WP_INVALID : uint32_t(ni));
+        mesh.uvIndices.push_back(ti < 0 ? WP_INVALID : uint32_t(ti));
       }
       int mat = f < m.material_ids.size() ? m.material_ids[f] : -1;
-      if (mat >= int(mesh.materials.size())) mat = -1;
-      mesh.triangleMaterials.push_back(mat);
+      mesh.materials.push_back(mat < 0 || mat >= int(file.materials.size()) ? WP_INVALID : uint32_t(mat));
       offset += corners;
     }
   }
-  return mesh;
+  return file;
 }
 
 }  // namespace wp

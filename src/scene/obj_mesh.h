@@ -1,11 +1,15 @@
 // obj_mesh.h — Wavefront OBJ (+ MTL) through tinyobjloader, validated: every
 // index is checked before use, so a malformed file is an error, never a crash.
+// The mesh comes out as the importers' common SceneMesh, its material slots
+// being the MTL's materials.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include <string>
 #include <vector>
+
+#include "scene/scene.h"
 
 namespace wp {
 
@@ -16,18 +20,12 @@ struct ObjMaterial {
   std::string diffuseMap;    // map_Kd, resolved against the OBJ's folder ("" if none)
 };
 
-struct ObjMesh {
-  std::vector<glm::vec3> positions;
-  std::vector<uint32_t> indices;       // three per triangle, into positions
-  std::vector<glm::vec3> normals;
-  std::vector<glm::vec2> texcoords;
-  std::vector<int> normalIndices;      // three per triangle, into normals, or -1
-  std::vector<int> texcoordIndices;    // three per triangle, into texcoords, or -1
-  std::vector<int> triangleMaterials;  // one per triangle, into materials, or -1
+struct ObjFile {
+  SceneMesh mesh;                       // its material slots index `materials`
   std::vector<ObjMaterial> materials;
 };
 
 // Throws InputError naming the file (and line, where tinyobjloader gives one).
-ObjMesh load_obj(const std::string& path);
+ObjFile load_obj(const std::string& path);
 
 }  // namespace wp

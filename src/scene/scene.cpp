@@ -1,6 +1,9 @@
 #include "scene/scene.h"
 
+#include <cmath>
+
 #include "scene/texture_image.h"
+#include "scene/transform.h"
 #include "util/error.h"
 
 namespace wp {
@@ -63,6 +66,44 @@ SceneTexture image_texture(Scene& scene, const std::string& path, const std::str
 
 uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where) {
   return add_texture(scene, image_texture(scene, path, where));
+}
+
+void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
+              uint32_t unassigned, const std::function<void(const std::string&)>& fail) {
+  auto finite = [](glm::vec3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
+  const glm::mat3 normalXform = normal_matrix(toWorld);
+  for (size_t t = 0; t < mesh.triangle_count(); ++t) {
+    const uint32_t slot = mesh.materials[t];
+    const uint32_t material = slot == WP_INVALID ? unassigned : slot < slots.size() ? slots[slot] : WP_INVALID;
+    if (material == WP_INVALID) fail("triangle " + std::to_string(t + 1) + " has no material");
+    glm::vec3 v[3];
+    for (size_t c = 0; c < 3; ++c) v[c] = glm::vec3(toWorld * glm::vec4(mesh.positions[mesh.positionIndices[3 * t + c]], 1.0f));
+    if (!finite(v[0]) || !finite(v[1]) || !finite(v[2]))
+      fail("triangle " + std::to_string(t + 1) + ": the transforms place it past the range of floats");
+    // Degenerate triangles are common in scanned meshes; they can never be
+    // hit, so they are dropped rather than rejected.
+    if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) == 0.0f) continue;
+    SceneTriangle tri;
+    for (int c = 0; c < 3; ++c) tri.v[c] = v[c];
+    tri.material = material;
+    // Smooth shading where every corner has a usable normal; UVs where every corner has one.
+    SceneTriangleShading sh;
+    sh.hasNormals = true;
+    sh.hasUvs = true;
+    for (size_t c = 0; c < 3; ++c) {
+      const uint32_t ni = mesh.normalIndices[3 * t + c], ti = mesh.uvIndices[3 * t + c];
+      glm::vec3 n = ni != WP_INVALID ? normalXform * mesh.normals[ni] : glm::vec3(0.0f);
+      if (glm::length(n) > 0.0f) sh.n[c] = glm::normalize(n);
+      else sh.hasNormals = false;
+      if (ti != WP_INVALID) sh.uv[c] = mesh.uvs[ti];
+      else sh.hasUvs = false;
+    }
+    if (sh.hasNormals || sh.hasUvs) {
+      tri.shading = uint32_t(scene.triangleShading.size());
+      scene.triangleShading.push_back(sh);
+    }
+    scene.triangles.push_back(tri);
+  }
 }
 
 }  // namespace wp

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -114,6 +115,22 @@ struct ScenePointLight {
   glm::vec3 intensity{0.0f};
 };
 
+// A triangle mesh as importers read it (OBJ today, the formats to come), in
+// its own space: each corner of a triangle indexes its position, and apart
+// its normal and its UV (WP_INVALID: the corner has none), as OBJ and
+// COLLADA store them (glTF's one index serves all three). add_mesh places it
+// into a scene.
+struct SceneMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<uint32_t> positionIndices;  // three per triangle
+  std::vector<uint32_t> normalIndices;    // three per triangle
+  std::vector<uint32_t> uvIndices;        // three per triangle
+  std::vector<uint32_t> materials;        // per triangle: the mesh's material slot, or WP_INVALID
+  size_t triangle_count() const { return materials.size(); }
+};
+
 struct Scene {
   std::string sourcePath;
   Camera camera;
@@ -133,6 +150,16 @@ struct Scene {
   std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;
 };
+
+// Places `mesh`, transformed by `toWorld`, into `scene` as world-space
+// triangles: the mesh's material slot i becomes scene material slots[i], a
+// triangle without one `unassigned` (WP_INVALID: that is an error).
+// Degenerate triangles are dropped (they can never be hit); a triangle is
+// smooth-shaded where every corner has a nonzero normal (carried through
+// the normal matrix), and has UVs where every corner has one. A problem is
+// passed to `fail` as "triangle N: ..." (N from 1); `fail` must throw.
+void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
+              uint32_t unassigned, const std::function<void(const std::string&)>& fail);
 
 // A texture of one colour everywhere.
 SceneTexture constant_texture(glm::vec3 color);
