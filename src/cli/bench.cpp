@@ -1,3 +1,4 @@
+// `wavepath bench`: the options of the benchmarks (src/bench/).
 #include <memory>
 
 #include "bench/bench.h"

@@ -1,3 +1,5 @@
+// `wavepath compare`: two renders of a scene (or two stored EXRs) and the
+// statistical verdict on whether they estimate the same image.
 #include <cstdio>
 #include <memory>
 

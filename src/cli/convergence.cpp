@@ -1,3 +1,5 @@
+// `wavepath convergence`: RMSE against a high-sample reference per sample
+// count, for the independent and the CMJ sampler.
 #include <cmath>
 #include <cstdio>
 #include <memory>

@@ -1,3 +1,5 @@
+// `wavepath devices`: the kernel variants and the Vulkan devices with the
+// limits that matter to wavepath.
 #include <cstdio>
 #include <memory>
 

@@ -1,3 +1,5 @@
+// `wavepath info`: what the renderer builds for a scene (sizes, BVH, memory,
+// the kinds its kernels hold) and, with --kernels, the driver's statistics.
 #include <chrono>
 #include <cstdio>
 #include <memory>

@@ -1,3 +1,5 @@
+// `wavepath render`: a scene to PNG and EXR, on a kernel variant or the CPU
+// reference, with the CS184 pathtracer's short options.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>

@@ -26,13 +26,6 @@ bool is_nonzero(glm::vec3 c) {
   return c.x > 0.0f || c.y > 0.0f || c.z > 0.0f;
 }
 
-// Finite inputs can still be placed past the range of floats by the product
-// of their transforms; such geometry is refused where it is placed.
-bool finite(glm::vec3 p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
-constexpr const char* kPastFloatRange = "the transforms place it past the range of floats";
-
 class DartsImporter {
  public:
   explicit DartsImporter(std::string path) : file_(std::move(path)) {}
@@ -376,7 +369,7 @@ class DartsImporter {
       // Its bounds (centre +- the rows' lengths) must be finite too.
       const glm::mat3 rows = glm::transpose(glm::mat3(s.toWorld));
       const glm::vec3 centre(s.toWorld[3]), extent(glm::length(rows[0]), glm::length(rows[1]), glm::length(rows[2]));
-      if (!finite(centre + extent) || !finite(centre - extent)) j.fail(std::string("sphere: ") + kPastFloatRange);
+      if (!is_finite(centre + extent) || !is_finite(centre - extent)) j.fail(std::string("sphere: ") + kPastFloatRange);
       s.material = material_of(j);
       if (scene_.materials[s.material].emission != WP_INVALID && !is_similarity(glm::mat3(s.toWorld)))
         j.fail("emissive spheres must keep their shape (uniform scale): an emissive ellipsoid cannot be sampled yet");
@@ -432,7 +425,7 @@ class DartsImporter {
       j.allow_only({"type", "position", "intensity", "transform"});
       ScenePointLight l;
       l.position = glm::vec3(xform * glm::vec4(j.vec3_or("position", glm::vec3(0.0f)), 1.0f));
-      if (!finite(l.position)) j.fail(std::string("point light: ") + kPastFloatRange);
+      if (!is_finite(l.position)) j.fail(std::string("point light: ") + kPastFloatRange);
       l.intensity = non_negative(j["intensity"]);
       scene_.pointLights.push_back(l);
     } else if (type == "group") {
@@ -452,7 +445,7 @@ class DartsImporter {
   }
 
   SceneTriangle& add_triangle(const JsonCursor& where, glm::vec3 a, glm::vec3 b, glm::vec3 c, uint32_t material) {
-    if (!finite(a) || !finite(b) || !finite(c)) where.fail(std::string("triangle: ") + kPastFloatRange);
+    if (!is_finite(a) || !is_finite(b) || !is_finite(c)) where.fail(std::string("triangle: ") + kPastFloatRange);
     if (glm::length(glm::cross(b - a, c - a)) == 0.0f) where.fail("triangle has zero area");
     SceneTriangle t;
     t.v[0] = a;

@@ -1,7 +1,5 @@
 #include "scene/scene.h"
 
-#include <cmath>
-
 #include "scene/texture_image.h"
 #include "scene/transform.h"
 #include "util/error.h"
@@ -70,7 +68,6 @@ uint32_t add_image_texture(Scene& scene, const std::string& path, const std::str
 
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
               uint32_t unassigned, const std::function<void(const std::string&)>& fail) {
-  auto finite = [](glm::vec3 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); };
   const glm::mat3 normalXform = normal_matrix(toWorld);
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
     const uint32_t slot = mesh.materials[t];
@@ -78,8 +75,7 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
     if (material == WP_INVALID) fail("triangle " + std::to_string(t + 1) + " has no material");
     glm::vec3 v[3];
     for (size_t c = 0; c < 3; ++c) v[c] = glm::vec3(toWorld * glm::vec4(mesh.positions[mesh.positionIndices[3 * t + c]], 1.0f));
-    if (!finite(v[0]) || !finite(v[1]) || !finite(v[2]))
-      fail("triangle " + std::to_string(t + 1) + ": the transforms place it past the range of floats");
+    if (!is_finite(v[0]) || !is_finite(v[1]) || !is_finite(v[2])) fail("triangle " + std::to_string(t + 1) + ": " + kPastFloatRange);
     // Degenerate triangles are common in scanned meshes; they can never be
     // hit, so they are dropped rather than rejected.
     if (glm::length(glm::cross(v[1] - v[0], v[2] - v[0])) == 0.0f) continue;

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -150,6 +151,14 @@ struct Scene {
   std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;
 };
+
+// Finite inputs can still be placed past the range of floats by the product
+// of their transforms; importers refuse such geometry where it is placed,
+// with this phrase.
+inline bool is_finite(glm::vec3 p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+inline constexpr const char* kPastFloatRange = "the transforms place it past the range of floats";
 
 // Places `mesh`, transformed by `toWorld`, into `scene` as world-space
 // triangles: the mesh's material slot i becomes scene material slots[i], a
