@@ -1,10 +1,11 @@
 // integrator.glsl — the path tracer, one bounce at a time. The wavefront kernels
 // call these functions stage by stage (generate, extend, shade, connect,
-// accumulate); the CPU reference calls the same functions in a loop per sample.
-// Unidirectional path tracing with next-event estimation and multiple importance
-// sampling (power heuristic) between BSDF and emitter sampling, and Russian
-// roulette; the darts variants without MIS (mats, nee), the one-sample
-// mixture, and the normals / ambient-occlusion previews. "max bounces" counts scattering events (pbrt's maxdepth): 0 shows
+// accumulate); the megakernel and the CPU reference run them in one loop per
+// sample, trace_sample (below). Unidirectional path tracing with next-event
+// estimation and multiple importance sampling (power heuristic) between BSDF
+// and emitter sampling, and Russian roulette; the darts variants without MIS
+// (mats, nee), the one-sample mixture, and the normals / ambient-occlusion
+// previews. "max bounces" counts scattering events (pbrt's maxdepth): 0 shows
 // emitters only, 1 adds direct lighting.
 #ifndef WP_INTEGRATOR_GLSL
 #define WP_INTEGRATOR_GLSL
