@@ -606,27 +606,27 @@ TEST_F(Gpu, EveryKindIsUsedByAFeatureSceneAndCompilingItOutIsCaught) {
            (mask == 3 && (id == FEATURE_CMJ || id == FEATURE_UNIFORM_HEMISPHERE));
   };
   Progress quiet("", 0, false);
-  std::map<size_t, ImageStats> cpu;  // per feature case, rendered on first use
+  // Each feature case compiled once (for the GPU) and its CPU reference
+  // rendered on first use.
+  auto options = [](size_t c, uint32_t seed) {
+    RenderOptions o;
+    o.spp = 128;  // the fresnel blend covers a few pixels of its scene
+    o.seed = seed;
+    o.integrator = kFeatureCases[c].integrator;
+    return o;
+  };
+  auto scene_of = [](size_t c) { return load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene)); };
+  std::vector<CompiledScene> compiled;
+  for (size_t c = 0; c < std::size(kFeatureCases); ++c) compiled.push_back(compile_scene(scene_of(c), options(c, 1)));
+  std::map<size_t, ImageStats> cpu;
   for (const Table& t : tables) {
     for (const KindInfo& k : *t.kinds) {
-      RenderOptions o;
-      o.spp = 128;  // the fresnel blend covers a few pixels of its scene
-      o.seed = 1;
       size_t c = 0;
-      CompiledScene cs;
-      for (; c < std::size(kFeatureCases); ++c) {
-        o.integrator = kFeatureCases[c].integrator;
-        cs = compile_scene(load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene)), o);
-        if (cs.params.kinds[t.mask] & KIND_BIT(k.id)) break;
-      }
-      ASSERT_LT(c, std::size(kFeatureCases)) << "no feature scene uses " << t.what << " kind " << k.name;
+      while (c < compiled.size() && !(compiled[c].params.kinds[t.mask] & KIND_BIT(k.id))) ++c;
+      ASSERT_LT(c, compiled.size()) << "no feature scene uses " << t.what << " kind " << k.name;
       if (unobservable(t.mask, k.id)) continue;
-      if (!cpu.count(c)) {
-        RenderOptions co = o;
-        co.seed = 2;
-        cpu[c] = render_cpu(compile_scene(load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene)),
-                                          reference_options(co)), 0, quiet);
-      }
+      if (!cpu.count(c)) cpu[c] = render_cpu(compile_scene(scene_of(c), reference_options(options(c, 2))), 0, quiet);
+      CompiledScene cs = compiled[c];
       cs.params.kinds[t.mask] &= ~KIND_BIT(k.id);
       CompareResult r = compare_images(render(cs), cpu[c]);
       EXPECT_FALSE(r.passed()) << t.what << " kind " << k.name << " compiled out of " << kFeatureCases[c].scene

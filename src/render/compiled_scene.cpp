@@ -71,34 +71,34 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
 
 // The texture kinds texture t's lookup runs: its own, and a checker's
 // squares' (nested up to TEXTURE_MAX_NESTING deep, as texture_eval follows).
-uint32_t texture_kinds(const std::vector<shader::Texture>& textures, uint32_t t, int depth = 0) {
+uint32_t lookup_kinds(const std::vector<shader::Texture>& textures, uint32_t t, int depth = 0) {
   if (t == WP_INVALID || t >= textures.size()) return 0u;
   const shader::Texture& tex = textures[t];
   const uint32_t kind = tex.info.x & TEX_TYPE_MASK;
   if (kind != TEX_CHECKER || depth >= TEXTURE_MAX_NESTING) return KIND_BIT(kind);
-  return KIND_BIT(kind) | texture_kinds(textures, tex.info.y, depth + 1) | texture_kinds(textures, tex.info.z, depth + 1);
+  return KIND_BIT(kind) | lookup_kinds(textures, tex.info.y, depth + 1) | lookup_kinds(textures, tex.info.z, depth + 1);
 }
 
 // The kinds a ray that hits material m needs for its BSDF: x its material
 // kinds (a blend's children's too), y the texture kinds it looks up. (Its
 // emission's kinds every shade kernel has: shade_classes.)
-glm::uvec2 material_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
+glm::uvec2 bsdf_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
   const shader::Material& mat = cs.materials[m];
-  glm::uvec2 k(KIND_BIT(mat.info.x), texture_kinds(cs.textures, mat.info.y) | texture_kinds(cs.textures, mat.info.w));
+  glm::uvec2 k(KIND_BIT(mat.info.x), lookup_kinds(cs.textures, mat.info.y) | lookup_kinds(cs.textures, mat.info.w));
   // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
   if (mat.info.x == MAT_BLEND && depth < int(BSDF_MAX_LOBES))
-    k |= material_kinds(cs, mat.children.x, depth + 1) | material_kinds(cs, mat.children.y, depth + 1);
+    k |= bsdf_kinds(cs, mat.children.x, depth + 1) | bsdf_kinds(cs, mat.children.y, depth + 1);
   return k;
 }
 
 // Groups the materials that primitives use into shade classes by the kinds
-// they need (material_kinds), in order of first use, and writes each
+// they need (bsdf_kinds), in order of first use, and writes each
 // material's sort key (class + 1) to its children.w. Past SHADE_CLASSES_MAX
 // classes, the rest share the last, which needs all of their kinds. Fills
 // shadeClasses and shadeCommonKinds.
 void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
-  uint32_t common = texture_kinds(cs.textures, environmentTexture);
-  for (const shader::Material& m : cs.materials) common |= texture_kinds(cs.textures, m.info.z);  // emission, hit or sampled
+  uint32_t common = lookup_kinds(cs.textures, environmentTexture);
+  for (const shader::Material& m : cs.materials) common |= lookup_kinds(cs.textures, m.info.z);  // emission, hit or sampled
   cs.shadeCommonKinds = common;
   std::vector<bool> used(cs.materials.size(), false);
   for (const shader::Triangle& t : cs.triangles)
@@ -107,7 +107,7 @@ void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
   for (uint32_t m = 0; m < cs.materials.size(); ++m) {
     cs.materials[m].children.w = SORT_KEY_MISS + 1u;  // for unused materials: any class will do
     if (!used[m]) continue;
-    const glm::uvec2 kinds = material_kinds(cs, m);
+    const glm::uvec2 kinds = bsdf_kinds(cs, m);
     auto found = std::find(cs.shadeClasses.begin(), cs.shadeClasses.end(), kinds);
     uint32_t c = uint32_t(found - cs.shadeClasses.begin());
     if (found == cs.shadeClasses.end()) {
