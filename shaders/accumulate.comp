@@ -6,5 +6,7 @@
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.pathCount) return;
-  accumulate_path(read_path(i));
+  AovSample aov;
+  if (kAovs) aov = aovSamples[i];
+  accumulate_path(read_path(i), aov);
 }

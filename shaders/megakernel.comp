@@ -9,9 +9,10 @@ void main() {
   uint i = dispatch_item(pc.pathCount);
   if (i >= pc.pathCount) return;
   SampleRays rays;
-  PathState p = trace_sample(wave_pixel(i), pc.sampleIndex, rays);
+  AovSample aov;
+  PathState p = trace_sample(wave_pixel(i), pc.sampleIndex, rays, aov);
   if (rays.truncated > 0u) atomicAdd(counters[COUNTER_TRUNCATED], rays.truncated);
   count_rays(COUNTER_CLOSEST_RAYS, rays.closest);
   count_rays(COUNTER_SHADOW_RAYS, rays.shadow);
-  accumulate_path(p);
+  accumulate_path(p, aov);
 }

@@ -40,8 +40,11 @@ void main() {
   }
   PathState p = read_path(path);
   if (!kCompaction && (p.flags & PATH_DEAD) != 0u) return;
+  Hit h = read_hit(path);
+  // The AOV layers record the first hit, from the path as the camera ray left.
+  if (kAovs && path_depth(p) == 0u) aovSamples[path] = aov_sample(p, h);
   ShadowRays srs;
-  bool alive = path_shade(p, read_hit(path), srs);
+  bool alive = path_shade(p, h, srs);
   if (!kCompaction && !alive) p.flags |= PATH_DEAD;
   // Reserve the queue and shadow-ray slots before storing anything: on a CPU
   // an atomic waits for every store before it to land, which stalled it

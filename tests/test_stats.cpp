@@ -27,8 +27,8 @@ ImageStats synthetic(int w, int h, int spp, uint32_t seed, double bias, int bias
         double draw = dist(rng);
         for (int c = 0; c < 3; ++c) {
           double v = draw * (c == 0 ? 1.0 : 0.7 - 0.2 * c);
-          img.sum[3 * p + size_t(c)] += v;
-          img.sumSq[3 * p + size_t(c)] += v * v;
+          img.sum[p * img.stride + size_t(c)] += v;
+          img.sumSq[p * img.stride + size_t(c)] += v * v;
         }
         img.count[p] += 1.0;
       }

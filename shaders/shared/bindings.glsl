@@ -30,7 +30,10 @@
 #define BINDING_HIT_TEXELS 22
 #define BINDING_SHADOW_RAY_TEXELS 23
 #define BINDING_QUEUE_TEXELS 24  // the queues, R32UI
-#define BINDING_COUNT 25
+// AOV layers: each path's first-hit record, and the per-pixel sums.
+#define BINDING_AOV_SAMPLES 25
+#define BINDING_AOV_ACCUM 26
+#define BINDING_COUNT 27
 
 // Specialization constants of the kernels, by id: kernel.glsl declares them
 // (SPEC_ANY_HIT in raycast.comp, SPEC_SHADE_KEY in shade.comp), and the host
@@ -50,7 +53,8 @@
 #define SPEC_MATERIAL_KINDS 12
 #define SPEC_TEXTURE_KINDS 13
 #define SPEC_LIGHT_KINDS 14
-#define SPEC_COUNT 15
+#define SPEC_AOVS 15
+#define SPEC_COUNT 16
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -129,6 +133,8 @@ layout(std430, set = 0, binding = BINDING_SHADOW_RAYS) buffer ShadowBuffer { uve
 layout(std430, set = 0, binding = BINDING_COUNTERS) buffer CounterBuffer { uint counters[]; };
 layout(std430, set = 0, binding = BINDING_INDIRECT) buffer IndirectBuffer { uint indirect[]; };
 layout(std430, set = 0, binding = BINDING_ACCUM) buffer AccumBuffer { PixelAccum accum[]; };
+layout(std430, set = 0, binding = BINDING_AOV_SAMPLES) buffer AovSampleBuffer { AovSample aovSamples[]; };
+layout(std430, set = 0, binding = BINDING_AOV_ACCUM) buffer AovAccumBuffer { AovAccum aovAccum[]; };
 // Sorting by material class (kSortByMaterial): per sort key, the paths in
 // its queue (QUEUE_SORTED + key).
 layout(std430, set = 0, binding = BINDING_SORT) buffer SortBuffer { uint sortBins[SORT_KEYS]; };

@@ -258,6 +258,36 @@ PixelAccum sample_moments(vec3 l) {
   return a;
 }
 
+// What the camera ray of a path hit first, as the AOV layers record it
+// (layers.glsl): the albedo (the sum of the BSDF's lobe colours; an
+// emitter's radiance or the background's where nothing scatters; clamped to
+// [0, 1]), the shading normal facing the camera, and the distance with a
+// coverage of 1 (0 and 0 on a miss). Called with the path as it left the
+// camera and the hit of that ray; draws no random numbers, so AOVs change
+// nothing else of a render.
+AovSample aov_sample(PathState p, Hit h) {
+  AovSample a;
+  a.a = vec4(0.0f);
+  a.b = vec4(0.0f);
+  if (h.prim == WP_INVALID) {
+    vec3 bg = clamp(background_radiance(p.dir), vec3(0.0f), vec3(1.0f));
+    a.a = vec4(bg.x, bg.y, bg.z, 0.0f);
+    return a;
+  }
+  SurfaceHit s = surface_at(p.origin, p.dir, h);
+  vec3 wo = -p.dir;
+  Bsdf b = bsdf_at(s, wo);
+  vec3 albedo = vec3(0.0f);
+  for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
+    if (i < b.lobeCount) albedo += b.lobeColor[i] * b.lobeWeight[i];
+  }
+  if (b.lobeCount == 0u) albedo = emitted_radiance(s, wo);
+  albedo = clamp(albedo, vec3(0.0f), vec3(1.0f));
+  a.a = vec4(albedo.x, albedo.y, albedo.z, b.ns.x);
+  a.b = vec4(b.ns.y, b.ns.z, h.t, 1.0f);
+  return a;
+}
+
 // Rays traced and traversals truncated by trace_sample.
 struct SampleRays {
   uint closest;    // closest-hit rays (the camera ray and each bounce's)
@@ -271,13 +301,16 @@ struct SampleRays {
 // kernels run the same steps (path_begin, trace_ray, path_shade, the shadow
 // rays) as stages over queues of paths. On lavapipe one invocation's loops
 // share a budget of 65,535 iterations: the host lowers the traversal step cap
-// (scene.counts.z) so that a whole path's traversals fit.
-PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays) {
+// (scene.counts.z) so that a whole path's traversals fit. Where the render
+// records AOV layers (AOVS_OF_SCENE), *aov receives the first hit's.
+PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(AovSample) aov) {
   rays.closest = 0u;
   rays.shadow = 0u;
   rays.truncated = 0u;
   PathState p;
   path_begin(p, pixel, sampleIndex);
+  aov.a = vec4(0.0f);
+  aov.b = vec4(0.0f);
   // path_shade ends every path at max bounces: at most max + 1 passes.
   for (uint pass = 0u; pass <= scene.image.z; ++pass) {
     Hit h;
@@ -286,6 +319,7 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays) {
       rays.truncated += 1u;
       break;
     }
+    if (AOVS_OF_SCENE && pass == 0u) aov = aov_sample(p, h);
     ShadowRays srs;
     bool alive = path_shade(p, h, srs);
     for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {

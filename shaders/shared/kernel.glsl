@@ -57,6 +57,10 @@ layout(constant_id = SPEC_RAYS_PER_INVOCATION) const uint kRaysPerInvocation = 1
 // work in image order on CPU devices, the number of columns a dispatch's
 // workgroups are dealt to.
 layout(constant_id = SPEC_WORKGROUP_INTERLEAVE) const uint kWorkgroupInterleave = 1u;
+// AOV layers (layers.glsl): the first hit of each path is recorded
+// (aov_sample) and accumulated beside the colour.
+layout(constant_id = SPEC_AOVS) const bool kAovs = false;
+#define AOVS_OF_SCENE kAovs
 #include "rng.glsl"
 #include "sampling.glsl"
 #include "noise.glsl"
@@ -168,10 +172,12 @@ ShadowRay read_shadow_ray(uint i) {
   return r;
 }
 
-// Adds a finished path's radiance (and its square) to its pixel's sums; a
-// non-finite sample is counted and dropped, never allowed to poison a pixel.
-// A wave holds each pixel at most once, so no atomics are needed.
-void accumulate_path(PathState p) {
+// Adds a finished path's radiance (and its square) to its pixel's sums, and
+// where the render records AOVs, its first hit's (`aov`); a non-finite
+// sample is counted and dropped, never allowed to poison a pixel, and its
+// AOVs with it, so that every layer has the same count. A wave holds each
+// pixel at most once, so no atomics are needed.
+void accumulate_path(PathState p, AovSample aov) {
   if (!radiance_is_finite(p.radiance)) {
     atomicAdd(counters[COUNTER_NONFINITE], 1u);
     return;
@@ -181,6 +187,14 @@ void accumulate_path(PathState p) {
   a.sum += s.sum;
   a.sumSq += s.sumSq;
   accum[p.pixel] = a;
+  if (kAovs) {
+    AovAccum b = aovAccum[p.pixel];
+    b.sumA += aov.a;
+    b.sumB += aov.b;
+    b.sumSqA += aov.a * aov.a;
+    b.sumSqB += aov.b * aov.b;
+    aovAccum[p.pixel] = b;
+  }
 }
 
 // Adds n to the 64-bit ray count at counters[slot] (low word) and

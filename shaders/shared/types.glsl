@@ -31,6 +31,7 @@
 #define HIT_SPHERE_BIT 0x80000000u
 
 #include "kinds.glsl"
+#include "layers.glsl"
 
 // Emitter.prim: a point light (index into pointLights) rather than a surface;
 // or the environment map.
@@ -272,6 +273,21 @@ struct ShadowRay {
 struct PixelAccum {
   vec4 sum;
   vec4 sumSq;
+};
+
+// One sample's AOV channels: x..w of a then of b, in the table's order.
+struct AovSample {
+  vec4 a;
+  vec4 b;
+};
+
+// Per-pixel sums of a batch's AovSamples and of their squares, 64 bytes;
+// folded into double precision by the host, as PixelAccum is.
+struct AovAccum {
+  vec4 sumA;
+  vec4 sumB;
+  vec4 sumSqA;
+  vec4 sumSqB;
 };
 
 #endif  // WP_TYPES_GLSL

@@ -21,6 +21,7 @@ struct Command {
 };
 
 Command add_render(CLI::App& app);
+Command add_merge(CLI::App& app);
 Command add_compare(CLI::App& app);
 Command add_bench(CLI::App& app);
 Command add_convergence(CLI::App& app);

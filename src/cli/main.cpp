@@ -1,6 +1,7 @@
 // wavepath — a wavefront path tracer on Vulkan compute, with a CPU reference.
 //
 //   wavepath render SCENE [options]       render to PNG and EXR           (render.cpp)
+//   wavepath merge PARTS -o OUT.png       add up partial renders          (merge.cpp)
 //   wavepath compare SCENE | --images A B  do two renders agree?           (compare.cpp)
 //   wavepath bench [options]              time kernel variants            (bench.cpp)
 //   wavepath convergence SCENE            RMSE against spp per sampler    (convergence.cpp)
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
   using namespace wp;
   CLI::App app{"wavepath: a wavefront path tracer on Vulkan compute, with a CPU reference renderer"};
   app.require_subcommand(1);
-  const std::vector<cli::Command> commands = {cli::add_render(app), cli::add_compare(app), cli::add_bench(app),
+  const std::vector<cli::Command> commands = {cli::add_render(app), cli::add_merge(app), cli::add_compare(app), cli::add_bench(app),
                                               cli::add_convergence(app), cli::add_info(app), cli::add_devices(app)};
   try {
     app.parse(argc, argv);

@@ -1,7 +1,10 @@
 // `wavepath render`: a scene to PNG and EXR, on a kernel variant or the CPU
 // reference, with the CS184 pathtracer's short options.
 #include <chrono>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <numeric>
@@ -9,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/render_args.h"
 #include "image/image.h"
+#include "render/partial.h"
 #include "util/error.h"
 
 namespace wp::cli {
@@ -25,27 +29,155 @@ std::string default_output(const std::string& scenePath) {
   return std::filesystem::path(scenePath).stem().string() + ".png";
 }
 
+// The signal that asked the render to stop (SIGINT, SIGTERM), or 0. A second
+// one aborts at once: the handler puts the default action back and raises it.
+volatile std::sig_atomic_t g_stopSignal = 0;
+
+extern "C" void on_stop_signal(int sig) {
+  if (g_stopSignal != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_stopSignal = sig;
+}
+
+// Installs on_stop_signal for the life of a render, then puts back what was there.
+class StopSignals {
+ public:
+  StopSignals() {
+    oldInt_ = std::signal(SIGINT, on_stop_signal);
+    oldTerm_ = std::signal(SIGTERM, on_stop_signal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, oldInt_);
+    std::signal(SIGTERM, oldTerm_);
+  }
+
+ private:
+  void (*oldInt_)(int);
+  void (*oldTerm_)(int);
+};
+
+// "90s", "1.5m", "2h", "45" (seconds) as seconds; throws InputError naming `option`.
+double parse_duration(const std::string& text, const std::string& option) {
+  char* end = nullptr;
+  double v = std::strtod(text.c_str(), &end);
+  std::string unit = end ? std::string(end) : "";
+  double scale = unit.empty() || unit == "s" ? 1.0 : unit == "m" || unit == "min" ? 60.0 : unit == "h" ? 3600.0 : -1.0;
+  if (end == text.c_str() || scale < 0.0 || !(v > 0.0) || !std::isfinite(v))
+    throw InputError(option + ": \"" + text + "\" is not a duration (a positive number of seconds, or with s, m or h)");
+  return v * scale;
+}
+
+// What the render itself will take, before any work: the range of the whole
+// render's samples and, resuming, the image that holds its first part.
+struct RenderPlan {
+  SampleRange range;
+  ImageStats image;
+  uint32_t resumedAt = 0;  // the sample the resumed checkpoint reached, or range.begin
+};
+
+RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const RenderRecord& identity) {
+  RenderPlan plan;
+  const uint32_t spp = uint32_t(compiled.spp);
+  plan.range = {0, spp};
+  if (!a.samples.empty()) {
+    std::vector<SampleRange> r = parse_sample_ranges(a.samples, "--samples");
+    if (r.size() != 1) throw InputError("--samples: one range A:B, not several");
+    plan.range = r[0];
+    if (plan.range.end > spp)
+      throw InputError("--samples " + a.samples + " goes past the render's " + std::to_string(spp) +
+                       " samples per pixel (--spp, or the scene's sampler): a range is part of one render of 0:" + std::to_string(spp));
+    if (compiled.adaptive.enabled() && plan.range.begin > 0)
+      throw InputError("--samples " + a.samples + ": under adaptive sampling a pixel stops on all its samples so far, which a "
+                       "range starting past 0 does not have; render 0:B, or continue a checkpoint with --resume");
+  }
+  plan.image = ImageStats(compiled.width, compiled.height, image_layers(compiled.aovs));
+  plan.resumedAt = plan.range.begin;
+  if (a.resume.empty()) return plan;
+  std::error_code ec;
+  if (a.resume == a.checkpoint && !std::filesystem::exists(a.resume, ec)) return plan;  // the first run of a restartable render
+  PartialFile part = read_partial(a.resume);
+  PartialFile self{"this render", plan.image, identity, {}};
+  require_same_render(self, part);
+  if (part.ranges.size() != 1 || part.ranges[0].begin != plan.range.begin || part.ranges[0].end > plan.range.end)
+    throw InputError(a.resume + " holds samples " + part.record.samples + ", not a beginning of this render's " +
+                     format_sample_ranges({plan.range}));
+  if (compiled.adaptive.enabled() && part.ranges[0].end % uint32_t(compiled.adaptive.batch) != 0 && part.ranges[0].end != plan.range.end)
+    throw InputError(a.resume + " stopped inside an adaptive-sampling batch");
+  plan.image = std::move(part.image);
+  plan.resumedAt = part.ranges[0].end;
+  return plan;
+}
+
 int run_render(const RenderArgs& a) {
+  const auto commandStart = std::chrono::steady_clock::now();
   std::string out = a.output.empty() ? default_output(a.scene) : a.output;
   if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
   std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
+  if (!a.checkpoint.empty() && std::filesystem::path(a.checkpoint).extension() != ".exr")
+    throw InputError(a.checkpoint + ": a checkpoint is a partial EXR and must be an .exr file");
+  const double budget = a.time.empty() ? 0.0 : parse_duration(a.time, "--time");
+  const double checkpointEvery = parse_duration(a.checkpointEvery, "--checkpoint-every");
   if (!a.cpu) kernel_variant(a.variant);  // an unknown variant fails before any work
-  for (const std::string& path : {out, exr}) require_output_directory(path);
+  for (const std::string& path : {out, exr, a.checkpoint})
+    if (!path.empty()) require_output_directory(path);
 
-  CompiledScene compiled = compile_scene(load_scene_with_overrides(a), variant_options(options_from(a, a.seed), a.cpu ? "cpu" : a.variant));
-  auto start = std::chrono::steady_clock::now();
+  const std::string renderer = a.cpu ? "cpu" : a.variant;
+  Scene scene = load_scene_with_overrides(a);
+  CompiledScene compiled = compile_scene(scene, variant_options(options_from(a, a.seed), renderer));
+  RenderRecord record;
+  record.sceneHash = scene_content_hash(scene);
+  record.settings = render_settings(compiled);
+  record.version = wavepath_version();
+  record.renderer = a.cpu ? "the CPU reference" : a.variant;  // the device is named once it is open
+  RenderPlan plan = plan_render(a, compiled, record);
+
+  // Between passes: stop on a signal or a spent budget, and checkpoint.
+  StopSignals signals;
+  g_stopSignal = 0;
+  bool budgetSpent = false;
+  auto lastCheckpoint = std::chrono::steady_clock::now();
+  auto write_partial = [&](const std::string& path, const ImageStats& image, uint32_t reached, const std::string& status) {
+    RenderRecord r = record;
+    r.samples = format_sample_ranges({{plan.range.begin, reached}});
+    r.status = status;
+    write_exr(path, image, r);
+  };
   std::string where;
+  PassHook afterPass = [&](const ImageStats& image, uint32_t reached) {
+    auto now = std::chrono::steady_clock::now();
+    if (!a.checkpoint.empty() && std::chrono::duration<double>(now - lastCheckpoint).count() >= checkpointEvery) {
+      write_partial(a.checkpoint, image, reached, "checkpoint");
+      lastCheckpoint = now;
+    }
+    if (budget > 0.0 && std::chrono::duration<double>(now - commandStart).count() >= budget) budgetSpent = true;
+    return g_stopSignal == 0 && !budgetSpent;
+  };
+  auto start = std::chrono::steady_clock::now();
   StageTimes times;
-  ImageStats image = render_on(a.cpu ? "cpu" : a.variant, compiled, a, &where, &times);
+  uint32_t reached = plan.resumedAt;
+  ImageStats& image = plan.image;
+  if (reached < plan.range.end)
+    reached = render_on(renderer, compiled, a, image, {reached, plan.range.end}, afterPass, &where, &times);
+  else where = "nothing (the checkpoint held every sample)";
+  if (reached > plan.resumedAt) record.renderer = where;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const int stopSignal = g_stopSignal;
+  const bool complete = reached == plan.range.end;
+  std::string status = complete ? "complete"
+                       : stopSignal ? std::string("interrupted by ") + (stopSignal == SIGINT ? "SIGINT" : "SIGTERM")
+                                    : "time budget of " + a.time + " spent";
 
   // With adaptive sampling, CS184's sample-rate image goes beside the render.
   std::string rate = compiled.adaptive.enabled() ? rate_image_path(out) : "";
-  write_exr(exr, image);
+  write_partial(exr, image, reached, status);
   try {
     write_png(out, image);
     if (!rate.empty()) write_sample_rate_png(rate, image, compiled.spp);
+    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, reached, status);
   } catch (...) {
     std::remove(exr.c_str());  // all images or none
     std::remove(out.c_str());
@@ -54,11 +186,18 @@ int run_render(const RenderArgs& a) {
   if (image.nonFinite > 0) {
     std::fprintf(stderr, "wavepath: warning: %llu non-finite samples were dropped\n", (unsigned long long)image.nonFinite);
   }
+  const std::string samples = format_sample_ranges({{plan.range.begin, reached}});
+  if (!complete) {
+    std::fprintf(stderr, "wavepath: %s: stopped at sample %u of %s; wrote the partial image of samples %s to %s and %s%s\n",
+                 status.c_str(), reached, format_sample_ranges({plan.range}).c_str(), samples.c_str(), out.c_str(), exr.c_str(),
+                 a.checkpoint.empty() ? "" : (" (and the checkpoint " + a.checkpoint + ")").c_str());
+  }
   if (!a.quiet) {
-    double total = std::accumulate(image.count.begin(), image.count.end(), 0.0);  // samples taken
-    std::printf("wrote %s and %s: %dx%d, %d spp, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
-                compiled.width, compiled.height, compiled.spp, int(compiled.params.image.z), seconds, where.c_str(),
-                double(total) / seconds * 1e-6);
+    double total = 0.0;
+    for (double n : image.count) total += n;
+    std::printf("wrote %s and %s: %dx%d, samples %s of %d, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(),
+                exr.c_str(), compiled.width, compiled.height, samples.c_str(), compiled.spp, int(compiled.params.image.z), seconds,
+                where.c_str(), double(uint64_t(image.pixels()) * (reached - plan.resumedAt)) / seconds * 1e-6);
     if (!rate.empty()) {
       std::printf("adaptive sampling: %.1f samples per pixel on average (at most %d); sample rates in %s\n",
                   total / double(image.pixels()), compiled.spp, rate.c_str());
@@ -76,7 +215,9 @@ int run_render(const RenderArgs& a) {
                 (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
                 (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
   }
-  return 0;
+  // Interrupted: the shell's status for death by that signal, so that scripts
+  // see the render did not finish (a spent time budget is a success).
+  return stopSignal ? 128 + stopSignal : 0;
 }
 
 }  // namespace
@@ -88,7 +229,18 @@ Command add_render(CLI::App& app) {
   render->add_option("scene", r->scene, "scene file (darts JSON)")->required();
   // Short options in parentheses are the CS184 pathtracer's, for its students.
   render->add_option("-o,-f,--output", r->output, "PNG to write (default: SCENE-NAME.png) (CS184: -f)");
-  render->add_option("--exr", r->exr, "linear EXR with mean, variance and sample count (default: next to the PNG)");
+  render->add_option("--exr", r->exr,
+                     "linear EXR: mean, variance, sample count, AOV layers, and the exact sums a merge or resume needs "
+                     "(default: next to the PNG)");
+  render->add_option("--samples", r->samples,
+                     "render samples A to B-1 of every pixel (A:B) of the render of --spp samples; parts merge with `wavepath merge`");
+  render->add_option("--aov", r->aovs, "first-hit layers to add to the EXR: " + aov_layer_names())->delimiter(',');
+  render->add_option("--time", r->time, "time budget (90s, 5m, 1h): whole passes until it is spent; the EXR records the samples reached");
+  render->add_option("--checkpoint", r->checkpoint, "partial EXR to write every --checkpoint-every and when the render stops");
+  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s)");
+  render->add_option("--resume", r->resume,
+                     "continue the render a checkpoint or partial EXR holds the first samples of (the checkpoint's own path: "
+                     "resume if it exists, else start)");
   render->add_option("-s,--spp", r->spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")
       ->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
   render->add_option("-m,--max-bounces", r->maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")

@@ -23,6 +23,7 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
     if (!options.integrator) throw InputError("--integrator: unknown integrator \"" + a.integrator + "\" (expected " + kIntegratorNames + ")");
   }
   options.lightSamples = a.lightSamples;
+  options.aovs = a.aovs;
   if (!a.adaptive.empty()) {
     double batch = a.adaptive[0], tolerance = a.adaptive[1];
     if (!(batch >= 1.0 && batch <= 65536.0 && batch == std::floor(batch)))
@@ -50,29 +51,36 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   return scene;
 }
 
-ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
-                     StageTimes* times) {
+uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, ImageStats& image,
+                   SampleRange range, const PassHook& afterPass, std::string* where, StageTimes* times) {
   bool progressOn = !a.quiet && Progress::stderr_is_terminal();
-  uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(compiled.spp);
+  uint64_t total = uint64_t(compiled.width) * uint64_t(compiled.height) * uint64_t(range.size());
   if (renderer == "cpu") {
     Progress progress("cpu", total, progressOn);
     *where = "the CPU reference";
-    return render_cpu(compiled, a.threads, progress);
+    return render_cpu(compiled, a.threads, image, range, progress, afterPass);
   }
   const KernelVariant& variant = kernel_variant(renderer);  // checked before any Vulkan work
   bool validation = a.validation || VulkanContext::validation_requested_by_environment();
   VulkanContext ctx(a.device, validation);
-  ImageStats image;
+  uint32_t reached;
   {
     WavefrontRenderer gpu(ctx, compiled, variant.settings);
     Progress progress(ctx.info().name, total, progressOn);
-    image = gpu.render(progress);
+    reached = gpu.render(image, range, progress, afterPass);
     if (times) *times = gpu.stage_times();
   }
   if (ctx.validation_messages() > 0) {
     throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
   }
   *where = ctx.info().name + (variant.name == "gpu" ? "" : ", " + variant.name);
+  return reached;
+}
+
+ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
+                     StageTimes* times) {
+  ImageStats image(compiled.width, compiled.height, image_layers(compiled.aovs));
+  render_on(renderer, compiled, a, image, SampleRange{0, uint32_t(compiled.spp)}, {}, where, times);
   return image;
 }
 

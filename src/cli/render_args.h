@@ -37,6 +37,14 @@ struct RenderArgs {
   std::string environment;      // environment map replacing the background (CS184 -e)
   std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
   int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
+  std::vector<std::string> aovs;  // AOV layers (layers.glsl names)
+  // Partial renders (render.cpp): a sample range "A:B", a time budget, a
+  // checkpoint file and how often to write it, a partial file to resume.
+  std::string samples;
+  std::string time;
+  std::string checkpoint;
+  std::string checkpointEvery = "60s";
+  std::string resume;
 };
 
 // The render options the arguments ask for, with `seed`. Throws InputError
@@ -51,6 +59,11 @@ Scene load_scene_with_overrides(const RenderArgs& a);
 // of what rendered it, and *times (if given) to the GPU's per-stage times.
 ImageStats render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, std::string* where,
                      StageTimes* times = nullptr);
+// The same for samples `range`, added to `image` (which may hold earlier
+// samples), with `afterPass` called between passes; returns the sample
+// reached (render_control.h).
+uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, ImageStats& image,
+                   SampleRange range, const PassHook& afterPass, std::string* where, StageTimes* times = nullptr);
 
 // Checks where an output file goes before any time is spent on the work
 // whose result it holds.

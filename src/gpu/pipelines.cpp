@@ -145,6 +145,18 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   }
   add_work(BINDING_ACCUM, accumBytes);
   readAccum = std::make_unique<Buffer>(ctx, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
+  // AOV layers: a first-hit record per path slot and sums per pixel; a
+  // placeholder each where the render records none.
+  const bool aovs = !scene.aovs.empty();
+  uint64_t aovAccumBytes = aovs ? uint64_t(pixels) * sizeof(shader::AovAccum) : sizeof(shader::AovAccum);
+  if (aovAccumBytes > maxRange) {
+    throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image with AOV layers needs " +
+                      std::to_string(aovAccumBytes >> 20) + " MiB of AOV accumulators, more than the " +
+                      std::to_string(maxRange >> 20) + " MiB per storage buffer " + ctx.info().name + " allows");
+  }
+  add_work(BINDING_AOV_SAMPLES, (aovs ? uint64_t(capacity) : 1u) * sizeof(shader::AovSample));
+  add_work(BINDING_AOV_ACCUM, aovAccumBytes);
+  readAovAccum = std::make_unique<Buffer>(ctx, aovAccumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
   readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
 }
 
@@ -220,6 +232,7 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
   values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
   values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp
+  values[SPEC_AOVS] = scene.aovs.empty() ? 0u : 1u;
   vk::SpecializationMapEntry entries[kConstants];
   for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
   vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);

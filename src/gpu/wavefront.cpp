@@ -74,28 +74,32 @@ void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveSta
   dispatch(cb, accumulate, push, groups_for(pathCount), StageTimes::kAccumulate);
 }
 
-ImageStats WavefrontRenderer::Impl::render(Progress& progress) {
+uint32_t WavefrontRenderer::Impl::render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass) {
   const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
-  const uint32_t spp = uint32_t(scene.spp);
-  ImageStats image(scene.width, scene.height);
   uint64_t truncated = 0;
   times = StageTimes{};
+  uint32_t reached = range.begin;
   if (!scene.adaptive.enabled()) {
-    render_samples(image, truncated, progress, 0, spp, pixels, false);
+    reached = render_samples(image, truncated, progress, range.begin, range.end, pixels, false, afterPass);
   } else {
-    std::vector<uint32_t> active(pixels);
-    for (uint32_t p = 0; p < pixels; ++p) active[p] = p;
+    // Batches of the whole render's grid (multiples of the batch size from
+    // sample 0), so that a range resumed at a batch's start continues it.
+    std::vector<uint32_t> active = unconverged_pixels(image, range.begin, scene.adaptive);
     const uint32_t batch = uint32_t(scene.adaptive.batch);
-    for (uint32_t first = 0; first < spp && !active.empty(); first += batch) {
+    while (reached < range.end && !active.empty()) {
+      uint32_t next = std::min((reached / batch + 1) * batch, range.end);
       ctx.upload(*buffers[BINDING_PIXEL_LIST], active.data(), active.size() * sizeof(uint32_t));
-      render_samples(image, truncated, progress, first, std::min(first + batch, spp), uint32_t(active.size()), true);
+      render_samples(image, truncated, progress, reached, next, uint32_t(active.size()), true, {});
+      reached = next;
       std::vector<uint32_t> still;
       for (uint32_t p : active) {
-        if (!pixel_converged(image.count[p], image.illuminance_sum(p), image.illuminanceSumSq[p], scene.adaptive.tolerance))
+        if (!pixel_converged(image.count[p], image.illuminance_sum(p), image.illuminance_sum_sq(p), scene.adaptive.tolerance))
           still.push_back(p);
       }
       active.swap(still);
+      if (afterPass && !afterPass(image, reached)) break;
     }
+    if (active.empty()) reached = range.end;  // every pixel converged: the range is done
   }
   progress.finish();
   if (truncated > 0) {
@@ -105,11 +109,11 @@ ImageStats WavefrontRenderer::Impl::render(Progress& progress) {
                                              "use the wavefront kernels)"
                                            : ""));
   }
-  return image;
+  return reached;
 }
 
-void WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end,
-                    uint32_t count, bool listed) {
+uint32_t WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first,
+                                                 uint32_t end, uint32_t count, bool listed, const PassHook& afterPass) {
   vk::raii::CommandBuffers cbs(ctx.device(), vk::CommandBufferAllocateInfo(*commandPool, vk::CommandBufferLevel::ePrimary, 1));
   vk::CommandBuffer cb = *cbs[0];
   vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
@@ -117,6 +121,7 @@ void WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& trunca
   const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
   const uint32_t dispatchesPerBounce = sorting ? 7 : 5;
   const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * (scene.params.image.z + 1);
+  const bool aovs = !scene.aovs.empty();
   for (uint32_t sample = first; sample < end;) {
     uint32_t n = std::min(perSubmit, end - sample);
     cb.reset();
@@ -126,12 +131,14 @@ void WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& trunca
     if (timestamps) cb.resetQueryPool(*queries, 0, queryCapacity);
     cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
     cb.fillBuffer(buffers[BINDING_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
+    if (aovs) cb.fillBuffer(buffers[BINDING_AOV_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
     cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
     stage_barrier(cb);
     if (timestamps) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
     for (uint32_t s = sample; s < sample + n; ++s)
       for (uint32_t start = 0; start < count; start += capacity) record_wave(cb, start, std::min(capacity, count - start), s, listed);
     cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, readAccum->size()));
+    if (aovs) cb.copyBuffer(buffers[BINDING_AOV_ACCUM]->handle(), readAovAccum->handle(), vk::BufferCopy(0, 0, readAovAccum->size()));
     cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
     vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
     cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
@@ -154,16 +161,23 @@ void WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& trunca
     collect_times();
     sample += n;
     progress.add(uint64_t(n) * count);
+    if (afterPass && sample < end && !afterPass(image, sample)) return sample;
     // Aim for submissions of about targetSubmitSeconds: long enough to keep
     // the device busy, short enough for a live progress line. Float sums in
     // the accumulators stay exact enough for a few hundred samples.
     if (seconds < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
   }
+  return end;
 }
 
 void WavefrontRenderer::Impl::fold(ImageStats& image, uint64_t& truncated) {
   const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
   for (size_t p = 0; p < image.pixels(); ++p) add_to_pixel(image, p, acc[p]);
+  AovLayout layout(image);
+  if (!layout.empty()) {
+    const auto* aov = static_cast<const shader::AovAccum*>(readAovAccum->mapped());
+    for (size_t p = 0; p < image.pixels(); ++p) add_aovs_to_pixel(image, layout, p, aov[p]);
+  }
   const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
   truncated += counters[COUNTER_TRUNCATED];
   image.nonFinite += counters[COUNTER_NONFINITE];
@@ -177,8 +191,16 @@ WavefrontRenderer::WavefrontRenderer(const VulkanContext& ctx, const CompiledSce
 
 WavefrontRenderer::~WavefrontRenderer() = default;
 
+uint32_t WavefrontRenderer::render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass) {
+  if (image.width != impl_->scene.width || image.height != impl_->scene.height || image.aov_names() != impl_->scene.aovs)
+    throw RenderError("internal error: the image to render into does not match the scene's size or layers");
+  return impl_->render(image, range, progress, afterPass);
+}
+
 ImageStats WavefrontRenderer::render(Progress& progress) {
-  return impl_->render(progress);
+  ImageStats image(impl_->scene.width, impl_->scene.height, image_layers(impl_->scene.aovs));
+  render(image, SampleRange{0, uint32_t(impl_->scene.spp)}, progress);
+  return image;
 }
 
 const StageTimes& WavefrontRenderer::stage_times() const {

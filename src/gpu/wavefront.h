@@ -9,6 +9,7 @@
 #include "gpu/vulkan_context.h"
 #include "image/image.h"
 #include "render/compiled_scene.h"
+#include "render/render_control.h"
 #include "util/progress.h"
 
 namespace wp {
@@ -89,7 +90,13 @@ class WavefrontRenderer {
  public:
   WavefrontRenderer(const VulkanContext& ctx, const CompiledScene& scene, const WavefrontSettings& settings = {});
   ~WavefrontRenderer();
-  // Throws RenderError if a traversal was truncated (the image would be wrong).
+  // Renders samples `range` of every pixel, adding them to `image` (which
+  // may hold earlier samples: a resumed render) and calling `afterPass`
+  // between passes (render_control.h). Returns the sample every pixel
+  // reached: range.end, or where afterPass stopped the render. Throws
+  // RenderError if a traversal was truncated (the image would be wrong).
+  uint32_t render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass = {});
+  // All of the scene's samples, 0 to scene.spp, into a new image.
   ImageStats render(Progress& progress);
   // Per-stage GPU time of the last render (zero where the device has no timestamps).
   const StageTimes& stage_times() const;

@@ -41,6 +41,7 @@ struct WavefrontRenderer::Impl {
   std::vector<std::unique_ptr<Buffer>> buffers;  // indexed by BINDING_*
   std::vector<vk::raii::BufferView> views;        // the texel buffers' views, indexed by BINDING_*
   std::unique_ptr<Buffer> readAccum;
+  std::unique_ptr<Buffer> readAovAccum;
   std::unique_ptr<Buffer> readCounters;
   // run_on_rays' transfer buffers, made on first use and kept: a fresh pinned
   // buffer per call made an H100's ray casts 4 to 5 times slower after a few
@@ -202,14 +203,17 @@ struct WavefrontRenderer::Impl {
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
   void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed);
 
-  // Renders every pixel at scene.spp samples; with adaptive sampling, in
-  // batches, dropping the pixels that have converged after each batch.
-  ImageStats render(Progress& progress);
+  // Renders samples `range` of every pixel into `image`; with adaptive
+  // sampling, in batches, dropping the pixels that have converged after
+  // each batch. Returns the sample reached (WavefrontRenderer::render).
+  uint32_t render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass);
 
   // Samples [first, end) of `count` pixels: consecutive ones, or (listed)
-  // those in the pixel-list buffer. Folds the results into `image`.
-  void render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end,
-                      uint32_t count, bool listed);
+  // those in the pixel-list buffer. Folds the results into `image`. Calls
+  // `afterPass` (if any) after each submission, and stops where it returns
+  // false; returns the sample reached.
+  uint32_t render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end, uint32_t count,
+                          bool listed, const PassHook& afterPass);
 
   // The ray caster (raycast.comp), made on first use: renders never need it.
   // single: one ray per invocation; anyHit: the shadow rays' query. One ray

@@ -6,25 +6,114 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <unistd.h>
 
+#include "../../shaders/shared/layers.glsl"
 #include "util/error.h"
 
 namespace wp {
 
+namespace {
+
+// The AOV layers of layers.glsl's table: name, first channel in AovSample, channels.
+struct AovRow {
+  const char* name;
+  size_t first;
+  std::vector<std::string> channels;
+};
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  for (size_t i = 0; i <= s.size(); ++i) {
+    if (i == s.size() || s[i] == ',') {
+      out.push_back(s.substr(start, i - start));
+      start = i + 1;
+    }
+  }
+  return out;
+}
+
+const std::vector<AovRow>& aov_rows() {
+  static const std::vector<AovRow> rows = {
+#define WP_AOV_ROW(id, name, first, channels) {name, first, split_commas(channels)},
+      WP_AOV_LAYERS(WP_AOV_ROW)
+#undef WP_AOV_ROW
+  };
+  return rows;
+}
+
+std::vector<std::string> all_aov_names() {
+  std::vector<std::string> names;
+  for (const AovRow& r : aov_rows()) names.push_back(r.name);
+  return names;
+}
+
+}  // namespace
+
+std::string aov_layer_names() {
+  std::string names;
+  for (const AovRow& r : aov_rows()) names += (names.empty() ? "" : ", ") + std::string(r.name);
+  return names;
+}
+
+std::vector<ImageLayer> image_layers(const std::vector<std::string>& aovs) {
+  for (const std::string& a : aovs) {
+    bool known = false;
+    for (const AovRow& r : aov_rows()) known = known || a == r.name;
+    if (!known) throw InputError("unknown output layer \"" + a + "\" (expected " + aov_layer_names() + ")");
+  }
+  std::vector<ImageLayer> layers = {{"color", {"R", "G", "B", "Y"}, 0}};
+  size_t next = 4;
+  for (const AovRow& r : aov_rows()) {
+    if (std::find(aovs.begin(), aovs.end(), r.name) == aovs.end()) continue;
+    layers.push_back({r.name, r.channels, next});
+    next += r.channels.size();
+  }
+  return layers;
+}
+
+size_t aov_sample_channel(const std::string& layer) {
+  for (const AovRow& r : aov_rows())
+    if (layer == r.name) return r.first;
+  throw InputError("unknown output layer \"" + layer + "\"");
+}
+
+ImageStats::ImageStats(int w, int h, std::vector<ImageLayer> layerList) : width(w), height(h), layers(std::move(layerList)) {
+  for (const ImageLayer& l : layers) stride = std::max(stride, l.first + l.channels.size());
+  sum.assign(pixels() * stride, 0.0);
+  sumSq.assign(pixels() * stride, 0.0);
+  count.assign(pixels(), 0.0);
+}
+
+const ImageLayer* ImageStats::layer(const std::string& name) const {
+  for (const ImageLayer& l : layers)
+    if (l.name == name) return &l;
+  return nullptr;
+}
+
+std::vector<std::string> ImageStats::aov_names() const {
+  std::vector<std::string> names;
+  for (size_t i = 1; i < layers.size(); ++i) names.push_back(layers[i].name);
+  return names;
+}
+
 glm::dvec3 ImageStats::mean(size_t p) const {
   double n = count[p];
   if (n <= 0.0) return glm::dvec3(0.0);
-  return glm::dvec3(sum[3 * p], sum[3 * p + 1], sum[3 * p + 2]) / n;
+  const double* s = &sum[p * stride];
+  return glm::dvec3(s[0], s[1], s[2]) / n;
 }
 
 glm::dvec3 ImageStats::variance(size_t p) const {
   double n = count[p];
   if (n < 2.0) return glm::dvec3(0.0);
   glm::dvec3 m = mean(p);
-  glm::dvec3 s2(sumSq[3 * p], sumSq[3 * p + 1], sumSq[3 * p + 2]);
+  const double* s = &sumSq[p * stride];
+  glm::dvec3 s2(s[0], s[1], s[2]);
   return glm::max((s2 - n * m * m) / (n - 1.0), glm::dvec3(0.0));
 }
 
@@ -37,12 +126,31 @@ double ImageStats::mean_luminance() const {
   return pixels() ? total / double(pixels()) : 0.0;
 }
 
+void ImageStats::add(const ImageStats& o) {
+  for (size_t i = 0; i < sum.size(); ++i) {
+    sum[i] += o.sum[i];
+    sumSq[i] += o.sumSq[i];
+  }
+  for (size_t p = 0; p < pixels(); ++p) count[p] += o.count[p];
+  nonFinite += o.nonFinite;
+}
+
+ImageStats layer_as_color(const ImageStats& image, const std::string& name) {
+  const ImageLayer* l = image.layer(name);
+  if (!l) throw InputError("the image has no \"" + name + "\" layer");
+  ImageStats out(image.width, image.height);
+  out.count = image.count;
+  for (size_t p = 0; p < image.pixels(); ++p) {
+    for (size_t c = 0; c < std::min<size_t>(3, l->channels.size()); ++c) {
+      out.sum[p * out.stride + c] = image.sum[p * image.stride + l->first + c];
+      out.sumSq[p * out.stride + c] = image.sumSq[p * image.stride + l->first + c];
+    }
+  }
+  return out;
+}
+
 // Writes encoded PNG bytes atomically (see write_png).
 static void write_png_bytes(const std::string& path, const std::vector<uint8_t>& png);
-
-double ImageStats::illuminance_sum(size_t pixel) const {
-  return 0.2126 * sum[3 * pixel] + 0.7152 * sum[3 * pixel + 1] + 0.0722 * sum[3 * pixel + 2];
-}
 
 namespace {
 
@@ -122,42 +230,125 @@ static void write_png_bytes(const std::string& path, const std::vector<uint8_t>&
   });
 }
 
-void write_exr(const std::string& path, const ImageStats& image) {
-  // EXR wants channels sorted by name.
-  const char* names[] = {"B", "G", "R", "n", "var.B", "var.G", "var.R"};
-  const int kChannels = 7;
-  std::vector<std::vector<float>> planes(kChannels, std::vector<float>(image.pixels()));
-  for (size_t p = 0; p < image.pixels(); ++p) {
-    glm::dvec3 m = image.mean(p);
-    glm::dvec3 v = image.variance(p);
-    planes[0][p] = float(m.z);
-    planes[1][p] = float(m.y);
-    planes[2][p] = float(m.x);
-    planes[3][p] = float(image.count[p]);
-    planes[4][p] = float(v.z);
-    planes[5][p] = float(v.y);
-    planes[6][p] = float(v.x);
+namespace {
+
+// One EXR channel to write: its name, pixel type and values.
+struct ExrPlane {
+  std::string name;
+  int type = TINYEXR_PIXELTYPE_FLOAT;
+  std::vector<float> f;
+  std::vector<uint32_t> u;
+};
+
+// The EXR names of an image's channels: the colour's as they are (R, G, B, Y),
+// an AOV layer's as LAYER.CHANNEL.
+std::string channel_name(const ImageLayer& l, size_t c) {
+  return l.name == "color" ? l.channels[c] : l.name + "." + l.channels[c];
+}
+
+const char* const kRecordKeys[] = {"wavepath:scene", "wavepath:settings", "wavepath:samples",
+                                   "wavepath:status", "wavepath:renderer", "wavepath:version"};
+
+std::string* record_field(RenderRecord& r, int i) {
+  std::string* fields[] = {&r.sceneHash, &r.settings, &r.samples, &r.status, &r.renderer, &r.version};
+  return fields[i];
+}
+
+}  // namespace
+
+void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& recordIn) {
+  const size_t n = image.pixels();
+  std::vector<ExrPlane> planes;
+  auto plane = [&](const std::string& name, int type) -> ExrPlane& {
+    planes.push_back({name, type, {}, {}});
+    if (type == TINYEXR_PIXELTYPE_FLOAT) planes.back().f.resize(n);
+    else planes.back().u.resize(n);
+    return planes.back();
+  };
+  // What a viewer shows: the colour's mean, variance and count.
+  const char* rgb[3] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) {
+    ExrPlane& m = plane(rgb[c], TINYEXR_PIXELTYPE_FLOAT);
+    ExrPlane& v = plane(std::string("var.") + rgb[c], TINYEXR_PIXELTYPE_FLOAT);
+    for (size_t p = 0; p < n; ++p) {
+      m.f[p] = float(image.mean(p)[c]);
+      v.f[p] = float(image.variance(p)[c]);
+    }
   }
+  ExrPlane& count = plane("n", TINYEXR_PIXELTYPE_FLOAT);
+  for (size_t p = 0; p < n; ++p) count.f[p] = float(image.count[p]);
+  // The AOV layers' means; depth over the samples that hit (A, the
+  // coverage, is its last channel), infinite where none did.
+  for (size_t li = 1; li < image.layers.size(); ++li) {
+    const ImageLayer& l = image.layers[li];
+    bool depth = l.name == "depth";
+    for (size_t c = 0; c < l.channels.size(); ++c) {
+      ExrPlane& m = plane(channel_name(l, c), TINYEXR_PIXELTYPE_FLOAT);
+      for (size_t p = 0; p < n; ++p) {
+        double s = image.sum[p * image.stride + l.first + c];
+        double over = depth && c == 0 ? image.sum[p * image.stride + l.first + 1] : image.count[p];
+        m.f[p] = over > 0.0 ? float(s / over) : (depth && c == 0 ? INFINITY : 0.0f);
+      }
+    }
+  }
+  // The exact sums, for merging: each double as its high and low 32 bits.
+  for (const ImageLayer& l : image.layers) {
+    for (size_t c = 0; c < l.channels.size(); ++c) {
+      for (int moment = 0; moment < 2; ++moment) {
+        const std::vector<double>& src = moment == 0 ? image.sum : image.sumSq;
+        std::string base = std::string(moment == 0 ? "sum." : "sumsq.") + channel_name(l, c);
+        ExrPlane& hi = plane(base + ".hi", TINYEXR_PIXELTYPE_UINT);
+        ExrPlane& lo = plane(base + ".lo", TINYEXR_PIXELTYPE_UINT);
+        for (size_t p = 0; p < n; ++p) {
+          uint64_t bits;
+          std::memcpy(&bits, &src[p * image.stride + l.first + c], sizeof bits);
+          hi.u[p] = uint32_t(bits >> 32);
+          lo.u[p] = uint32_t(bits);
+        }
+      }
+    }
+  }
+  // EXR wants channels sorted by name.
+  std::sort(planes.begin(), planes.end(), [](const ExrPlane& a, const ExrPlane& b) { return a.name < b.name; });
+
+  RenderRecord record = recordIn;
+  std::vector<EXRAttribute> attributes;
+  for (int i = 0; i < 6; ++i) {
+    const std::string& value = *record_field(record, i);
+    if (value.empty()) continue;
+    EXRAttribute a{};
+    std::snprintf(a.name, sizeof a.name, "%s", kRecordKeys[i]);
+    std::snprintf(a.type, sizeof a.type, "string");
+    a.value = reinterpret_cast<unsigned char*>(const_cast<char*>(value.data()));
+    a.size = int(value.size());
+    attributes.push_back(a);
+  }
+
   EXRHeader header;
   InitEXRHeader(&header);
   EXRImage exr;
   InitEXRImage(&exr);
-  std::vector<unsigned char*> ptrs(kChannels);
-  for (int c = 0; c < kChannels; ++c) ptrs[size_t(c)] = reinterpret_cast<unsigned char*>(planes[size_t(c)].data());
+  const int kChannels = int(planes.size());
+  std::vector<unsigned char*> ptrs(planes.size());
+  std::vector<EXRChannelInfo> channels(planes.size());
+  std::vector<int> types(planes.size());
+  for (size_t c = 0; c < planes.size(); ++c) {
+    ptrs[c] = planes[c].type == TINYEXR_PIXELTYPE_FLOAT ? reinterpret_cast<unsigned char*>(planes[c].f.data())
+                                                        : reinterpret_cast<unsigned char*>(planes[c].u.data());
+    std::snprintf(channels[c].name, sizeof(channels[c].name), "%s", planes[c].name.c_str());
+    types[c] = planes[c].type;
+  }
   exr.images = ptrs.data();
   exr.num_channels = kChannels;
   exr.width = image.width;
   exr.height = image.height;
-  std::vector<EXRChannelInfo> channels(kChannels);
-  std::vector<int> types(kChannels, TINYEXR_PIXELTYPE_FLOAT);
-  for (int c = 0; c < kChannels; ++c) {
-    std::snprintf(channels[size_t(c)].name, sizeof(channels[size_t(c)].name), "%s", names[c]);
-  }
   header.num_channels = kChannels;
   header.channels = channels.data();
   header.pixel_types = types.data();
   header.requested_pixel_types = types.data();
   header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+  header.num_custom_attributes = int(attributes.size());
+  header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
   write_atomically(path, "EXR", [&](const std::string& tmp, std::string& error) {
     const char* err = nullptr;
     int rc = SaveEXRImageToFile(&exr, &header, tmp.c_str(), &err);
@@ -169,7 +360,7 @@ void write_exr(const std::string& path, const ImageStats& image) {
   });
 }
 
-ImageStats read_exr(const std::string& path) {
+ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
   EXRVersion version;
   if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS)
     throw InputError(path + ": not an OpenEXR file (or cannot be read)");
@@ -182,37 +373,89 @@ ImageStats read_exr(const std::string& path) {
     throw InputError(msg);
   };
   if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) fail("bad EXR header");
-  for (int c = 0; c < header.num_channels; ++c) header.requested_pixel_types[c] = TINYEXR_PIXELTYPE_FLOAT;
+  // Floats as floats, the exact sums' words as they are.
+  for (int c = 0; c < header.num_channels; ++c)
+    header.requested_pixel_types[c] = header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT ? TINYEXR_PIXELTYPE_UINT : TINYEXR_PIXELTYPE_FLOAT;
+  RenderRecord record;
+  for (int a = 0; a < header.num_custom_attributes; ++a) {
+    const EXRAttribute& attr = header.custom_attributes[a];
+    for (int i = 0; i < 6; ++i) {
+      if (std::strcmp(attr.name, kRecordKeys[i]) == 0 && std::strcmp(attr.type, "string") == 0 && attr.size >= 0)
+        record_field(record, i)->assign(reinterpret_cast<const char*>(attr.value), size_t(attr.size));
+    }
+  }
   EXRImage exr;
   InitEXRImage(&exr);
   if (LoadEXRImageFromFile(&exr, &header, path.c_str(), &err) != TINYEXR_SUCCESS) {
     FreeEXRHeader(&header);
     fail("cannot decode EXR");
   }
-  std::map<std::string, const float*> planes;
-  for (int c = 0; c < header.num_channels; ++c)
-    planes[header.channels[c].name] = reinterpret_cast<const float*>(exr.images ? exr.images[c] : nullptr);
-  ImageStats out(exr.width, exr.height);
+  // Channels by name: float planes and the words of the exact sums.
+  std::map<std::string, const float*> floats;
+  std::map<std::string, const uint32_t*> words;
+  for (int c = 0; c < header.num_channels; ++c) {
+    const unsigned char* data = exr.images ? exr.images[c] : nullptr;
+    if (!data) continue;
+    if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT) words[header.channels[c].name] = reinterpret_cast<const uint32_t*>(data);
+    else floats[header.channels[c].name] = reinterpret_cast<const float*>(data);
+  }
+  std::string problem;
   std::string missing;
   for (const char* n : {"R", "G", "B", "n", "var.R", "var.G", "var.B"})
-    if (!planes.count(n) || !planes[n]) missing += std::string(missing.empty() ? "" : ", ") + n;
+    if (!floats.count(n)) missing += std::string(missing.empty() ? "" : ", ") + n;
+  // The AOV layers the file holds, by their mean channels.
+  std::vector<std::string> aovs;
+  for (const ImageLayer& l : image_layers(all_aov_names()))
+    if (l.name != "color" && floats.count(channel_name(l, 0))) aovs.push_back(l.name);
+  ImageStats out;
   if (missing.empty()) {
-    const char* rgb[3] = {"R", "G", "B"};
-    const char* var[3] = {"var.R", "var.G", "var.B"};
-    for (size_t p = 0; p < out.pixels(); ++p) {
-      double n = planes["n"][p];
-      out.count[p] = n;
-      for (int c = 0; c < 3; ++c) {
-        double m = planes[rgb[c]][p];
-        double v = planes[var[c]][p];
-        out.sum[3 * p + size_t(c)] = m * n;
-        out.sumSq[3 * p + size_t(c)] = v * std::max(n - 1.0, 0.0) + n * m * m;
+    out = ImageStats(exr.width, exr.height, image_layers(aovs));
+    const float* countPlane = floats["n"];
+    for (size_t p = 0; p < out.pixels(); ++p) out.count[p] = countPlane[p];
+    // Exact sums where every channel has both words of both moments.
+    bool exact = true;
+    for (const ImageLayer& l : out.layers)
+      for (size_t c = 0; c < l.channels.size(); ++c)
+        for (const char* m : {"sum.", "sumsq."})
+          exact = exact && words.count(m + channel_name(l, c) + ".hi") && words.count(m + channel_name(l, c) + ".lo");
+    record.exactSums = exact;
+    if (exact) {
+      for (const ImageLayer& l : out.layers) {
+        for (size_t c = 0; c < l.channels.size(); ++c) {
+          for (int moment = 0; moment < 2; ++moment) {
+            std::string base = std::string(moment == 0 ? "sum." : "sumsq.") + channel_name(l, c);
+            const uint32_t* hi = words[base + ".hi"];
+            const uint32_t* lo = words[base + ".lo"];
+            std::vector<double>& dst = moment == 0 ? out.sum : out.sumSq;
+            for (size_t p = 0; p < out.pixels(); ++p) {
+              uint64_t bits = uint64_t(hi[p]) << 32 | lo[p];
+              std::memcpy(&dst[p * out.stride + l.first + c], &bits, sizeof bits);
+            }
+          }
+        }
+      }
+    } else {
+      // A file without them (written by an older wavepath or another
+      // program): the colour's sums from mean, variance and count, to float
+      // precision; no illuminance squares, no AOVs.
+      const char* rgb[3] = {"R", "G", "B"};
+      for (size_t p = 0; p < out.pixels(); ++p) {
+        double n = out.count[p];
+        for (int c = 0; c < 3; ++c) {
+          double m = floats[rgb[c]][p];
+          double v = floats[std::string("var.") + rgb[c]][p];
+          out.sum[p * out.stride + size_t(c)] = m * n;
+          out.sumSq[p * out.stride + size_t(c)] = v * std::max(n - 1.0, 0.0) + n * m * m;
+        }
+        out.sum[p * out.stride + ImageStats::kY] = 0.2126 * out.sum[p * out.stride] + 0.7152 * out.sum[p * out.stride + 1] +
+                                                   0.0722 * out.sum[p * out.stride + 2];
       }
     }
   }
   FreeEXRImage(&exr);
   FreeEXRHeader(&header);
   if (!missing.empty()) throw InputError(path + ": EXR lacks the channels wavepath writes (" + missing + "): not a wavepath render");
+  if (recordOut) *recordOut = record;
   return out;
 }
 

@@ -12,26 +12,58 @@
 
 namespace wp {
 
+// One output layer: its name and its channels' names. Layer 0 of every
+// image is the colour: R, G, B and the illuminance Y (whose sums of squares
+// adaptive sampling needs). AOV layers follow, as layers.glsl lists them.
+struct ImageLayer {
+  std::string name;
+  std::vector<std::string> channels;
+  size_t first = 0;  // index of its first channel among the image's channels
+};
+
+// The layers an image holds: the colour, then `aovs` (names from
+// layers.glsl's table, in any order; stored in the table's order). Throws
+// InputError naming the known layers for an unknown name.
+std::vector<ImageLayer> image_layers(const std::vector<std::string>& aovs = {});
+// The AOV layer names known, "albedo, normal, depth".
+std::string aov_layer_names();
+// Where an AOV layer's channels start in a sample's AovSample record.
+size_t aov_sample_channel(const std::string& layer);
+
 struct ImageStats {
   int width = 0;
   int height = 0;
-  std::vector<double> sum;    // 3 per pixel
-  std::vector<double> sumSq;  // 3 per pixel
+  std::vector<ImageLayer> layers;  // layers[0] is the colour
+  size_t stride = 0;               // channels per pixel, over all layers
+  std::vector<double> sum;    // stride per pixel
+  std::vector<double> sumSq;  // stride per pixel
   std::vector<double> count;  // 1 per pixel
-  std::vector<double> illuminanceSumSq;  // 1 per pixel: for adaptive sampling (illuminance sums follow from `sum`)
   uint64_t nonFinite = 0;     // samples dropped because they were NaN or infinite
 
+  static constexpr size_t kY = 3;  // the colour's illuminance channel
+
   ImageStats() = default;
-  ImageStats(int w, int h)
-      : width(w), height(h), sum(size_t(w) * h * 3), sumSq(size_t(w) * h * 3), count(size_t(w) * h), illuminanceSumSq(size_t(w) * h) {}
+  ImageStats(int w, int h, std::vector<ImageLayer> layerList = image_layers());
   size_t pixels() const { return size_t(width) * size_t(height); }
+  // The layer named `name`, or nullptr.
+  const ImageLayer* layer(const std::string& name) const;
+  std::vector<std::string> aov_names() const;
   glm::dvec3 mean(size_t pixel) const;
   // Unbiased sample variance of one sample (not of the mean); 0 below 2 samples.
   glm::dvec3 variance(size_t pixel) const;
   double mean_luminance() const;
-  // Sum of the illuminance (luminance) of the samples of a pixel.
-  double illuminance_sum(size_t pixel) const;
+  // Sum of the illuminance (luminance) of the samples of a pixel, and of its squares.
+  double illuminance_sum(size_t pixel) const { return sum[pixel * stride + kY]; }
+  double illuminance_sum_sq(size_t pixel) const { return sumSq[pixel * stride + kY]; }
+  // Adds another image's sums and counts (same size and layers) to this one:
+  // the exact merge of two disjoint sample ranges, in double precision.
+  void add(const ImageStats& other);
 };
+
+// A layer of `image` seen as a colour image (its first three channels as
+// R, G, B, missing ones zero), with the same counts, so that
+// compare_images and the PNG writer work on any layer.
+ImageStats layer_as_color(const ImageStats& image, const std::string& layer);
 
 // The mean as 8-bit sRGB, clamped: three bytes per pixel, row by row.
 std::vector<uint8_t> to_srgb8(const ImageStats& image);
@@ -46,9 +78,32 @@ void write_png(const std::string& path, const ImageStats& image);
 // green to red (maxSamples).
 void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples);
 
-// OpenEXR, 32-bit float channels R, G, B (mean), var.R, var.G, var.B (sample
-// variance) and n (sample count). Written atomically like the PNG.
-void write_exr(const std::string& path, const ImageStats& image);
-ImageStats read_exr(const std::string& path);
+// What an EXR's header says of the render it holds (a partial file: see
+// docs/partial-renders.md): the scene's content hash, the settings that change the
+// image, the sample ranges it accumulates, whether it stopped early, and the
+// wavepath version that wrote it. Empty where a file was not written by a
+// render (write_exr leaves such attributes out).
+struct RenderRecord {
+  std::string sceneHash;
+  std::string settings;  // "key=value; ..." in a fixed order
+  std::string samples;   // ranges "A:B" or "A:B,C:D" (sample_ranges.h)
+  std::string status;    // "complete", or why the render stopped early
+  std::string renderer;  // what rendered it (a device and variant, the CPU reference, several)
+  std::string version;
+  bool exactSums = false;  // read_exr: the file held the exact sums (a merge needs them)
+};
+
+// OpenEXR: 32-bit float channels R, G, B (mean), var.R, var.G, var.B (sample
+// variance) and n (sample count); each AOV layer's means (LAYER.CHANNEL; the
+// depth's Z over the samples that hit, its A their fraction); and, for an
+// exact merge, every channel's sum and sum of squares as doubles, each split
+// into two 32-bit unsigned channels (sum.CHANNEL.hi / .lo and sumsq...).
+// The record goes into the header as wavepath:* string attributes. Written
+// atomically like the PNG.
+void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& record = {});
+// Reads what write_exr wrote: the exact sums where the file has them, else
+// sums rebuilt from the float mean, variance and count (to float precision).
+ImageStats read_exr(const std::string& path, RenderRecord* record = nullptr);
+
 
 }  // namespace wp

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "bvh/wide_bvh.h"
+#include "image/image.h"
 #include "scene/transform.h"
 #include "util/error.h"
 #include "util/huge_pages.h"
@@ -502,6 +503,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   out.height = cam.height;
   out.spp = options.spp > 0 ? options.spp : scene.samplesPerPixel;
   out.adaptive = options.adaptive;
+  out.aovs = ImageStats(0, 0, image_layers(options.aovs)).aov_names();  // checked, in the table's order
   int maxBounces = options.maxBounces >= 0 ? options.maxBounces : scene.integrator.maxBounces;
   shader::SceneParams& p = out.params;
   rows_3x4(cam.toWorld, p.camToWorld0, p.camToWorld1, p.camToWorld2);

@@ -37,6 +37,8 @@ struct RenderOptions {
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
+  // AOV layers to record beside the colour (layers.glsl names).
+  std::vector<std::string> aovs;
 };
 
 struct CompiledScene {
@@ -59,6 +61,7 @@ struct CompiledScene {
   int height = 0;
   int spp = 0;  // samples per pixel (with adaptive sampling: at most)
   AdaptiveSampling adaptive;
+  std::vector<std::string> aovs;  // AOV layers recorded, in layers.glsl's order
   int bvhDepth = 0;      // levels of the traversed layout's tree
   double binarySahCost = 0.0;  // the binary layout's SAH cost, as its builder measured it (bvh_sah_cost)
   double bvhBuildSeconds = 0.0;

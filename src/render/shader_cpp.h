@@ -69,6 +69,10 @@ struct SceneView : ShaderMath {
 #define BVH_LAYOUT_OF_SCENE scene.accel.x
 #define TRAVERSAL_STACK_SIZE BVH_STACK_MAX  // GLSL: sized for the scene's tree
 #define TRAVERSAL_STACK_SLOTS scene.accel.z
+  // Whether trace_sample records the first hit for AOV layers (GLSL: a
+  // specialization constant).
+  bool aovs = false;
+#define AOVS_OF_SCENE aovs
   // Where set, the walks record the deepest stack they reach: the tests check
   // it against the slots the host sized the kernels' stacks to.
   uint32_t* stackDepthSeen = nullptr;
@@ -113,5 +117,6 @@ static_assert(sizeof(Hit) == 16);
 static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, tmax) == 12 && offsetof(ShadowRay, dir) == 16 &&
               offsetof(ShadowRay, path) == 28 && offsetof(ShadowRay, contribution) == 32 && offsetof(ShadowRay, pad) == 44);
 static_assert(sizeof(PixelAccum) == 32);
+static_assert(sizeof(AovSample) == 4 * AOV_CHANNELS && sizeof(AovAccum) == 8 * AOV_CHANNELS);
 static_assert(sizeof(KernelPush) == 32);
 }  // namespace wp::shader

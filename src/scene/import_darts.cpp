@@ -470,6 +470,7 @@ class DartsImporter {
     if (cached == meshes_.end()) {
       try {
         cached = meshes_.emplace(path, load_obj(path)).first;
+        for (const std::string& f : cached->second.files) scene_.inputFiles.push_back(f);
       } catch (const InputError& e) {
         throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + j.path() + ")");
       }

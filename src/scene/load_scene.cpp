@@ -29,11 +29,14 @@ Scene load_scene(const std::string& path) {
   std::string head(256, '\0');
   in.read(head.data(), std::streamsize(head.size()));
   head.resize(size_t(in.gcount()));
+  Scene scene;
   switch (scene_format(path, head)) {
-    case SceneFormat::Darts: return import_darts(path);
-    case SceneFormat::Unknown: break;
+    case SceneFormat::Darts: scene = import_darts(path); break;
+    case SceneFormat::Unknown:
+      throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json)");
   }
-  throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json)");
+  scene.inputFiles.insert(scene.inputFiles.begin(), path);
+  return scene;
 }
 
 }  // namespace wp

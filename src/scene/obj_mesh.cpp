@@ -24,7 +24,9 @@ std::string first_line(const std::string& s) {
 // tinyobjloader accepts faces whose indices it cannot resolve and silently
 // skips some malformed ones. Scan the face lines ourselves first so that a bad
 // file is reported with its line number instead of rendering a partial mesh.
-void check_face_lines(const std::string& path) {
+// Returns the material libraries the file names (mtllib), as written.
+std::vector<std::string> check_face_lines(const std::string& path) {
+  std::vector<std::string> libraries;
   std::ifstream in(path);
   std::string line;
   long vertexCount = 0;
@@ -34,6 +36,10 @@ void check_face_lines(const std::string& path) {
     if (!(ls >> tag)) continue;
     if (tag == "v") {
       ++vertexCount;
+      continue;
+    }
+    if (tag == "mtllib") {
+      for (std::string name; ls >> name;) libraries.push_back(name);
       continue;
     }
     if (tag != "f") continue;
@@ -58,6 +64,7 @@ void check_face_lines(const std::string& path) {
                        std::to_string(corners));
     }
   }
+  return libraries;
 }
 
 }  // namespace
@@ -65,7 +72,7 @@ void check_face_lines(const std::string& path) {
 ObjFile load_obj(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": cannot open OBJ file (no such file)");
-  check_face_lines(path);
+  std::vector<std::string> libraries = check_face_lines(path);
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
@@ -78,6 +85,11 @@ ObjFile load_obj(const std::string& path) {
   }
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   ObjFile file;
+  file.files.push_back(path);
+  for (const std::string& name : libraries) {
+    std::string library = (std::filesystem::path(config.mtl_search_path) / name).string();
+    if (std::filesystem::is_regular_file(library, ec)) file.files.push_back(library);
+  }
   SceneMesh& mesh = file.mesh;
   size_t vertexCount = attrib.vertices.size() / 3;
   mesh.positions.reserve(vertexCount);

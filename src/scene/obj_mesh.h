@@ -23,6 +23,7 @@ struct ObjMaterial {
 struct ObjFile {
   SceneMesh mesh;                       // its material slots index `materials`
   std::vector<ObjMaterial> materials;
+  std::vector<std::string> files;       // the OBJ and the material libraries read with it
 };
 
 // Throws InputError naming the file (and line, where tinyobjloader gives one).

@@ -59,6 +59,7 @@ SceneTexture image_texture(Scene& scene, const std::string& path, const std::str
   t.kind = TEX_IMAGE;
   t.image = uint32_t(scene.images.size());
   scene.images.push_back(std::move(img));
+  scene.inputFiles.push_back(path);
   return t;
 }
 

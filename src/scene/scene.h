@@ -134,6 +134,10 @@ struct SceneMesh {
 
 struct Scene {
   std::string sourcePath;
+  // Every file the scene was read from, in the order read: the scene file,
+  // then meshes, their material libraries and images. A render's identity
+  // hashes their contents (render/partial.h).
+  std::vector<std::string> inputFiles;
   Camera camera;
   int samplesPerPixel = 1;
   SamplerKind sampler = SamplerKind::Independent;

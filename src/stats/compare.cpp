@@ -147,11 +147,10 @@ void plant_bias(ImageStats& image, double factor, glm::uvec4 region) {
     for (int x = 0; x < image.width; ++x) {
       if (uint32_t(x) < region.x || uint32_t(x) >= region.z || uint32_t(y) < region.y || uint32_t(y) >= region.w) continue;
       const size_t p = size_t(y) * size_t(image.width) + size_t(x);
-      for (size_t c = 0; c < 3; ++c) {
-        image.sum[3 * p + c] *= factor;
-        image.sumSq[3 * p + c] *= factor * factor;
+      for (size_t c = 0; c <= ImageStats::kY; ++c) {  // the colour, its illuminance included
+        image.sum[p * image.stride + c] *= factor;
+        image.sumSq[p * image.stride + c] *= factor * factor;
       }
-      image.illuminanceSumSq[p] *= factor * factor;
     }
   }
 }

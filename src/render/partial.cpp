@@ -1,0 +1,205 @@
+#include "render/partial.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+std::string integrator_name(const shader::SceneParams& p) {
+  const uint32_t flags = p.counts.w;
+  switch (p.mode.x) {
+    case INTEGRATOR_NORMALS: return "normals";
+    case INTEGRATOR_AO: return "ao";
+    case INTEGRATOR_MIXTURE: return "path tracer mixture";
+    default: break;
+  }
+  if (flags & SCENE_FLAG_HEMISPHERE) return "path tracer hemisphere";
+  if (flags & SCENE_FLAG_NO_NEE) return "path tracer mats";
+  if (flags & SCENE_FLAG_NO_BSDF_MIS) return "path tracer nee";
+  return "path tracer mis";
+}
+
+// The value of `key` in a settings string, or "".
+std::string setting(const std::string& settings, const std::string& key) {
+  std::istringstream in(settings);
+  for (std::string item; std::getline(in, item, ';');) {
+    size_t start = item.find_first_not_of(' ');
+    if (start == std::string::npos) continue;
+    item = item.substr(start);
+    if (item.compare(0, key.size() + 1, key + "=") == 0) return item.substr(key.size() + 1);
+  }
+  return "";
+}
+
+// The first setting whose value differs, as "key: A vs B".
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream in(a);
+  for (std::string item; std::getline(in, item, ';');) {
+    size_t start = item.find_first_not_of(' ');
+    if (start == std::string::npos) continue;
+    std::string key = item.substr(start, item.find('=') - start);
+    if (setting(a, key) != setting(b, key)) return key + " " + setting(a, key) + " vs " + setting(b, key);
+  }
+  return "\"" + a + "\" vs \"" + b + "\"";
+}
+
+}  // namespace
+
+std::string wavepath_version() {
+  return "wavepath " WAVEPATH_VERSION;
+}
+
+std::string scene_content_hash(const Scene& scene) {
+  uint64_t h = 14695981039346656037ull;  // FNV-1a, 64-bit
+  auto mix = [&h](const char* data, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+      h ^= uint8_t(data[i]);
+      h *= 1099511628211ull;
+    }
+  };
+  std::vector<char> buffer(1 << 16);
+  for (const std::string& path : scene.inputFiles) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot read it again to identify the render");
+    uint64_t size = 0;
+    while (in) {
+      in.read(buffer.data(), std::streamsize(buffer.size()));
+      mix(buffer.data(), size_t(in.gcount()));
+      size += uint64_t(in.gcount());
+    }
+    mix(reinterpret_cast<const char*>(&size), sizeof size);  // file boundaries count
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016" PRIx64, h);
+  return hex;
+}
+
+std::string render_settings(const CompiledScene& cs) {
+  const shader::SceneParams& p = cs.params;
+  char lens[64];
+  std::snprintf(lens, sizeof lens, "%.9g/%.9g", double(p.camLens.z), double(p.camLens.w));
+  std::string adaptive = "off";
+  if (cs.adaptive.enabled()) {
+    char a[64];
+    std::snprintf(a, sizeof a, "%d/%.9g", cs.adaptive.batch, double(cs.adaptive.tolerance));
+    adaptive = a;
+  }
+  std::string aovs;
+  for (const std::string& a : cs.aovs) aovs += (aovs.empty() ? "" : ",") + a;
+  std::ostringstream s;
+  s << "resolution=" << cs.width << "x" << cs.height << "; spp=" << cs.spp << "; integrator=" << integrator_name(p)
+    << "; max_bounces=" << p.image.z << "; rr_depth=" << p.image.w << "; sampler=" << (p.mode.y == SAMPLER_CMJ ? "cmj" : "independent")
+    << "; light_samples=" << p.mode.w << "; seed=" << p.counts.y << "; lens=" << lens << "; adaptive=" << adaptive
+    << "; aovs=" << (aovs.empty() ? "none" : aovs);
+  return s.str();
+}
+
+std::string format_sample_ranges(const std::vector<SampleRange>& ranges) {
+  std::string out;
+  for (const SampleRange& r : ranges) out += (out.empty() ? "" : ",") + std::to_string(r.begin) + ":" + std::to_string(r.end);
+  return out;
+}
+
+std::vector<SampleRange> parse_sample_ranges(const std::string& text, const std::string& where) {
+  std::vector<SampleRange> ranges;
+  std::vector<std::string> items(1);
+  for (char c : text) {
+    if (c == ',') items.emplace_back();
+    else items.back() += c;
+  }
+  for (const std::string& item : items) {
+    unsigned long a = 0, b = 0;
+    char colon = 0;
+    std::istringstream is(item);
+    if (!(is >> a >> colon >> b) || colon != ':' || !(is >> std::ws).eof() || a >= b || b > MAX_SAMPLES_PER_PIXEL)
+      throw InputError(where + ": \"" + item + "\" is not a sample range A:B with 0 <= A < B <= " + std::to_string(MAX_SAMPLES_PER_PIXEL));
+    ranges.push_back({uint32_t(a), uint32_t(b)});
+  }
+  return ranges;
+}
+
+uint32_t samples_of_settings(const std::string& settings) {
+  return uint32_t(std::strtoul(setting(settings, "spp").c_str(), nullptr, 10));
+}
+
+PartialFile read_partial(const std::string& path) {
+  PartialFile f;
+  f.path = path;
+  f.image = read_exr(path, &f.record);
+  if (f.record.sceneHash.empty() || f.record.settings.empty() || f.record.samples.empty())
+    throw InputError(path + ": not a partial render (its header lacks wavepath's render record)");
+  if (!f.record.exactSums) throw InputError(path + ": not a partial render (it lacks the exact sums a merge adds up)");
+  f.ranges = parse_sample_ranges(f.record.samples, path + ": wavepath:samples");
+  std::sort(f.ranges.begin(), f.ranges.end(), [](SampleRange a, SampleRange b) { return a.begin < b.begin; });
+  for (size_t i = 1; i < f.ranges.size(); ++i)
+    if (f.ranges[i].begin < f.ranges[i - 1].end) throw InputError(path + ": wavepath:samples: its ranges overlap");
+  return f;
+}
+
+void require_same_render(const PartialFile& a, const PartialFile& b) {
+  if (a.record.sceneHash != b.record.sceneHash)
+    throw InputError(b.path + " is a render of another scene than " + a.path + " (scene content " + b.record.sceneHash + " vs " +
+                     a.record.sceneHash + ")");
+  if (a.record.settings != b.record.settings)
+    throw InputError(b.path + " is a render with other settings than " + a.path + " (" + first_difference(b.record.settings, a.record.settings) + ")");
+  if (a.image.width != b.image.width || a.image.height != b.image.height || a.image.aov_names() != b.image.aov_names())
+    throw InputError(b.path + " has another size or other layers than " + a.path);
+}
+
+std::vector<SampleRange> missing_ranges(const std::vector<SampleRange>& ranges, uint32_t total) {
+  std::vector<SampleRange> missing;
+  uint32_t at = 0;
+  for (const SampleRange& r : ranges) {
+    if (r.begin > at) missing.push_back({at, r.begin});
+    at = std::max(at, r.end);
+  }
+  if (at < total) missing.push_back({at, total});
+  return missing;
+}
+
+PartialFile merge_partials(const std::vector<PartialFile>& parts, bool allowGaps) {
+  if (parts.empty()) throw InputError("nothing to merge");
+  // Every range with the file it came from, in sample order.
+  std::vector<std::pair<SampleRange, const PartialFile*>> all;
+  for (const PartialFile& p : parts) {
+    require_same_render(parts[0], p);
+    for (const SampleRange& r : p.ranges) all.push_back({r, &p});
+  }
+  std::sort(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first.begin < y.first.begin; });
+  for (size_t i = 1; i < all.size(); ++i) {
+    if (all[i].first.begin < all[i - 1].first.end)
+      throw InputError(all[i].second->path + " (samples " + format_sample_ranges({all[i].first}) + ") overlaps " +
+                       all[i - 1].second->path + " (samples " + format_sample_ranges({all[i - 1].first}) + ")");
+  }
+  PartialFile out;
+  out.image = parts[0].image;
+  for (size_t i = 1; i < parts.size(); ++i) out.image.add(parts[i].image);
+  // Adjacent ranges join.
+  for (const auto& [r, from] : all) {
+    if (!out.ranges.empty() && out.ranges.back().end == r.begin) out.ranges.back().end = r.end;
+    else out.ranges.push_back(r);
+  }
+  const uint32_t total = samples_of_settings(parts[0].record.settings);
+  std::vector<SampleRange> missing = missing_ranges(out.ranges, total);
+  if (!missing.empty() && !allowGaps)
+    throw InputError("the parts leave out samples " + format_sample_ranges(missing) + " of the render's 0:" + std::to_string(total) +
+                     " (render them, or merge with --allow-gaps for an image of fewer samples)");
+  out.record = parts[0].record;
+  out.record.samples = format_sample_ranges(out.ranges);
+  out.record.status = missing.empty() ? "complete" : "partial: samples " + format_sample_ranges(missing) + " missing";
+  std::string renderers;
+  for (const PartialFile& p : parts)
+    if (renderers.find(p.record.renderer) == std::string::npos) renderers += (renderers.empty() ? "" : "; ") + p.record.renderer;
+  out.record.renderer = renderers;
+  out.record.version = wavepath_version();
+  return out;
+}
+
+}  // namespace wp

@@ -1,0 +1,66 @@
+// partial.h — renders as partial accumulations that merge exactly: what
+// identifies a render (its scene's content and the settings that change its
+// image), sample ranges as text, and the merge of partial files with its
+// refusals. docs/partial-renders.md describes the files and the guarantees.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+#include "render/compiled_scene.h"
+#include "render/render_control.h"
+#include "scene/scene.h"
+
+namespace wp {
+
+// "wavepath 0.1.0"
+std::string wavepath_version();
+
+// A 64-bit FNV-1a hash of the contents of every file the scene was read
+// from (Scene::inputFiles, in order), as 16 hex digits: equal for the same
+// files wherever they lie. Throws InputError if a file cannot be read.
+std::string scene_content_hash(const Scene& scene);
+
+// The settings that change a render's image, as "key=value; ..." in a fixed
+// order: resolution, samples per pixel (the whole render's), integrator,
+// bounces, Russian roulette, sampler, light samples, seed, lens, adaptive
+// sampling and AOV layers. The renderer (GPU variant or CPU reference) is not
+// among them: every one of them draws the same random numbers for a sample
+// and is tested to estimate the same image, so parts rendered by different
+// ones merge (render --devices does just that).
+std::string render_settings(const CompiledScene& scene);
+
+// "0:16,16:40" and back. parse_sample_ranges throws InputError naming
+// `where` for anything else (ranges must be A:B with A < B).
+std::string format_sample_ranges(const std::vector<SampleRange>& ranges);
+std::vector<SampleRange> parse_sample_ranges(const std::string& text, const std::string& where);
+// The samples per pixel of the whole render a settings string describes.
+uint32_t samples_of_settings(const std::string& settings);
+
+// A partial file as read back: its image (exact sums), record and ranges.
+struct PartialFile {
+  std::string path;
+  ImageStats image;
+  RenderRecord record;
+  std::vector<SampleRange> ranges;  // sorted, disjoint
+};
+
+// Reads a partial file, refusing (InputError, naming the file) one without
+// a render record or exact sums.
+PartialFile read_partial(const std::string& path);
+
+// Throws InputError, naming both files and what differs, unless `b` is a part
+// of the same render as `a` (same scene content, same settings).
+void require_same_render(const PartialFile& a, const PartialFile& b);
+
+// The ranges of [0, total) that `ranges` (sorted, disjoint) leave out.
+std::vector<SampleRange> missing_ranges(const std::vector<SampleRange>& ranges, uint32_t total);
+
+// Merges parts of one render: refuses parts of different renders,
+// overlapping ranges (naming the two files), and, unless allowGaps, samples
+// of the render that no part holds (naming the missing ranges). The result's
+// record lists the merged ranges, "complete" when they are the whole render.
+PartialFile merge_partials(const std::vector<PartialFile>& parts, bool allowGaps);
+
+}  // namespace wp
