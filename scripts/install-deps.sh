@@ -8,6 +8,7 @@ packages=(
   libglm-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libstb-dev libtinyexr-dev libtbb-dev
   libembree-dev python3-numpy python3-matplotlib
   libgtest-dev chromium
+  slurm-wlm munge
 )
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"

@@ -35,6 +35,16 @@ check "the merged file holds samples 0:48, complete" \
 "$wavepath" compare --images "$work/merged.exr" "$work/whole.exr" >"$work/out" 2>&1
 check "the merged image agrees with one render (compare exit 0)" $?
 
+# Several renderers in one process: lavapipe twice, lavapipe and the CPU
+# reference; chunks of samples go to whichever is free.
+for devices in 0,0 0,cpu; do
+  "$wavepath" render "$scene" "${r[@]}" --devices $devices -o "$work/devices.png" >"$work/out" 2>&1
+  check "--devices $devices: exit 0, samples 0:48 complete" \
+    $([ $? -eq 0 ] && [ "$(attr "$work/devices.exr" wavepath:samples)" = "0:48" ] && [ "$(attr "$work/devices.exr" wavepath:status)" = complete ]; echo $?)
+  "$wavepath" compare --images "$work/devices.exr" "$work/whole.exr" >"$work/out" 2>&1
+  check "--devices $devices: agrees with one device" $?
+done
+
 bad() {  # bad NAME TEXT -- COMMAND...
   local name=$1 text=$2
   shift 3
@@ -83,6 +93,23 @@ check "--time: exit 0, and the samples reached grew (${reached} to ${again})" \
 check "--time: the header says the budget was spent" $(attr "$work/res.exr" wavepath:status | grep -q "time budget of 3s spent"; echo $?)
 bad "resuming another render's checkpoint" "seed 0 vs 5" -- \
   "$wavepath" render "$scene" "${long[@]}" --seed 5 -o "$work/x.png" --resume "$work/ck.exr"
+
+# Interrupted on two devices, the parts done may leave gaps; --resume
+# renders just those.
+"$wavepath" render "$scene" -r 64 64 --spp 4000 --devices 0,cpu -o "$work/dint.png" --checkpoint "$work/dck.exr" \
+  >"$work/out" 2>"$work/err" &
+pid=$!
+sleep 4
+kill -INT $pid
+wait $pid
+rc=$?
+check "--devices, SIGINT: exit 130, marked interrupted" $([ $rc -eq 130 ] && [ "$(attr "$work/dint.exr" wavepath:status)" = "interrupted by SIGINT" ]; echo $?)
+"$wavepath" render "$scene" -r 64 64 --spp 4000 --devices 0,cpu -o "$work/dres.png" --resume "$work/dck.exr" >"$work/out" 2>"$work/err"
+check "--devices, resumed: exit 0, samples 0:4000 complete (from $(attr "$work/dck.exr" wavepath:samples))" \
+  $([ $? -eq 0 ] && [ "$(attr "$work/dres.exr" wavepath:samples)" = "0:4000" ] && [ "$(attr "$work/dres.exr" wavepath:status)" = complete ]; echo $?)
+"$wavepath" render "$scene" -r 64 64 --spp 4000 -q -o "$work/dwhole.png"
+"$wavepath" compare --images "$work/dres.exr" "$work/dwhole.exr" >"$work/out" 2>&1
+check "--devices, resumed: agrees with one uninterrupted render" $?
 
 # A second Ctrl-C aborts at once: nothing is written. Passes of a
 # megapixel take over a second here; the signals come 20 ms apart, just after

@@ -1,11 +1,13 @@
 // `wavepath render`: a scene to PNG and EXR, on a kernel variant or the CPU
 // reference, with the CS184 pathtracer's short options.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <numeric>
 
@@ -27,6 +29,19 @@ std::string rate_image_path(const std::string& out) {
 
 std::string default_output(const std::string& scenePath) {
   return std::filesystem::path(scenePath).stem().string() + ".png";
+}
+
+void print_stage_times(const StageTimes& times) {
+  double gpu = times.total();
+  std::printf("%-11s %10s %7s %11s\n", "stage", "GPU s", "share", "dispatches");
+  for (int s = 0; s < StageTimes::kStages; ++s) {
+    std::printf("%-11s %10.3f %6.1f%% %11llu\n", StageTimes::kNames[s], times.seconds[s], gpu > 0 ? 100.0 * times.seconds[s] / gpu : 0.0,
+                (unsigned long long)times.dispatches[s]);
+  }
+  std::printf("%-11s %10.3f\n", "total", gpu);
+  std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
+              (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
+              (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
 }
 
 // The signal that asked the render to stop (SIGINT, SIGTERM), or 0. A second
@@ -71,11 +86,11 @@ double parse_duration(const std::string& text, const std::string& option) {
 }
 
 // What the render itself will take, before any work: the range of the whole
-// render's samples and, resuming, the image that holds its first part.
+// render's samples and, resuming, the image that holds some of them.
 struct RenderPlan {
   SampleRange range;
   ImageStats image;
-  uint32_t resumedAt = 0;  // the sample the resumed checkpoint reached, or range.begin
+  std::vector<SampleRange> done;  // the ranges `image` holds (resumed), joined
 };
 
 RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const RenderRecord& identity) {
@@ -93,21 +108,27 @@ RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const
       throw InputError("--samples " + a.samples + ": under adaptive sampling a pixel stops on all its samples so far, which a "
                        "range starting past 0 does not have; render 0:B, or continue a checkpoint with --resume");
   }
+  if (compiled.adaptive.enabled() && a.devices.size() > 1)
+    throw InputError("--devices: adaptive sampling decides after each batch from all of a pixel's samples, so it runs on one device");
   plan.image = ImageStats(compiled.width, compiled.height, image_layers(compiled.aovs));
-  plan.resumedAt = plan.range.begin;
   if (a.resume.empty()) return plan;
   std::error_code ec;
   if (a.resume == a.checkpoint && !std::filesystem::exists(a.resume, ec)) return plan;  // the first run of a restartable render
   PartialFile part = read_partial(a.resume);
   PartialFile self{"this render", plan.image, identity, {}};
   require_same_render(self, part);
-  if (part.ranges.size() != 1 || part.ranges[0].begin != plan.range.begin || part.ranges[0].end > plan.range.end)
-    throw InputError(a.resume + " holds samples " + part.record.samples + ", not a beginning of this render's " +
-                     format_sample_ranges({plan.range}));
-  if (compiled.adaptive.enabled() && part.ranges[0].end % uint32_t(compiled.adaptive.batch) != 0 && part.ranges[0].end != plan.range.end)
-    throw InputError(a.resume + " stopped inside an adaptive-sampling batch");
+  for (SampleRange r : part.ranges) {
+    if (r.begin < plan.range.begin || r.end > plan.range.end)
+      throw InputError(a.resume + " holds samples " + part.record.samples + ", outside this render's " + format_sample_ranges({plan.range}));
+  }
+  if (compiled.adaptive.enabled()) {
+    SampleRange r = part.ranges[0];
+    if (part.ranges.size() != 1 || r.begin != plan.range.begin || (r.end % uint32_t(compiled.adaptive.batch) != 0 && r.end != plan.range.end))
+      throw InputError(a.resume + " holds samples " + part.record.samples + ": under adaptive sampling a render resumes from whole "
+                       "batches from its start");
+  }
   plan.image = std::move(part.image);
-  plan.resumedAt = part.ranges[0].end;
+  plan.done = join_ranges(part.ranges);
   return plan;
 }
 
@@ -122,62 +143,108 @@ int run_render(const RenderArgs& a) {
   const double budget = a.time.empty() ? 0.0 : parse_duration(a.time, "--time");
   const double checkpointEvery = parse_duration(a.checkpointEvery, "--checkpoint-every");
   if (!a.cpu) kernel_variant(a.variant);  // an unknown variant fails before any work
+  if (a.cpu && !a.devices.empty()) throw InputError("--cpu and --devices: name the CPU reference among the devices (--devices 0,cpu)");
   for (const std::string& path : {out, exr, a.checkpoint})
     if (!path.empty()) require_output_directory(path);
 
-  const std::string renderer = a.cpu ? "cpu" : a.variant;
+  // The renderers: one (the CPU reference or a variant on --device), or
+  // those --devices names, each with the scene compiled for it.
+  std::vector<RenderDevice> devices;
+  if (a.devices.empty()) devices.push_back({a.cpu ? "cpu" : a.variant, a.device, nullptr});
+  for (const std::string& d : a.devices) devices.push_back({d == "cpu" ? "cpu" : a.variant, d == "cpu" ? "" : d, nullptr});
   Scene scene = load_scene_with_overrides(a);
-  CompiledScene compiled = compile_scene(scene, variant_options(options_from(a, a.seed), renderer));
+  std::map<std::string, CompiledScene> compiled;  // by renderer; its elements stay where they are
+  for (RenderDevice& d : devices) {
+    auto found = compiled.find(d.renderer);
+    if (found == compiled.end())
+      found = compiled.emplace(d.renderer, compile_scene(scene, variant_options(options_from(a, a.seed), d.renderer))).first;
+    d.scene = &found->second;
+  }
+  const CompiledScene& first = *devices[0].scene;
   RenderRecord record;
   record.sceneHash = scene_content_hash(scene);
-  record.settings = render_settings(compiled);
+  record.settings = render_settings(first);
   record.version = wavepath_version();
-  record.renderer = a.cpu ? "the CPU reference" : a.variant;  // the device is named once it is open
-  RenderPlan plan = plan_render(a, compiled, record);
+  record.renderer = a.devices.empty() ? (a.cpu ? "the CPU reference" : a.variant) : "several devices";
+  RenderPlan plan = plan_render(a, first, record);
+  ImageStats& image = plan.image;
+  std::vector<SampleRange> todo = missing_ranges(plan.done, plan.range.end);
+  todo.erase(std::remove_if(todo.begin(), todo.end(), [&](SampleRange& r) {
+               r.begin = std::max(r.begin, plan.range.begin);
+               return r.size() == 0;
+             }),
+             todo.end());
+  uint64_t samplesBefore = 0;
+  for (SampleRange r : plan.done) samplesBefore += r.size();
 
   // Between passes: stop on a signal or a spent budget, and checkpoint.
   StopSignals signals;
   g_stopSignal = 0;
   bool budgetSpent = false;
-  auto lastCheckpoint = std::chrono::steady_clock::now();
-  auto write_partial = [&](const std::string& path, const ImageStats& image, uint32_t reached, const std::string& status) {
-    RenderRecord r = record;
-    r.samples = format_sample_ranges({{plan.range.begin, reached}});
-    r.status = status;
-    write_exr(path, image, r);
+  auto shouldStop = [&] {
+    if (budget > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - commandStart).count() >= budget)
+      budgetSpent = true;
+    return g_stopSignal != 0 || budgetSpent;
   };
-  std::string where;
-  PassHook afterPass = [&](const ImageStats& image, uint32_t reached) {
+  auto write_partial = [&](const std::string& path, const ImageStats& img, const std::vector<SampleRange>& ranges,
+                           const std::string& status) {
+    RenderRecord r = record;
+    r.samples = format_sample_ranges(ranges);
+    r.status = status;
+    write_exr(path, img, r);
+  };
+  auto lastCheckpoint = std::chrono::steady_clock::now();
+  auto checkpoint_due = [&] {
     auto now = std::chrono::steady_clock::now();
-    if (!a.checkpoint.empty() && std::chrono::duration<double>(now - lastCheckpoint).count() >= checkpointEvery) {
-      write_partial(a.checkpoint, image, reached, "checkpoint");
-      lastCheckpoint = now;
-    }
-    if (budget > 0.0 && std::chrono::duration<double>(now - commandStart).count() >= budget) budgetSpent = true;
-    return g_stopSignal == 0 && !budgetSpent;
+    if (a.checkpoint.empty() || std::chrono::duration<double>(now - lastCheckpoint).count() < checkpointEvery) return false;
+    lastCheckpoint = now;
+    return true;
   };
   auto start = std::chrono::steady_clock::now();
   StageTimes times;
-  uint32_t reached = plan.resumedAt;
-  ImageStats& image = plan.image;
-  if (reached < plan.range.end)
-    reached = render_on(renderer, compiled, a, image, {reached, plan.range.end}, afterPass, &where, &times);
-  else where = "nothing (the checkpoint held every sample)";
-  if (reached > plan.resumedAt) record.renderer = where;
+  std::string where = "nothing (the resumed file held every sample)";
+  std::vector<SampleRange> done = plan.done;
+  if (todo.size() == 1 && devices.size() == 1) {
+    // One renderer, one range: straight into the image, pass by pass.
+    const SampleRange r = todo[0];
+    PassHook afterPass = [&](const ImageStats& img, uint32_t reached) {
+      if (checkpoint_due()) {
+        std::vector<SampleRange> sofar = done;
+        sofar.push_back({r.begin, reached});
+        write_partial(a.checkpoint, img, join_ranges(sofar), "checkpoint");
+      }
+      return !shouldStop();
+    };
+    RenderArgs one = a;
+    one.device = devices[0].device;
+    uint32_t reached = render_on(devices[0].renderer, *devices[0].scene, one, image, r, afterPass, &where, &times);
+    done.push_back({r.begin, reached});
+    done = join_ranges(done);
+  } else if (!todo.empty()) {
+    done = render_on_devices(devices, a, image, done, todo, shouldStop,
+                             [&](const ImageStats& img, const std::vector<SampleRange>& sofar) {
+                               if (checkpoint_due()) write_partial(a.checkpoint, img, sofar, "checkpoint");
+                             },
+                             &where);
+  }
+  if (!todo.empty()) record.renderer = where;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int stopSignal = g_stopSignal;
-  const bool complete = reached == plan.range.end;
+  const bool complete = done.size() == 1 && done[0].begin == plan.range.begin && done[0].end == plan.range.end;
   std::string status = complete ? "complete"
                        : stopSignal ? std::string("interrupted by ") + (stopSignal == SIGINT ? "SIGINT" : "SIGTERM")
                                     : "time budget of " + a.time + " spent";
+  if (done.empty()) throw RenderError("stopped (" + status + ") before a single pass was done: no image written");
+  uint64_t samplesNow = 0;
+  for (SampleRange r : done) samplesNow += r.size();
 
   // With adaptive sampling, CS184's sample-rate image goes beside the render.
-  std::string rate = compiled.adaptive.enabled() ? rate_image_path(out) : "";
-  write_partial(exr, image, reached, status);
+  std::string rate = first.adaptive.enabled() ? rate_image_path(out) : "";
+  write_partial(exr, image, done, status);
   try {
     write_png(out, image);
-    if (!rate.empty()) write_sample_rate_png(rate, image, compiled.spp);
-    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, reached, status);
+    if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
+    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status);
   } catch (...) {
     std::remove(exr.c_str());  // all images or none
     std::remove(out.c_str());
@@ -186,35 +253,24 @@ int run_render(const RenderArgs& a) {
   if (image.nonFinite > 0) {
     std::fprintf(stderr, "wavepath: warning: %llu non-finite samples were dropped\n", (unsigned long long)image.nonFinite);
   }
-  const std::string samples = format_sample_ranges({{plan.range.begin, reached}});
+  const std::string samples = format_sample_ranges(done);
   if (!complete) {
-    std::fprintf(stderr, "wavepath: %s: stopped at sample %u of %s; wrote the partial image of samples %s to %s and %s%s\n",
-                 status.c_str(), reached, format_sample_ranges({plan.range}).c_str(), samples.c_str(), out.c_str(), exr.c_str(),
-                 a.checkpoint.empty() ? "" : (" (and the checkpoint " + a.checkpoint + ")").c_str());
+    std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s and %s%s\n", status.c_str(),
+                 samples.c_str(), format_sample_ranges({plan.range}).c_str(), out.c_str(), exr.c_str(),
+                 a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str());
   }
   if (!a.quiet) {
     double total = 0.0;
     for (double n : image.count) total += n;
     std::printf("wrote %s and %s: %dx%d, samples %s of %d, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(),
-                exr.c_str(), compiled.width, compiled.height, samples.c_str(), compiled.spp, int(compiled.params.image.z), seconds,
-                where.c_str(), double(uint64_t(image.pixels()) * (reached - plan.resumedAt)) / seconds * 1e-6);
+                exr.c_str(), first.width, first.height, samples.c_str(), first.spp, int(first.params.image.z), seconds, where.c_str(),
+                double(uint64_t(image.pixels()) * (samplesNow - samplesBefore)) / seconds * 1e-6);
     if (!rate.empty()) {
       std::printf("adaptive sampling: %.1f samples per pixel on average (at most %d); sample rates in %s\n",
-                  total / double(image.pixels()), compiled.spp, rate.c_str());
+                  total / double(image.pixels()), first.spp, rate.c_str());
     }
   }
-  if (a.stageTimes && !a.cpu) {
-    double gpu = times.total();
-    std::printf("%-11s %10s %7s %11s\n", "stage", "GPU s", "share", "dispatches");
-    for (int s = 0; s < StageTimes::kStages; ++s) {
-      std::printf("%-11s %10.3f %6.1f%% %11llu\n", StageTimes::kNames[s], times.seconds[s], gpu > 0 ? 100.0 * times.seconds[s] / gpu : 0.0,
-                  (unsigned long long)times.dispatches[s]);
-    }
-    std::printf("%-11s %10.3f\n", "total", gpu);
-    std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
-                (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
-                (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
-  }
+  if (a.stageTimes && devices.size() == 1 && devices[0].renderer != "cpu") print_stage_times(times);
   // Interrupted: the shell's status for death by that signal, so that scripts
   // see the render did not finish (a spent time budget is a success).
   return stopSignal ? 128 + stopSignal : 0;
@@ -262,6 +318,10 @@ Command add_render(CLI::App& app) {
   render->add_option("-e,--env", r->environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e)");
   render->add_option("--seed", r->seed, "random seed; renders with equal seeds are identical");
   render->add_option("--device", r->device, "Vulkan device: index or part of the name (see `wavepath devices`)");
+  render->add_option("--devices", r->devices,
+                     "render on several devices at once, in one process: Vulkan device indices or names, and cpu for the "
+                     "CPU reference (e.g. 0,1 or 0,cpu); chunks of samples go to whichever is free")
+      ->delimiter(',');
   render->add_flag("--cpu", r->cpu, "render with the CPU reference renderer instead of Vulkan");
   render->add_option("-t,--threads", r->threads, "CPU threads for --cpu (default: all cores) (CS184: -t)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r->quiet, "no progress line and no summary");

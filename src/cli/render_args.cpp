@@ -2,7 +2,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <filesystem>
 
 #include "cpu/reference.h"
@@ -82,6 +86,89 @@ ImageStats render_on(const std::string& renderer, const CompiledScene& compiled,
   ImageStats image(compiled.width, compiled.height, image_layers(compiled.aovs));
   render_on(renderer, compiled, a, image, SampleRange{0, uint32_t(compiled.spp)}, {}, where, times);
   return image;
+}
+
+std::vector<SampleRange> join_ranges(std::vector<SampleRange> ranges) {
+  std::sort(ranges.begin(), ranges.end(), [](SampleRange x, SampleRange y) { return x.begin < y.begin; });
+  std::vector<SampleRange> out;
+  for (SampleRange r : ranges) {
+    if (r.size() == 0) continue;
+    if (!out.empty() && out.back().end == r.begin) out.back().end = r.end;
+    else out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devices, const RenderArgs& a, ImageStats& image,
+                                           std::vector<SampleRange> done, const std::vector<SampleRange>& todo,
+                                           const std::function<bool()>& shouldStop, const ChunkHook& afterChunk,
+                                           std::string* where) {
+  // Chunks: about four per renderer over all the work, so that a fast
+  // renderer takes more of them than a slow one.
+  uint64_t total = 0;
+  for (SampleRange r : todo) total += r.size();
+  const uint32_t chunk = uint32_t(std::max<uint64_t>(1, (total + 4 * devices.size() - 1) / (4 * devices.size())));
+  std::vector<SampleRange> chunks;
+  for (SampleRange r : todo)
+    for (uint32_t b = r.begin; b < r.end; b += std::min(chunk, r.end - b)) chunks.push_back({b, std::min(b + chunk, r.end)});
+
+  std::mutex mutex;  // guards image, done, next, names and errors
+  size_t next = 0;
+  std::vector<std::string> names(devices.size());
+  std::exception_ptr error;
+  bool validation = a.validation || VulkanContext::validation_requested_by_environment();
+  bool progressOn = !a.quiet && Progress::stderr_is_terminal();
+  Progress progress("devices", uint64_t(image.pixels()) * total, progressOn);
+  // Progress lines of their own would interleave; one counts for all.
+  Progress silent("", 0, false);
+  PassHook keepGoing = [&](const ImageStats&, uint32_t) { return !shouldStop(); };
+
+  auto run = [&](size_t d) {
+    try {
+      const RenderDevice& dev = devices[d];
+      const CompiledScene& cs = *dev.scene;
+      std::unique_ptr<VulkanContext> ctx;
+      std::unique_ptr<WavefrontRenderer> gpu;
+      if (dev.renderer != "cpu") {
+        ctx = std::make_unique<VulkanContext>(dev.device, validation);
+        gpu = std::make_unique<WavefrontRenderer>(*ctx, cs, kernel_variant(dev.renderer).settings);
+      }
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        names[d] = gpu ? ctx->info().name + (dev.renderer == "gpu" ? "" : ", " + dev.renderer) : "the CPU reference";
+      }
+      for (;;) {
+        SampleRange c;
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (next == chunks.size() || error || shouldStop()) break;
+          c = chunks[next++];
+        }
+        ImageStats part(image.width, image.height, image.layers);
+        uint32_t reached = gpu ? gpu->render(part, c, silent, keepGoing) : render_cpu(cs, a.threads, part, c, silent, keepGoing);
+        progress.add(uint64_t(image.pixels()) * (reached - c.begin));
+        std::lock_guard<std::mutex> lock(mutex);
+        image.add(part);
+        done.push_back({c.begin, reached});
+        done = join_ranges(done);
+        if (afterChunk) afterChunk(image, done);
+        if (reached < c.end) break;
+      }
+      if (ctx && ctx->validation_messages() > 0)
+        throw RenderError(std::to_string(ctx->validation_messages()) + " Vulkan validation message(s) reported; no image written");
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+    }
+  };
+  std::vector<std::thread> threads;
+  for (size_t d = 0; d < devices.size(); ++d) threads.emplace_back(run, d);
+  for (std::thread& t : threads) t.join();
+  progress.finish();
+  if (error) std::rethrow_exception(error);
+  *where = "";
+  for (const std::string& n : names) *where += (where->empty() ? "" : " + ") + n;
+  return done;
 }
 
 void require_output_directory(const std::string& path) {

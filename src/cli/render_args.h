@@ -45,6 +45,9 @@ struct RenderArgs {
   std::string checkpoint;
   std::string checkpointEvery = "60s";
   std::string resume;
+  // Several renderers in one process (render --devices): Vulkan device
+  // indices or names (each running `variant`) and "cpu" for the reference.
+  std::vector<std::string> devices;
 };
 
 // The render options the arguments ask for, with `seed`. Throws InputError
@@ -64,6 +67,33 @@ ImageStats render_on(const std::string& renderer, const CompiledScene& compiled,
 // reached (render_control.h).
 uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, ImageStats& image,
                    SampleRange range, const PassHook& afterPass, std::string* where, StageTimes* times = nullptr);
+
+// One renderer of a render on several: the CPU reference or a kernel
+// variant on a Vulkan device, with the scene compiled for it.
+struct RenderDevice {
+  std::string renderer;  // "cpu" or a kernel variant
+  std::string device;    // Vulkan device selector ("" for the CPU)
+  const CompiledScene* scene = nullptr;
+};
+
+// Called when a renderer of render_on_devices has added a chunk's sums to
+// the image (under the lock that guards it): the image and the ranges done.
+using ChunkHook = std::function<void(const ImageStats& image, const std::vector<SampleRange>& done)>;
+
+// Renders the sample ranges `todo` on every device at once: chunks of
+// samples dealt to whichever renderer is free, each chunk rendered into an
+// image of its own and its sums added to `image` when it ends. `shouldStop`
+// (checked between passes) ends every renderer at its pass's end; a chunk
+// stopped part-way adds the samples it took. Returns the ranges done (with
+// what `image` held before: `done`), joined where adjacent; *where names the
+// renderers.
+std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devices, const RenderArgs& a, ImageStats& image,
+                                           std::vector<SampleRange> done, const std::vector<SampleRange>& todo,
+                                           const std::function<bool()>& shouldStop, const ChunkHook& afterChunk,
+                                           std::string* where);
+
+// `ranges` sorted and joined where adjacent.
+std::vector<SampleRange> join_ranges(std::vector<SampleRange> ranges);
 
 // Checks where an output file goes before any time is spent on the work
 // whose result it holds.

@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Slurm job arrays on a one-node cluster brought up on this machine
+# (scripts/slurm/cluster-up.sh): a 4-task array renders a scene in sample
+# ranges; one task is killed while it renders (scancel: SIGTERM), leaves its
+# checkpoint and is resubmitted alone; the merge job runs after every task
+# succeeded (--dependency=afterok). The rerun task's part is the one an
+# uninterrupted task leaves, byte for byte, and the merged image agrees with
+# one process rendering the same samples.
+# Where the daemons cannot start (not root, a container that forbids them)
+# the test says so and is skipped (exit 77); on CI it must run.
+# Usage: slurm_cli.sh WAVEPATH TEST_DATA_DIR SCRIPTS_DIR
+set -u
+wavepath=$1
+data=$2
+scripts=$3
+source "$(dirname "$0")/testlib.sh"
+
+if ! up=$(bash "$scripts/slurm/cluster-up.sh" 2>&1); then
+  if [ "${CI:-}" = true ]; then
+    fail "the one-node Slurm cluster must come up on CI: $up"
+    finish
+    exit 1
+  fi
+  echo "SKIP: no Slurm cluster here: $up"
+  exit 77
+fi
+# A cluster this test brought up goes down with it.
+case "$up" in *"already up"*) ;; *) trap 'bash "$scripts/slurm/cluster-down.sh"; rm -rf "$work"' EXIT ;; esac
+
+attr() { python3 - "$1" "$2" <<'PY'
+import re, sys
+head = open(sys.argv[1], 'rb').read(1 << 16)
+m = re.search(re.escape(sys.argv[2].encode()) + rb'\x00string\x00(....)', head)
+n = int.from_bytes(m.group(1), 'little') if m else 0
+print(head[m.end():m.end() + n].decode() if m else '')
+PY
+}
+# Waits (at most $2 seconds) until job $1 has left the queue.
+wait_gone() {
+  for _ in $(seq $(($2 * 5))); do
+    [ -z "$(squeue -h -j "$1" -o %T 2>/dev/null)" ] && return 0
+    sleep 0.2
+  done
+  return 1
+}
+
+scene="$data/features/materials.json"
+opts=(-r 96 64 --cpu)
+spp=8192
+out="$work/parts"
+chmod 755 "$work"
+export WAVEPATH="$wavepath"
+array=$(sbatch --parsable --array=0-3 --output="$work/slurm-%A_%a.out" "$scripts/slurm/render-array.sh" 4 $spp "$out" "$scene" "${opts[@]}")
+check "the array is submitted" $([ -n "$array" ]; echo $?)
+
+# Kill task 2 once it renders.
+state=""
+for _ in $(seq 600); do
+  state=$(squeue -h -j "${array}_2" -o %T 2>/dev/null)
+  [ "$state" = RUNNING ] && break
+  sleep 0.2
+done
+check "task 2 runs (state $state)" $([ "$state" = RUNNING ]; echo $?)
+sleep 1.5
+scancel "${array}_2"
+wait_gone "${array}_2" 60
+check "killed, task 2 leaves its checkpoint, marked interrupted" \
+  $([ "$(attr "$out/checkpoints/part-2.exr" wavepath:status)" = "interrupted by SIGTERM" ]; echo $?)
+
+# Resubmit task 2 alone; merge after the survivors and the rerun succeed.
+rerun=$(sbatch --parsable --array=2 --output="$work/slurm-%A_%a.out" "$scripts/slurm/render-array.sh" 4 $spp "$out" "$scene" "${opts[@]}")
+merge=$(sbatch --parsable --dependency=afterok:"${array}_0:${array}_1:${array}_3:${rerun}" --output="$work/slurm-merge.out" \
+  "$scripts/slurm/merge.sh" "$out" "$work/merged.png")
+wait_gone "$merge" 300
+check "the merge job ran after every task and wrote the image" $([ -s "$work/merged.png" ] && [ -s "$work/merged.exr" ]; echo $?)
+check "the merged file holds samples 0:$spp, complete" \
+  $([ "$(attr "$work/merged.exr" wavepath:samples)" = "0:$spp" ] && [ "$(attr "$work/merged.exr" wavepath:status)" = complete ]; echo $?)
+
+# The rerun task's part is the uninterrupted one, byte for byte.
+"$wavepath" render "$scene" "${opts[@]}" --spp $spp --samples 4096:6144 -t 1 -q -o "$work/task2.png" --exr "$work/task2.exr"
+check "the rerun task's part equals an uninterrupted one" $(cmp -s "$out/part-2.exr" "$work/task2.exr"; echo $?)
+
+# One process, the same samples.
+"$wavepath" render "$scene" "${opts[@]}" --spp $spp -q -o "$work/single.png"
+"$wavepath" compare --images "$work/merged.exr" "$work/single.exr" >"$work/compare" 2>&1
+check "the merged image agrees with one process (wavepath compare)" $?
+finish
