@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Fuzzes wavepath's input loaders (darts JSON scenes, OBJ meshes, image files)
+# Fuzzes wavepath's input loaders (darts JSON scenes, OBJ meshes, image files,
+# partial renders)
 # with libFuzzer, under AddressSanitizer and UndefinedBehaviorSanitizer.
 #
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [BUILD_DIR]
@@ -17,7 +18,7 @@ src=$(cd "$(dirname "$0")/.." && pwd)
 
 CC=clang CXX=clang++ cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWAVEPATH_FUZZ=ON \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link" >/dev/null
-cmake --build "$build" -j"$(nproc)" --target fuzz_scene fuzz_obj fuzz_image
+cmake --build "$build" -j"$(nproc)" --target fuzz_scene fuzz_obj fuzz_image fuzz_partial
 
 seeds() {  # the seed corpus of one kind, in a folder of its own
   local kind=$1 dir=$build/fuzz-seeds/$1
@@ -31,6 +32,7 @@ seeds() {  # the seed corpus of one kind, in a folder of its own
       done
       for f in "$src"/tests/data/*.exr; do [ -f "$f" ] && { printf '\1'; cat "$f"; } >"$dir/$(basename "$f")"; done
       ;;
+    partial) ;;  # the partial files under tests/fuzz/findings/partial/ (below)
   esac
   if [ -d "$src/tests/fuzz/findings/$kind" ]; then cp "$src/tests/fuzz/findings/$kind"/* "$dir"/ 2>/dev/null || true; fi
   echo "$dir"
@@ -39,7 +41,7 @@ seeds() {  # the seed corpus of one kind, in a folder of its own
 # Leaks inside third-party decoders that wavepath cannot free (see the file).
 export LSAN_OPTIONS="suppressions=$src/tests/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 status=0
-for kind in scene obj image; do
+for kind in scene obj image partial; do
   out=$build/fuzz-out/$kind corpus=$build/fuzz-corpus/$kind
   mkdir -p "$out" "$corpus"
   echo "== fuzz_$kind for ${seconds}s"

@@ -26,14 +26,6 @@ check "planted 5% bias: exit 1 and DIFFER" $([ $rc -eq 1 ] && grep -q '^DIFFER' 
 rc=$?
 check "GPU against CPU on the command line: exit 0" $([ $rc -eq 0 ]; echo $?)
 
-bad() {  # bad NAME TEXT -- COMMAND...
-  local name=$1 text=$2
-  shift 3
-  "$@" >"$work/out" 2>"$work/err"
-  local rc=$?
-  check "$name: exit 2, one line naming the problem" \
-    $([ $rc -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -qF -- "$text" "$work/err"; echo $?)
-}
 bad "missing EXR" "missing.exr" -- "$wavepath" compare --images "$work/missing.exr" "$work/b.exr"
 bad "images of different sizes" "differ in size" -- "$wavepath" compare --images "$work/a.exr" "$work/small.exr"
 bad "not an EXR" "not an OpenEXR file" -- "$wavepath" compare --images "$work/a.png" "$work/b.exr"

@@ -13,25 +13,16 @@ source "$(dirname "$0")/testlib.sh"
 scene="$data/features/materials.json"
 r=(-r 40 30 --spp 48 -q)
 
-# The header attribute NAME of an EXR (the string after its name and type).
-attr() { python3 - "$1" "$2" <<'PY'
-import re, sys
-head = open(sys.argv[1], 'rb').read(1 << 16)
-m = re.search(re.escape(sys.argv[2].encode()) + rb'\x00string\x00(....)', head)
-n = int.from_bytes(m.group(1), 'little') if m else 0
-print(head[m.end():m.end() + n].decode() if m else '')
-PY
-}
 
 "$wavepath" render "$scene" "${r[@]}" -o "$work/whole.png"
 "$wavepath" render "$scene" "${r[@]}" --samples 0:16 -o "$work/a.png"
 "$wavepath" render "$scene" "${r[@]}" --samples 16:40 --cpu -o "$work/b.png"
 "$wavepath" render "$scene" "${r[@]}" --samples 40:48 -o "$work/c.png"
-check "a part's header names its samples" $([ "$(attr "$work/b.exr" wavepath:samples)" = "16:40" ]; echo $?)
+check "a part's header names its samples" $([ "$(exr_attr "$work/b.exr" wavepath:samples)" = "16:40" ]; echo $?)
 "$wavepath" merge "$work/c.exr" "$work/a.exr" "$work/b.exr" -o "$work/merged.png" >"$work/out" 2>&1
 check "merge of GPU and CPU parts: exit 0" $?
 check "the merged file holds samples 0:48, complete" \
-  $([ "$(attr "$work/merged.exr" wavepath:samples)" = "0:48" ] && [ "$(attr "$work/merged.exr" wavepath:status)" = complete ]; echo $?)
+  $([ "$(exr_attr "$work/merged.exr" wavepath:samples)" = "0:48" ] && [ "$(exr_attr "$work/merged.exr" wavepath:status)" = complete ]; echo $?)
 "$wavepath" compare --images "$work/merged.exr" "$work/whole.exr" >"$work/out" 2>&1
 check "the merged image agrees with one render (compare exit 0)" $?
 
@@ -40,19 +31,11 @@ check "the merged image agrees with one render (compare exit 0)" $?
 for devices in 0,0 0,cpu; do
   "$wavepath" render "$scene" "${r[@]}" --devices $devices -o "$work/devices.png" >"$work/out" 2>&1
   check "--devices $devices: exit 0, samples 0:48 complete" \
-    $([ $? -eq 0 ] && [ "$(attr "$work/devices.exr" wavepath:samples)" = "0:48" ] && [ "$(attr "$work/devices.exr" wavepath:status)" = complete ]; echo $?)
+    $([ $? -eq 0 ] && [ "$(exr_attr "$work/devices.exr" wavepath:samples)" = "0:48" ] && [ "$(exr_attr "$work/devices.exr" wavepath:status)" = complete ]; echo $?)
   "$wavepath" compare --images "$work/devices.exr" "$work/whole.exr" >"$work/out" 2>&1
   check "--devices $devices: agrees with one device" $?
 done
 
-bad() {  # bad NAME TEXT -- COMMAND...
-  local name=$1 text=$2
-  shift 3
-  "$@" >"$work/out" 2>"$work/err"
-  local rc=$?
-  check "$name: exit 2, one line naming the problem" \
-    $([ $rc -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -qF -- "$text" "$work/err"; echo $?)
-}
 "$wavepath" render "$scene" "${r[@]}" --samples 16:40 --seed 7 -o "$work/seed7.png"
 "$wavepath" render "$data/quad-light.json" "${r[@]}" --samples 16:40 -o "$work/other.png"
 bad "a gap" "leave out samples 16:40" -- "$wavepath" merge "$work/a.exr" "$work/c.exr" -o "$work/x.png"
@@ -62,7 +45,7 @@ bad "another scene" "another scene" -- "$wavepath" merge "$work/a.exr" "$work/ot
 bad "a range past the render" "goes past the render's 48 samples" -- "$wavepath" render "$scene" "${r[@]}" --samples 40:64 -o "$work/x.png"
 "$wavepath" merge "$work/a.exr" "$work/c.exr" --allow-gaps -o "$work/gappy.png" >"$work/out" 2>&1
 check "--allow-gaps merges and records what is missing" \
-  $([ $? -eq 0 ] && [ "$(attr "$work/gappy.exr" wavepath:status)" = "partial: samples 16:40 missing" ]; echo $?)
+  $([ $? -eq 0 ] && [ "$(exr_attr "$work/gappy.exr" wavepath:status)" = "partial: samples 16:40 missing" ]; echo $?)
 
 # Ctrl-C: the render stops at the end of a pass, writes what it has, marked
 # partial, and exits with the shell's status for SIGINT.
@@ -79,18 +62,18 @@ check "SIGINT: exit 130" $([ $rc -eq 130 ]; echo $?)
 check "SIGINT: stopped within 2 s (took $took ms)" $([ $took -lt 2000 ]; echo $?)
 check "SIGINT: the message says interrupted" $(grep -q "interrupted by SIGINT" "$work/err"; echo $?)
 check "SIGINT: PNG, EXR and checkpoint written" $([ -s "$work/int.png" ] && [ -s "$work/int.exr" ] && [ -s "$work/ck.exr" ]; echo $?)
-check "SIGINT: the EXR header says interrupted" $([ "$(attr "$work/int.exr" wavepath:status)" = "interrupted by SIGINT" ]; echo $?)
-reached=$(attr "$work/ck.exr" wavepath:samples)
+check "SIGINT: the EXR header says interrupted" $([ "$(exr_attr "$work/int.exr" wavepath:status)" = "interrupted by SIGINT" ]; echo $?)
+reached=$(exr_attr "$work/ck.exr" wavepath:samples)
 check "SIGINT: the checkpoint holds samples 0:N (got $reached)" $(echo "$reached" | grep -qE '^0:[0-9]+$'; echo $?)
 
 # --resume continues the checkpoint; with --time it stops again, a success.
 "$wavepath" render "$scene" "${long[@]}" -o "$work/res.png" --resume "$work/ck.exr" --checkpoint "$work/ck.exr" --time 3s \
   >"$work/out" 2>"$work/err"
 rc=$?
-again=$(attr "$work/res.exr" wavepath:samples)
+again=$(exr_attr "$work/res.exr" wavepath:samples)
 check "--time: exit 0, and the samples reached grew (${reached} to ${again})" \
   $([ $rc -eq 0 ] && [ "${again#0:}" -gt "${reached#0:}" ]; echo $?)
-check "--time: the header says the budget was spent" $(attr "$work/res.exr" wavepath:status | grep -q "time budget of 3s spent"; echo $?)
+check "--time: the header says the budget was spent" $(exr_attr "$work/res.exr" wavepath:status | grep -q "time budget of 3s spent"; echo $?)
 bad "resuming another render's checkpoint" "seed 0 vs 5" -- \
   "$wavepath" render "$scene" "${long[@]}" --seed 5 -o "$work/x.png" --resume "$work/ck.exr"
 
@@ -103,10 +86,10 @@ sleep 4
 kill -INT $pid
 wait $pid
 rc=$?
-check "--devices, SIGINT: exit 130, marked interrupted" $([ $rc -eq 130 ] && [ "$(attr "$work/dint.exr" wavepath:status)" = "interrupted by SIGINT" ]; echo $?)
+check "--devices, SIGINT: exit 130, marked interrupted" $([ $rc -eq 130 ] && [ "$(exr_attr "$work/dint.exr" wavepath:status)" = "interrupted by SIGINT" ]; echo $?)
 "$wavepath" render "$scene" -r 64 64 --spp 4000 --devices 0,cpu -o "$work/dres.png" --resume "$work/dck.exr" >"$work/out" 2>"$work/err"
-check "--devices, resumed: exit 0, samples 0:4000 complete (from $(attr "$work/dck.exr" wavepath:samples))" \
-  $([ $? -eq 0 ] && [ "$(attr "$work/dres.exr" wavepath:samples)" = "0:4000" ] && [ "$(attr "$work/dres.exr" wavepath:status)" = complete ]; echo $?)
+check "--devices, resumed: exit 0, samples 0:4000 complete (from $(exr_attr "$work/dck.exr" wavepath:samples))" \
+  $([ $? -eq 0 ] && [ "$(exr_attr "$work/dres.exr" wavepath:samples)" = "0:4000" ] && [ "$(exr_attr "$work/dres.exr" wavepath:status)" = complete ]; echo $?)
 "$wavepath" render "$scene" -r 64 64 --spp 4000 -q -o "$work/dwhole.png"
 "$wavepath" compare --images "$work/dres.exr" "$work/dwhole.exr" >"$work/out" 2>&1
 check "--devices, resumed: agrees with one uninterrupted render" $?

@@ -27,14 +27,6 @@ fi
 # A cluster this test brought up goes down with it.
 case "$up" in *"already up"*) ;; *) trap 'bash "$scripts/slurm/cluster-down.sh"; rm -rf "$work"' EXIT ;; esac
 
-attr() { python3 - "$1" "$2" <<'PY'
-import re, sys
-head = open(sys.argv[1], 'rb').read(1 << 16)
-m = re.search(re.escape(sys.argv[2].encode()) + rb'\x00string\x00(....)', head)
-n = int.from_bytes(m.group(1), 'little') if m else 0
-print(head[m.end():m.end() + n].decode() if m else '')
-PY
-}
 # Waits (at most $2 seconds) until job $1 has left the queue.
 wait_gone() {
   for _ in $(seq $(($2 * 5))); do
@@ -65,7 +57,7 @@ sleep 1.5
 scancel "${array}_2"
 wait_gone "${array}_2" 60
 check "killed, task 2 leaves its checkpoint, marked interrupted" \
-  $([ "$(attr "$out/checkpoints/part-2.exr" wavepath:status)" = "interrupted by SIGTERM" ]; echo $?)
+  $([ "$(exr_attr "$out/checkpoints/part-2.exr" wavepath:status)" = "interrupted by SIGTERM" ]; echo $?)
 
 # Resubmit task 2 alone; merge after the survivors and the rerun succeed.
 rerun=$(sbatch --parsable --array=2 --output="$work/slurm-%A_%a.out" "$scripts/slurm/render-array.sh" 4 $spp "$out" "$scene" "${opts[@]}")
@@ -74,7 +66,7 @@ merge=$(sbatch --parsable --dependency=afterok:"${array}_0:${array}_1:${array}_3
 wait_gone "$merge" 300
 check "the merge job ran after every task and wrote the image" $([ -s "$work/merged.png" ] && [ -s "$work/merged.exr" ]; echo $?)
 check "the merged file holds samples 0:$spp, complete" \
-  $([ "$(attr "$work/merged.exr" wavepath:samples)" = "0:$spp" ] && [ "$(attr "$work/merged.exr" wavepath:status)" = complete ]; echo $?)
+  $([ "$(exr_attr "$work/merged.exr" wavepath:samples)" = "0:$spp" ] && [ "$(exr_attr "$work/merged.exr" wavepath:status)" = complete ]; echo $?)
 
 # The rerun task's part is the uninterrupted one, byte for byte.
 "$wavepath" render "$scene" "${opts[@]}" --spp $spp --samples 4096:6144 -t 1 -q -o "$work/task2.png" --exr "$work/task2.exr"

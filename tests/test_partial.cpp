@@ -50,7 +50,7 @@ std::string write_part(const std::string& name, const ImageStats& image, const C
   r.renderer = "the CPU reference";
   r.version = wavepath_version();
   std::string path = scratch_path(name);
-  write_exr(path, image, r);
+  write_exr(path, image, r, true);
   return path;
 }
 
@@ -86,7 +86,7 @@ TEST(Partial, TheExrKeepsEverySumBitForBitAndTheRecord) {
   for (double& v : image.count) v = double(rng() % 1000);
   RenderRecord r{"feedface01234567", "spp=8; seed=1", "0:3,5:8", "interrupted by SIGINT", "llvmpipe", wavepath_version()};
   std::string path = scratch_path("round.exr");
-  write_exr(path, image, r);
+  write_exr(path, image, r, true);
   RenderRecord back;
   ImageStats read = read_exr(path, &back);
   EXPECT_TRUE(back.exactSums);
@@ -150,10 +150,19 @@ TEST(Partial, MergeRefusesGapsOverlapsOtherScenesAndOtherSettings) {
   // With --allow-gaps a gap is merged and recorded as missing.
   PartialFile gappy = merge_partials({pa}, true);
   EXPECT_EQ(gappy.record.status, "partial: samples 4:8 missing");
-  // A file that is no partial render is refused by name.
+  // A file that is no partial render is refused by name: one without a
+  // render record, and a plain render's, which lacks the exact sums.
   std::string plain = scratch_path("plain.exr");
   write_exr(plain, a);
   EXPECT_THROW(read_partial(plain), InputError);
+  RenderRecord record = pa.record;
+  write_exr(plain, a, record, false);
+  try {
+    read_partial(plain);
+    ADD_FAILURE() << "a file without the exact sums was read as a partial render";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lacks the exact sums"), std::string::npos) << e.what();
+  }
 }
 
 // A render stopped between passes and continued from what it held is the

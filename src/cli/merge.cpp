@@ -25,10 +25,10 @@ int run_merge(const MergeArgs& m) {
   std::string exr = m.exr.empty() ? std::filesystem::path(m.output).replace_extension(".exr").string() : m.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the combined partial must be an .exr file");
   for (const std::string& path : {m.output, exr}) require_output_directory(path);
-  std::vector<PartialFile> parts;
-  for (const std::string& p : m.parts) parts.push_back(read_partial(p));
-  PartialFile merged = merge_partials(parts, m.allowGaps);
-  write_exr(exr, merged.image, merged.record);
+  PartialMerger merger;  // one part in memory at a time besides the sum
+  for (const std::string& p : m.parts) merger.add(read_partial(p));
+  PartialFile merged = merger.finish(m.allowGaps);
+  write_exr(exr, merged.image, merged.record, true);
   try {
     write_png(m.output, merged.image);
   } catch (...) {
@@ -36,7 +36,7 @@ int run_merge(const MergeArgs& m) {
     throw;
   }
   if (!m.quiet) {
-    std::printf("merged %zu parts (samples %s, %s) into %s and %s\n", parts.size(), merged.record.samples.c_str(),
+    std::printf("merged %zu parts (samples %s, %s) into %s and %s\n", m.parts.size(), merged.record.samples.c_str(),
                 merged.record.status.c_str(), m.output.c_str(), exr.c_str());
   }
   return 0;

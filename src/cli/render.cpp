@@ -187,11 +187,11 @@ int run_render(const RenderArgs& a) {
     return g_stopSignal != 0 || budgetSpent;
   };
   auto write_partial = [&](const std::string& path, const ImageStats& img, const std::vector<SampleRange>& ranges,
-                           const std::string& status) {
+                           const std::string& status, bool exactSums) {
     RenderRecord r = record;
     r.samples = format_sample_ranges(ranges);
     r.status = status;
-    write_exr(path, img, r);
+    write_exr(path, img, r, exactSums);
   };
   auto lastCheckpoint = std::chrono::steady_clock::now();
   auto checkpoint_due = [&] {
@@ -211,7 +211,7 @@ int run_render(const RenderArgs& a) {
       if (checkpoint_due()) {
         std::vector<SampleRange> sofar = done;
         sofar.push_back({r.begin, reached});
-        write_partial(a.checkpoint, img, join_ranges(sofar), "checkpoint");
+        write_partial(a.checkpoint, img, join_ranges(sofar), "checkpoint", true);
       }
       return !shouldStop();
     };
@@ -223,7 +223,7 @@ int run_render(const RenderArgs& a) {
   } else if (!todo.empty()) {
     done = render_on_devices(devices, a, image, done, todo, shouldStop,
                              [&](const ImageStats& img, const std::vector<SampleRange>& sofar) {
-                               if (checkpoint_due()) write_partial(a.checkpoint, img, sofar, "checkpoint");
+                               if (checkpoint_due()) write_partial(a.checkpoint, img, sofar, "checkpoint", true);
                              },
                              &where);
   }
@@ -238,13 +238,17 @@ int run_render(const RenderArgs& a) {
   uint64_t samplesNow = 0;
   for (SampleRange r : done) samplesNow += r.size();
 
+  // The EXR holds the exact sums where it may be merged or resumed: a part
+  // of the render's samples, or one whose render was resumed, budgeted,
+  // checkpointed or stopped early. A plain render's is the smaller file.
+  const bool exactSums = !a.samples.empty() || !a.time.empty() || !a.checkpoint.empty() || !a.resume.empty() || !complete;
   // With adaptive sampling, CS184's sample-rate image goes beside the render.
   std::string rate = first.adaptive.enabled() ? rate_image_path(out) : "";
-  write_partial(exr, image, done, status);
+  write_partial(exr, image, done, status, exactSums);
   try {
     write_png(out, image);
     if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
-    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status);
+    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status, true);
   } catch (...) {
     std::remove(exr.c_str());  // all images or none
     std::remove(out.c_str());

@@ -7,11 +7,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <map>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "../../shaders/shared/layers.glsl"
+#include "../../shaders/shared/limits.glsl"
 #include "util/error.h"
 
 namespace wp {
@@ -256,9 +261,9 @@ std::string* record_field(RenderRecord& r, int i) {
 
 }  // namespace
 
-void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& recordIn) {
+void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& recordIn, bool exactSums) {
   const size_t n = image.pixels();
-  std::vector<ExrPlane> planes;
+  std::deque<ExrPlane> planes;  // a deque: the references plane() returns stay valid as it grows
   auto plane = [&](const std::string& name, int type) -> ExrPlane& {
     planes.push_back({name, type, {}, {}});
     if (type == TINYEXR_PIXELTYPE_FLOAT) planes.back().f.resize(n);
@@ -292,7 +297,7 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
     }
   }
   // The exact sums, for merging: each double as its high and low 32 bits.
-  for (const ImageLayer& l : image.layers) {
+  for (const ImageLayer& l : exactSums ? image.layers : std::vector<ImageLayer>{}) {
     for (size_t c = 0; c < l.channels.size(); ++c) {
       for (int moment = 0; moment < 2; ++moment) {
         const std::vector<double>& src = moment == 0 ? image.sum : image.sumSq;
@@ -346,7 +351,7 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
   header.channels = channels.data();
   header.pixel_types = types.data();
   header.requested_pixel_types = types.data();
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+  header.compression_type = exactSums ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
   header.num_custom_attributes = int(attributes.size());
   header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
   write_atomically(path, "EXR", [&](const std::string& tmp, std::string& error) {
@@ -360,9 +365,44 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
   });
 }
 
+namespace {
+
+// A file mapped read-only: tinyexr's *FromFile functions read a whole file
+// into a buffer of their own first, a third of a merge's memory at 4096x4096.
+class MappedFile {
+ public:
+  explicit MappedFile(const std::string& path) {
+    int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0) return;
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && st.st_size > 0) {
+      void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
+      if (p != MAP_FAILED) {
+        data_ = static_cast<const unsigned char*>(p);
+        size_ = size_t(st.st_size);
+      }
+    }
+    ::close(fd);
+  }
+  ~MappedFile() {
+    if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
+  }
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  const unsigned char* data() const { return data_; }
+  size_t size() const { return size_; }
+
+ private:
+  const unsigned char* data_ = nullptr;
+  size_t size_ = 0;
+};
+
+}  // namespace
+
 ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
+  MappedFile file(path);
   EXRVersion version;
-  if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS)
+  if (!file.data() || ParseEXRVersionFromMemory(&version, file.data(), file.size()) != TINYEXR_SUCCESS)
     throw InputError(path + ": not an OpenEXR file (or cannot be read)");
   EXRHeader header;
   InitEXRHeader(&header);
@@ -372,7 +412,21 @@ ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
     if (err) FreeEXRErrorMessage(err);
     throw InputError(msg);
   };
-  if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) fail("bad EXR header");
+  if (ParseEXRHeaderFromMemory(&header, &version, file.data(), file.size(), &err) != TINYEXR_SUCCESS) fail("bad EXR header");
+  // tinyexr allocates whatever the header declares before decoding: refuse
+  // sizes no render has, and more pixel data than deflate (at most about
+  // 1032:1) can have packed into the file.
+  {
+    const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1;
+    const long long h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
+    const long long channels = header.num_channels;
+    const long long declared = w * h * channels * 4;
+    if (w <= 0 || h <= 0 || w > MAX_IMAGE_SIZE || h > MAX_IMAGE_SIZE || channels > 256 || declared > 1100LL * (long long)file.size()) {
+      FreeEXRHeader(&header);
+      throw InputError(path + ": EXR declares " + std::to_string(w) + "x" + std::to_string(h) + " pixels of " +
+                       std::to_string(channels) + " channels, more than a wavepath render or the file holds");
+    }
+  }
   // Floats as floats, the exact sums' words as they are.
   for (int c = 0; c < header.num_channels; ++c)
     header.requested_pixel_types[c] = header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT ? TINYEXR_PIXELTYPE_UINT : TINYEXR_PIXELTYPE_FLOAT;
@@ -386,7 +440,7 @@ ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
   }
   EXRImage exr;
   InitEXRImage(&exr);
-  if (LoadEXRImageFromFile(&exr, &header, path.c_str(), &err) != TINYEXR_SUCCESS) {
+  if (LoadEXRImageFromMemory(&exr, &header, file.data(), file.size(), &err) != TINYEXR_SUCCESS) {
     FreeEXRHeader(&header);
     fail("cannot decode EXR");
   }

@@ -95,12 +95,15 @@ struct RenderRecord {
 
 // OpenEXR: 32-bit float channels R, G, B (mean), var.R, var.G, var.B (sample
 // variance) and n (sample count); each AOV layer's means (LAYER.CHANNEL; the
-// depth's Z over the samples that hit, its A their fraction); and, for an
-// exact merge, every channel's sum and sum of squares as doubles, each split
-// into two 32-bit unsigned channels (sum.CHANNEL.hi / .lo and sumsq...).
-// The record goes into the header as wavepath:* string attributes. Written
+// depth's Z over the samples that hit, its A their fraction); and, with
+// `exactSums` (a partial render, for merging and resuming), every channel's
+// sum and sum of squares as doubles, each split into two 32-bit unsigned
+// channels (sum.CHANNEL.hi / .lo and sumsq...). The record goes into the
+// header as wavepath:* string attributes. ZIP-compressed, except with exact
+// sums: their low-order bits do not compress (ZIP saved 9 % of a partial
+// file and took 20 times as long to write; docs/benchmarks.md). Written
 // atomically like the PNG.
-void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& record = {});
+void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& record = {}, bool exactSums = false);
 // Reads what write_exr wrote: the exact sums where the file has them, else
 // sums rebuilt from the float mean, variance and count (to float precision).
 ImageStats read_exr(const std::string& path, RenderRecord* record = nullptr);

@@ -26,27 +26,29 @@ std::string integrator_name(const shader::SceneParams& p) {
   return "path tracer mis";
 }
 
-// The value of `key` in a settings string, or "".
-std::string setting(const std::string& settings, const std::string& key) {
+// A settings string's "key=value" items, in order.
+std::vector<std::pair<std::string, std::string>> settings_items(const std::string& settings) {
+  std::vector<std::pair<std::string, std::string>> items;
   std::istringstream in(settings);
   for (std::string item; std::getline(in, item, ';');) {
-    size_t start = item.find_first_not_of(' ');
-    if (start == std::string::npos) continue;
-    item = item.substr(start);
-    if (item.compare(0, key.size() + 1, key + "=") == 0) return item.substr(key.size() + 1);
+    size_t start = item.find_first_not_of(' '), eq = item.find('=');
+    if (start == std::string::npos || eq == std::string::npos || eq < start) continue;
+    items.emplace_back(item.substr(start, eq - start), item.substr(eq + 1));
   }
+  return items;
+}
+
+// The value of `key` in a settings string, or "".
+std::string setting(const std::string& settings, const std::string& key) {
+  for (const auto& [k, v] : settings_items(settings))
+    if (k == key) return v;
   return "";
 }
 
-// The first setting whose value differs, as "key: A vs B".
+// The first setting whose value differs, as "key A vs B".
 std::string first_difference(const std::string& a, const std::string& b) {
-  std::istringstream in(a);
-  for (std::string item; std::getline(in, item, ';');) {
-    size_t start = item.find_first_not_of(' ');
-    if (start == std::string::npos) continue;
-    std::string key = item.substr(start, item.find('=') - start);
-    if (setting(a, key) != setting(b, key)) return key + " " + setting(a, key) + " vs " + setting(b, key);
-  }
+  for (const auto& [key, value] : settings_items(a))
+    if (setting(b, key) != value) return key + " " + value + " vs " + setting(b, key);
   return "\"" + a + "\" vs \"" + b + "\"";
 }
 
@@ -164,42 +166,57 @@ std::vector<SampleRange> missing_ranges(const std::vector<SampleRange>& ranges, 
   return missing;
 }
 
-PartialFile merge_partials(const std::vector<PartialFile>& parts, bool allowGaps) {
-  if (parts.empty()) throw InputError("nothing to merge");
-  // Every range with the file it came from, in sample order.
-  std::vector<std::pair<SampleRange, const PartialFile*>> all;
-  for (const PartialFile& p : parts) {
-    require_same_render(parts[0], p);
-    for (const SampleRange& r : p.ranges) all.push_back({r, &p});
+void PartialMerger::add(PartialFile part) {
+  if (!empty_) require_same_render(total_, part);
+  for (SampleRange r : part.ranges) {
+    for (const auto& [had, from] : ranges_) {
+      if (r.begin < had.end && had.begin < r.end)
+        throw InputError(part.path + " (samples " + format_sample_ranges({r}) + ") overlaps " + from + " (samples " +
+                         format_sample_ranges({had}) + ")");
+    }
   }
-  std::sort(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.first.begin < y.first.begin; });
-  for (size_t i = 1; i < all.size(); ++i) {
-    if (all[i].first.begin < all[i - 1].first.end)
-      throw InputError(all[i].second->path + " (samples " + format_sample_ranges({all[i].first}) + ") overlaps " +
-                       all[i - 1].second->path + " (samples " + format_sample_ranges({all[i - 1].first}) + ")");
+  for (SampleRange r : part.ranges) ranges_.push_back({r, part.path});
+  if (renderers_.find(part.record.renderer) == std::string::npos)
+    renderers_ += (renderers_.empty() ? "" : "; ") + part.record.renderer;
+  if (empty_) {
+    total_ = std::move(part);
+    empty_ = false;
+  } else {
+    total_.image.add(part.image);
   }
-  PartialFile out;
-  out.image = parts[0].image;
-  for (size_t i = 1; i < parts.size(); ++i) out.image.add(parts[i].image);
-  // Adjacent ranges join.
-  for (const auto& [r, from] : all) {
+}
+
+PartialFile PartialMerger::finish(bool allowGaps) {
+  if (empty_) throw InputError("nothing to merge");
+  std::vector<SampleRange> all;
+  for (const auto& [r, from] : ranges_) all.push_back(r);
+  std::sort(all.begin(), all.end(), [](SampleRange x, SampleRange y) { return x.begin < y.begin; });
+  PartialFile out = std::move(total_);
+  out.path.clear();
+  out.ranges.clear();
+  for (SampleRange r : all) {  // adjacent ranges join
     if (!out.ranges.empty() && out.ranges.back().end == r.begin) out.ranges.back().end = r.end;
     else out.ranges.push_back(r);
   }
-  const uint32_t total = samples_of_settings(parts[0].record.settings);
+  const uint32_t total = samples_of_settings(out.record.settings);
   std::vector<SampleRange> missing = missing_ranges(out.ranges, total);
   if (!missing.empty() && !allowGaps)
     throw InputError("the parts leave out samples " + format_sample_ranges(missing) + " of the render's 0:" + std::to_string(total) +
                      " (render them, or merge with --allow-gaps for an image of fewer samples)");
-  out.record = parts[0].record;
   out.record.samples = format_sample_ranges(out.ranges);
   out.record.status = missing.empty() ? "complete" : "partial: samples " + format_sample_ranges(missing) + " missing";
-  std::string renderers;
-  for (const PartialFile& p : parts)
-    if (renderers.find(p.record.renderer) == std::string::npos) renderers += (renderers.empty() ? "" : "; ") + p.record.renderer;
-  out.record.renderer = renderers;
+  out.record.renderer = renderers_;
   out.record.version = wavepath_version();
+  empty_ = true;
+  ranges_.clear();
+  renderers_.clear();
   return out;
+}
+
+PartialFile merge_partials(const std::vector<PartialFile>& parts, bool allowGaps) {
+  PartialMerger merger;
+  for (const PartialFile& p : parts) merger.add(p);
+  return merger.finish(allowGaps);
 }
 
 }  // namespace wp

@@ -57,10 +57,25 @@ void require_same_render(const PartialFile& a, const PartialFile& b);
 // The ranges of [0, total) that `ranges` (sorted, disjoint) leave out.
 std::vector<SampleRange> missing_ranges(const std::vector<SampleRange>& ranges, uint32_t total);
 
-// Merges parts of one render: refuses parts of different renders,
-// overlapping ranges (naming the two files), and, unless allowGaps, samples
-// of the render that no part holds (naming the missing ranges). The result's
-// record lists the merged ranges, "complete" when they are the whole render.
+// Adds the parts of one render up, one at a time, so that memory holds the
+// sum and one part: `add` refuses a part of another render or one whose
+// ranges overlap a part added before (naming both files); `finish` refuses,
+// unless allowGaps, samples of the render that no part holds (naming the
+// missing ranges). The result's record lists the merged ranges, "complete"
+// when they are the whole render.
+class PartialMerger {
+ public:
+  void add(PartialFile part);
+  PartialFile finish(bool allowGaps);
+
+ private:
+  PartialFile total_;
+  bool empty_ = true;
+  std::vector<std::pair<SampleRange, std::string>> ranges_;  // every range added, with its file
+  std::string renderers_;
+};
+
+// The parts merged by a PartialMerger.
 PartialFile merge_partials(const std::vector<PartialFile>& parts, bool allowGaps);
 
 }  // namespace wp

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "render/compiled_scene.h"
+#include "render/partial.h"
 #include "scene/load_scene.h"
 #include "scene/obj_mesh.h"
 #include "scene/texture_image.h"
@@ -45,6 +46,7 @@ FuzzedInput fuzzed_input_named(const std::string& name) {
   if (name == "scene") return FuzzedInput::Scene;
   if (name == "obj") return FuzzedInput::Obj;
   if (name == "image") return FuzzedInput::Image;
+  if (name == "partial") return FuzzedInput::Partial;
   throw std::invalid_argument("no fuzzed input kind named \"" + name + "\"");
 }
 
@@ -70,6 +72,10 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         load_linear_image(path);
         break;
       }
+      case FuzzedInput::Partial:
+        path = write_input("part.exr", data, size);
+        read_partial(path);
+        break;
     }
   } catch (const InputError& e) {
     // The one line a user sees must say which file is wrong.

@@ -13,9 +13,10 @@ enum class FuzzedInput {
   Scene,  // a darts JSON scene, loaded and compiled (BVH, materials, textures)
   Obj,    // a Wavefront OBJ mesh
   Image,  // an image file, after a first byte that picks its name: input.png, .exr or .tga (byte % 3)
+  Partial,  // a partial render's EXR, read as `wavepath merge` and --resume read one
 };
 
-// The kind a corpus folder holds: "scene", "obj" or "image".
+// The kind a corpus folder holds: "scene", "obj", "image" or "partial".
 FuzzedInput fuzzed_input_named(const std::string& name);
 
 // Writes the bytes to a file in a private temporary folder (beside a small
