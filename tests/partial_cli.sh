@@ -47,6 +47,19 @@ bad "a range past the render" "goes past the render's 48 samples" -- "$wavepath"
 check "--allow-gaps merges and records what is missing" \
   $([ $? -eq 0 ] && [ "$(exr_attr "$work/gappy.exr" wavepath:status)" = "partial: samples 16:40 missing" ]; echo $?)
 
+# AOV layers on the command line: written to the EXR, merged, compared.
+"$wavepath" render "$scene" "${r[@]}" --samples 0:24 --aov albedo,normal,depth -o "$work/aov-a.png"
+"$wavepath" render "$scene" "${r[@]}" --samples 24:48 --aov depth,albedo,normal --cpu -o "$work/aov-b.png"
+"$wavepath" merge "$work/aov-a.exr" "$work/aov-b.exr" -o "$work/aov.png" -q
+check "AOV parts (GPU and CPU) merge" $?
+"$wavepath" render "$scene" "${r[@]}" --aov albedo,normal,depth --cpu --seed 3 -o "$work/aov-c.png"
+for layer in albedo normal depth; do
+  "$wavepath" compare --images "$work/aov.exr" "$work/aov-c.exr" --layer $layer >"$work/out" 2>&1
+  check "compare --layer $layer: the merged layer agrees with another render's" $?
+done
+bad "compare --layer of a layer not rendered" "has no \"albedo\" layer" -- \
+  "$wavepath" compare --images "$work/whole.exr" "$work/aov-c.exr" --layer albedo
+
 # Ctrl-C: the render stops at the end of a pass, writes what it has, marked
 # partial, and exits with the shell's status for SIGINT.
 long=(-r 64 64 --spp 1000000)

@@ -70,6 +70,9 @@ std::vector<Expected> expected_layouts() {
       // tests of test_gpu.cpp write shadow rays on the host and read hits
       // back field by field. (PathState is one, in connect_multi.)
       {"PixelAccum", sizeof(PixelAccum), {FIELD(PixelAccum, sum), FIELD(PixelAccum, sumSq)}},
+      {"AovSample", sizeof(AovSample), {FIELD(AovSample, a), FIELD(AovSample, b)}},
+      {"AovAccum", sizeof(AovAccum),
+       {FIELD(AovAccum, sumA), FIELD(AovAccum, sumB), FIELD(AovAccum, sumSqA), FIELD(AovAccum, sumSqB)}},
       {"KernelPush", sizeof(KernelPush),
        {FIELD(KernelPush, waveStart), FIELD(KernelPush, pathCount), FIELD(KernelPush, sampleIndex), FIELD(KernelPush, queueIn),
         FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, pad0), FIELD(KernelPush, pad1)}},

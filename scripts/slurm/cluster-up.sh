@@ -56,6 +56,9 @@ AccountingStorageType=accounting_storage/none
 JobAcctGatherType=jobacct_gather/none
 MpiDefault=none
 KillWait=10
+# A job asks for its CPUs' share of the memory unless it says otherwise
+# (without this, each would get the whole node and run alone).
+DefMemPerCPU=$((memory / cpus))
 NodeName=localhost NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$memory State=UNKNOWN
 PartitionName=main Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 CONF

@@ -21,6 +21,7 @@ struct CompareArgs {
   std::string report;
   float plantBias = 1.0f;
   std::vector<uint32_t> plantRegion;
+  std::string layer = "color";  // which layer to compare (AOVs: layers.glsl)
 };
 
 // Renders the scene twice with independent seeds (or reads two EXR renders) and
@@ -56,6 +57,12 @@ int run_compare(const CompareArgs& c) {
     labels = ReportLabels{c.render.scene, label(c.a, whereA, c.render.seed, c.plantBias != 1.0f),
                           label(c.b, whereB, c.render.seed + 1, false)};
   }
+  if (c.layer != "color") {
+    for (const auto& [image, name] : {std::pair<ImageStats*, std::string>{&a, "A"}, {&b, "B"}})
+      if (!image->layer(c.layer)) throw InputError("image " + name + " has no \"" + c.layer + "\" layer (render it with --aov " + c.layer + ")");
+    a = layer_as_color(a, c.layer);
+    b = layer_as_color(b, c.layer);
+  }
   CompareResult result = compare_images(a, b);
   std::printf("%s\n", result.summary().c_str());
   if (!c.report.empty()) {
@@ -82,6 +89,9 @@ Command add_compare(CLI::App& app) {
   compare->add_option("--seed", cmp->render.seed, "seed of A; B uses seed + 1 (default 1)")->default_val(1);
   compare->add_option("--resolution", cmp->render.resolution, "image size W H, overriding the scene's")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
   compare->add_option("--report", cmp->report, "write an HTML report to this directory");
+  compare->add_option("--layer", cmp->layer, "the layer to compare: color (default) or an AOV layer, " + aov_layer_names() +
+                                                 " (rendered with --aov)");
+  compare->add_option("--aov", cmp->render.aovs, "AOV layers to render (with a scene): " + aov_layer_names())->delimiter(',');
   compare->add_option("--device", cmp->render.device, "Vulkan device: index or part of the name");
   compare->add_option("--threads", cmp->render.threads, "CPU threads for the CPU reference")->check(CLI::Range(0, 1024));
   compare->add_option("--plant-bias", cmp->plantBias, "debug: multiply A's radiance by this factor, to see what the test detects")

@@ -263,6 +263,7 @@ std::string* record_field(RenderRecord& r, int i) {
 
 void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& recordIn, bool exactSums) {
   const size_t n = image.pixels();
+  const bool sums = exactSums || image.layers.size() > 1;  // AOV layers' variances are in their sums alone
   std::deque<ExrPlane> planes;  // a deque: the references plane() returns stay valid as it grows
   auto plane = [&](const std::string& name, int type) -> ExrPlane& {
     planes.push_back({name, type, {}, {}});
@@ -297,7 +298,7 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
     }
   }
   // The exact sums, for merging: each double as its high and low 32 bits.
-  for (const ImageLayer& l : exactSums ? image.layers : std::vector<ImageLayer>{}) {
+  for (const ImageLayer& l : sums ? image.layers : std::vector<ImageLayer>{}) {
     for (size_t c = 0; c < l.channels.size(); ++c) {
       for (int moment = 0; moment < 2; ++moment) {
         const std::vector<double>& src = moment == 0 ? image.sum : image.sumSq;
@@ -351,7 +352,7 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
   header.channels = channels.data();
   header.pixel_types = types.data();
   header.requested_pixel_types = types.data();
-  header.compression_type = exactSums ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
+  header.compression_type = sums ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
   header.num_custom_attributes = int(attributes.size());
   header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
   write_atomically(path, "EXR", [&](const std::string& tmp, std::string& error) {
@@ -420,8 +421,8 @@ ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
     const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1;
     const long long h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
     const long long channels = header.num_channels;
-    const long long declared = w * h * channels * 4;
-    if (w <= 0 || h <= 0 || w > MAX_IMAGE_SIZE || h > MAX_IMAGE_SIZE || channels > 256 || declared > 1100LL * (long long)file.size()) {
+    const bool renderSized = w > 0 && h > 0 && w <= MAX_IMAGE_SIZE && h <= MAX_IMAGE_SIZE && channels <= 256;
+    if (!renderSized || w * h * channels * 4 > 1100LL * (long long)file.size()) {
       FreeEXRHeader(&header);
       throw InputError(path + ": EXR declares " + std::to_string(w) + "x" + std::to_string(h) + " pixels of " +
                        std::to_string(channels) + " channels, more than a wavepath render or the file holds");
@@ -457,10 +458,11 @@ ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
   std::string missing;
   for (const char* n : {"R", "G", "B", "n", "var.R", "var.G", "var.B"})
     if (!floats.count(n)) missing += std::string(missing.empty() ? "" : ", ") + n;
-  // The AOV layers the file holds, by their mean channels.
+  // The AOV layers the file holds sums of (their means alone carry no
+  // variance: a file with AOVs always has the sums).
   std::vector<std::string> aovs;
   for (const ImageLayer& l : image_layers(all_aov_names()))
-    if (l.name != "color" && floats.count(channel_name(l, 0))) aovs.push_back(l.name);
+    if (l.name != "color" && words.count("sum." + channel_name(l, 0) + ".hi")) aovs.push_back(l.name);
   ImageStats out;
   if (missing.empty()) {
     out = ImageStats(exr.width, exr.height, image_layers(aovs));

@@ -98,10 +98,11 @@ struct RenderRecord {
 // depth's Z over the samples that hit, its A their fraction); and, with
 // `exactSums` (a partial render, for merging and resuming), every channel's
 // sum and sum of squares as doubles, each split into two 32-bit unsigned
-// channels (sum.CHANNEL.hi / .lo and sumsq...). The record goes into the
+// channels (sum.CHANNEL.hi / .lo and sumsq...); an image with AOV layers
+// always has them (the layers' variances are in no other channel). The record goes into the
 // header as wavepath:* string attributes. ZIP-compressed, except with exact
 // sums: their low-order bits do not compress (ZIP saved 9 % of a partial
-// file and took 20 times as long to write; docs/benchmarks.md). Written
+// file and took six times as long to write; docs/benchmarks.md). Written
 // atomically like the PNG.
 void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& record = {}, bool exactSums = false);
 // Reads what write_exr wrote: the exact sums where the file has them, else
