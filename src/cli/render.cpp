@@ -266,8 +266,11 @@ int run_render(const RenderArgs& a) {
   if (!a.quiet) {
     double total = 0.0;
     for (double n : image.count) total += n;
-    std::printf("wrote %s and %s: %dx%d, samples %s of %d, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(),
-                exr.c_str(), first.width, first.height, samples.c_str(), first.spp, int(first.params.image.z), seconds, where.c_str(),
+    // "N spp" for the whole render, else the ranges held.
+    const std::string held = samples == "0:" + std::to_string(first.spp) ? std::to_string(first.spp) + " spp"
+                                                                          : "samples " + samples + " of " + std::to_string(first.spp);
+    std::printf("wrote %s and %s: %dx%d, %s, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
+                first.width, first.height, held.c_str(), int(first.params.image.z), seconds, where.c_str(),
                 double(uint64_t(image.pixels()) * (samplesNow - samplesBefore)) / seconds * 1e-6);
     if (!rate.empty()) {
       std::printf("adaptive sampling: %.1f samples per pixel on average (at most %d); sample rates in %s\n",
