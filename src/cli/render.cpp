@@ -302,8 +302,8 @@ Command add_render(CLI::App& app) {
   render->add_option("--checkpoint", r->checkpoint, "partial EXR to write every --checkpoint-every and when the render stops");
   render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s)");
   render->add_option("--resume", r->resume,
-                     "continue the render a checkpoint or partial EXR holds the first samples of (the checkpoint's own path: "
-                     "resume if it exists, else start)");
+                     "continue the render a checkpoint or partial EXR holds samples of, rendering only those missing (the "
+                     "checkpoint's own path: resume if it exists, else start)");
   render->add_option("-s,--spp", r->spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")
       ->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
   render->add_option("-m,--max-bounces", r->maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")
