@@ -727,5 +727,20 @@ TEST_F(Gpu, SeveralLightSamplesPerVertexMatchTheCpuReference) {
   EXPECT_TRUE(r.passed()) << r.summary();
 }
 
+// The balance heuristic (darts "power": 1) on the GPU against the CPU.
+TEST_F(Gpu, BalanceHeuristicMatchesTheCpuReference) {
+  Scene scene = load_scene(source_path("tests/data/features/integrators.json"));
+  scene.integrator.misPower = 1.0f;
+  RenderOptions o;
+  o.spp = 64;
+  o.seed = 1;
+  ImageStats gpu = render(compile_scene(scene, o));
+  o.seed = 2;
+  Progress quiet("", 0, false);
+  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
+  CompareResult r = compare_images(gpu, cpu);
+  EXPECT_TRUE(r.passed()) << r.summary();
+}
+
 }  // namespace
 }  // namespace wp::test

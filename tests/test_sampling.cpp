@@ -2,6 +2,8 @@
 // pdf normalisation, and one planted error to show the test can fail.
 #include "test_support.h"
 
+#include <random>
+
 namespace wp::test {
 namespace {
 
@@ -40,6 +42,27 @@ Chi2Result square_chi2(int res, float lo, float hi, const std::function<glm::vec
       expc[size_t(j * res + i)] = sum / (k * k) * double(w) * double(w) * kSamples;
     }
   return chi2_test(obs, expc, kSamples);
+}
+
+// MIS weights of two strategies sum to one for every exponent, at ordinary
+// and extreme densities: what keeps multiple importance sampling unbiased.
+// Weights of mismatched exponents (a planted fault) do not.
+TEST(Sampling, MisWeightsSumToOneForEveryExponent) {
+  ShaderMath m;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> logPdf(-20.0f, 20.0f);
+  float worstPlanted = 0.0f;
+  for (int i = 0; i < 10000; ++i) {
+    float a = std::exp(logPdf(rng)), b = std::exp(logPdf(rng));
+    for (float beta : {0.0f, 0.5f, 1.0f, 2.0f, 3.0f, 16.0f}) {
+      float sum = m.power_heuristic(a, b, beta) + m.power_heuristic(b, a, beta);
+      ASSERT_NEAR(sum, 1.0f, 1e-5f) << "pdfs " << a << ", " << b << ", beta " << beta;
+    }
+    worstPlanted = std::max(worstPlanted, std::abs(m.power_heuristic(a, b, 2.0f) + m.power_heuristic(b, a, 1.0f) - 1.0f));
+  }
+  EXPECT_GT(worstPlanted, 0.1f) << "mixing exponents should break the sum";
+  EXPECT_EQ(m.power_heuristic(0.0f, 1.0f, 1.0f), 0.0f);
+  EXPECT_EQ(m.power_heuristic(1.0f, 0.0f, 1.0f), 1.0f);
 }
 
 TEST(Sampling, ConcentricDiskMatchesPdf) {

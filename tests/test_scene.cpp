@@ -277,6 +277,17 @@ TEST(Scene, AcceleratorSplitMethodsByName) {
   EXPECT_EQ(load_scene(write_scene("accel.json", R"({"accelerator": {"type": "bbh"}})")).accelerator.split, SplitMethod::Auto);
 }
 
+// darts' integrator "power", the MIS exponent: 2 (the power heuristic) by
+// default, as given otherwise; it reaches the kernels' parameters.
+TEST(Scene, IntegratorPowerIsTheMisExponent) {
+  EXPECT_EQ(load_scene(write_scene("p.json", R"({"integrator": {"type": "path tracer mis"}})")).integrator.misPower, 2.0f);
+  Scene balance = load_scene(write_scene("p.json", R"({"integrator": {"type": "path tracer mis", "power": 1}})"));
+  EXPECT_EQ(balance.integrator.misPower, 1.0f);
+  EXPECT_EQ(compile_scene(balance, RenderOptions{}).params.mis.x, 1.0f);
+  expect_error(R"({"integrator": {"power": -1}})", {"/integrator/power", "from 0 to 16"});
+  expect_error(R"({"integrator": {"power": "two"}})", {"/integrator/power"});
+}
+
 // add_mesh, which every importer places its meshes with: triangles in world
 // space, degenerate ones dropped, material slots mapped, vertex normals through
 // the normal matrix where every corner has one, UVs where every corner has one,

@@ -148,7 +148,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (LIGHT_COMPILED(LIGHT_ENVIRONMENT) && scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this direction of the environment map.
       float lightPdf = load_emitter(scene.environment.y).pmf * environment_pdf(p.dir);
-      w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
+      w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf, scene.mis.x) : 0.0f;
     }
     p.radiance += p.throughput * background_radiance(p.dir) * w;
     return false;
@@ -169,7 +169,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if ((p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this point too.
       float lightPdf = emitter_pdf(s.emitter, p.origin, s, p.dir, h.t);
-      w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf) : 0.0f;
+      w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf, scene.mis.x) : 0.0f;
     }
     p.radiance += p.throughput * le * w;
   }
@@ -187,7 +187,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     vec3 f = bsdf_eval(b, wo, ls.wi);
     if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
     float nPdf = float(lightSamples) * ls.pdf;
-    float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi)) : 1.0f;
+    float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi), scene.mis.x) : 1.0f;
     srs.ray[j].contribution = p.throughput * f * ls.radiance * (w / nPdf);
     aim_shadow_ray(s.p, b.ng, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
   }

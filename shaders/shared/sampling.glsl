@@ -130,11 +130,20 @@ float illuminance(vec3 l) {
   return 0.2126f * l.x + 0.7152f * l.y + 0.0722f * l.z;
 }
 
-// Power heuristic with beta = 2 (Veach).
-float power_heuristic(float pdfA, float pdfB) {
-  float a = pdfA * pdfA;
-  float b = pdfB * pdfB;
-  return a + b > 0.0f ? a / (a + b) : 0.0f;
+// Veach's power heuristic: the weight of strategy A, pdfA^beta / (pdfA^beta
+// + pdfB^beta); beta = 2 is Veach's choice and darts' default, beta = 1 the
+// balance heuristic. The weights of A and B sum to one for every beta, which
+// is what keeps the combination unbiased. Other exponents are written as
+// 1 / (1 + (b / a)^beta), which no pdf can overflow.
+float power_heuristic(float pdfA, float pdfB, float beta) {
+  if (beta == 2.0f) {
+    float a = pdfA * pdfA;
+    float b = pdfB * pdfB;
+    return a + b > 0.0f ? a / (a + b) : 0.0f;
+  }
+  if (pdfA <= 0.0f) return 0.0f;
+  float r = pdfB / pdfA;
+  return 1.0f / (1.0f + (beta == 1.0f ? r : pow(r, beta)));
 }
 
 // Orthonormal basis around unit n (Duff et al., JCGT 2017), no branch on n.z.

@@ -230,6 +230,7 @@ struct SceneParams {
   // kinds, y texture kinds, z light kinds, w other features. The kernels get
   // them as specialization constants and compile out the code of the rest.
   uvec4 kinds;
+  vec4 mis;          // x: exponent of the MIS heuristic (darts' "power": 2 the power heuristic, 1 the balance heuristic)
 };
 
 

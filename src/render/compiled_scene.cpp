@@ -517,6 +517,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
   p.image = glm::uvec4(uint32_t(cam.width), uint32_t(cam.height), uint32_t(maxBounces),
                        uint32_t(scene.integrator.russianRouletteDepth));
+  p.mis = glm::vec4(scene.integrator.misPower, 0.0f, 0.0f, 0.0f);
   uint32_t flags = 0;
   IntegratorKind kind = options.integrator ? *options.integrator : scene.integrator.kind;
   if (kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;

@@ -98,7 +98,7 @@ std::string render_settings(const CompiledScene& cs) {
   std::ostringstream s;
   s << "resolution=" << cs.width << "x" << cs.height << "; spp=" << cs.spp << "; integrator=" << integrator_name(p)
     << "; max_bounces=" << p.image.z << "; rr_depth=" << p.image.w << "; sampler=" << (p.mode.y == SAMPLER_CMJ ? "cmj" : "independent")
-    << "; light_samples=" << p.mode.w << "; seed=" << p.counts.y << "; lens=" << lens << "; adaptive=" << adaptive
+    << "; mis_power=" << p.mis.x << "; light_samples=" << p.mode.w << "; seed=" << p.counts.y << "; lens=" << lens << "; adaptive=" << adaptive
     << "; aovs=" << (aovs.empty() ? "none" : aovs);
   return s.str();
 }

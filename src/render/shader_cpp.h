@@ -108,8 +108,8 @@ static_assert(sizeof(Material) == 48 && offsetof(Material, children) == 16 && of
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 176 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
-              offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160);
+static_assert(sizeof(SceneParams) == 192 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
+              offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160 && offsetof(SceneParams, mis) == 176);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 // write_shadow_ray and read_shadow_ray (kernel.glsl) move shadow rays as three

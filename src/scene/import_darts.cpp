@@ -243,7 +243,7 @@ class DartsImporter {
   }
 
   void parse_integrator(const JsonCursor& j) {
-    j.allow_only({"type", "max bounces", "russian roulette", "recursive"});
+    j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power"});
     IntegratorSettings& s = scene_.integrator;
     if (j.has("type")) {
       std::string type = j["type"].string();
@@ -256,6 +256,12 @@ class DartsImporter {
       const nlohmann::json& rr = j["russian roulette"].json();
       if (rr.is_boolean()) s.russianRouletteDepth = rr.get<bool>() ? 3 : 1 << 30;
       else s.russianRouletteDepth = j["russian roulette"].integer(1, 1 << 30);
+    }
+    // The MIS heuristic's exponent: any makes the weights sum to one; past
+    // 16 it is the maximum heuristic in all but name.
+    if (j.has("power")) {
+      s.misPower = j["power"].number();
+      if (!(s.misPower >= 0.0f && s.misPower <= 16.0f)) j["power"].fail("the MIS exponent must be from 0 to 16");
     }
     // "recursive" picks darts' recursive or iterative implementation; both
     // estimate the same image, and wavepath is always iterative.

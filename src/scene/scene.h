@@ -59,6 +59,7 @@ struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::PathMis;
   int maxBounces = 64;
   int russianRouletteDepth = 3;  // first depth at which paths may be ended at random
+  float misPower = 2.0f;          // exponent of the MIS heuristic (darts "power"): 2 power, 1 balance heuristic
 };
 
 struct SceneTriangle {
