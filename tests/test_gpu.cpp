@@ -59,6 +59,16 @@ class Gpu : public testing::Test {
     return compare_images(gpu, cpu);
   }
 
+  // `scene` with options `o` on the GPU (seed 1) against the CPU (seed 2).
+  static CompareResult gpu_against_cpu(const Scene& scene, RenderOptions o) {
+    o.seed = 1;
+    ImageStats gpu = render(compile_scene(scene, o));
+    o.seed = 2;
+    Progress quiet("", 0, false);
+    ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
+    return compare_images(gpu, cpu);
+  }
+
   // The Cornell box at 128x128, 64 spp: the GPU (with `bias` planted in
   // `region`) against the CPU with another seed.
   static CompareResult cornell_128(float bias, glm::uvec4 region, uint32_t seed) {
@@ -714,16 +724,10 @@ TEST_F(Gpu, AdaptiveSamplingMatchesTheCpuReference) {
 // with float atomics) against the CPU reference.
 TEST_F(Gpu, SeveralLightSamplesPerVertexMatchTheCpuReference) {
   ASSERT_TRUE(ctx_->info().floatAtomicAdd) << "lavapipe and the H100 both have VK_EXT_shader_atomic_float";
-  Scene scene = load_scene(source_path("tests/data/features/materials.json"));
   RenderOptions o;
   o.spp = 64;
   o.lightSamples = 4;
-  o.seed = 1;
-  ImageStats gpu = render(compile_scene(scene, o));
-  o.seed = 2;
-  Progress quiet("", 0, false);
-  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
-  CompareResult r = compare_images(gpu, cpu);
+  CompareResult r = gpu_against_cpu(load_scene(source_path("tests/data/features/materials.json")), o);
   EXPECT_TRUE(r.passed()) << r.summary();
 }
 
@@ -733,12 +737,7 @@ TEST_F(Gpu, BalanceHeuristicMatchesTheCpuReference) {
   scene.integrator.misPower = 1.0f;
   RenderOptions o;
   o.spp = 64;
-  o.seed = 1;
-  ImageStats gpu = render(compile_scene(scene, o));
-  o.seed = 2;
-  Progress quiet("", 0, false);
-  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(o)), 0, quiet);
-  CompareResult r = compare_images(gpu, cpu);
+  CompareResult r = gpu_against_cpu(scene, o);
   EXPECT_TRUE(r.passed()) << r.summary();
 }
 
