@@ -258,6 +258,17 @@ PixelAccum sample_moments(vec3 l) {
   return a;
 }
 
+// What one sample's AOV record adds to its pixel's AOV sums: itself and its
+// squares.
+AovAccum aov_moments(AovSample s) {
+  AovAccum a;
+  a.sumA = s.a;
+  a.sumB = s.b;
+  a.sumSqA = s.a * s.a;
+  a.sumSqB = s.b * s.b;
+  return a;
+}
+
 // What the camera ray of a path hit first, as the AOV layers record it
 // (layers.glsl): the albedo (the sum of the BSDF's lobe colours; an
 // emitter's radiance or the background's where nothing scatters; clamped to

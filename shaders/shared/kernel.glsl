@@ -188,11 +188,12 @@ void accumulate_path(PathState p, AovSample aov) {
   a.sumSq += s.sumSq;
   accum[p.pixel] = a;
   if (kAovs) {
+    AovAccum s2 = aov_moments(aov);
     AovAccum b = aovAccum[p.pixel];
-    b.sumA += aov.a;
-    b.sumB += aov.b;
-    b.sumSqA += aov.a * aov.a;
-    b.sumSqB += aov.b * aov.b;
+    b.sumA += s2.sumA;
+    b.sumB += s2.sumB;
+    b.sumSqA += s2.sumSqA;
+    b.sumSqB += s2.sumSqB;
     aovAccum[p.pixel] = b;
   }
 }

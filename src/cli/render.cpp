@@ -115,7 +115,7 @@ RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const
   std::error_code ec;
   if (a.resume == a.checkpoint && !std::filesystem::exists(a.resume, ec)) return plan;  // the first run of a restartable render
   PartialFile part = read_partial(a.resume);
-  PartialFile self{"this render", plan.image, identity, {}};
+  PartialFile self{"this render", std::move(plan.image), identity, {}};  // its image is replaced by the part's below
   require_same_render(self, part);
   for (SampleRange r : part.ranges) {
     if (r.begin < plan.range.begin || r.end > plan.range.end)

@@ -59,7 +59,7 @@ uint32_t render_cpu(const CompiledScene& cs, int threads, ImageStats& image, Sam
               continue;
             }
             add_to_pixel(image, pixel, view.sample_moments(p.radiance));
-            if (!aovLayout.empty()) add_aovs_to_pixel(image, aovLayout, pixel, AovAccum{aov.a, aov.b, aov.a * aov.a, aov.b * aov.b});
+            if (!aovLayout.empty()) add_aovs_to_pixel(image, aovLayout, pixel, view.aov_moments(aov));
           }
         }
         truncated += localTruncated;

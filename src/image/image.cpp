@@ -273,12 +273,17 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
   };
   // What a viewer shows: the colour's mean, variance and count.
   const char* rgb[3] = {"R", "G", "B"};
+  ExrPlane* mean[3];
+  ExrPlane* var[3];
   for (int c = 0; c < 3; ++c) {
-    ExrPlane& m = plane(rgb[c], TINYEXR_PIXELTYPE_FLOAT);
-    ExrPlane& v = plane(std::string("var.") + rgb[c], TINYEXR_PIXELTYPE_FLOAT);
-    for (size_t p = 0; p < n; ++p) {
-      m.f[p] = float(image.mean(p)[c]);
-      v.f[p] = float(image.variance(p)[c]);
+    mean[c] = &plane(rgb[c], TINYEXR_PIXELTYPE_FLOAT);
+    var[c] = &plane(std::string("var.") + rgb[c], TINYEXR_PIXELTYPE_FLOAT);
+  }
+  for (size_t p = 0; p < n; ++p) {
+    const glm::dvec3 m = image.mean(p), v = image.variance(p);
+    for (int c = 0; c < 3; ++c) {
+      mean[c]->f[p] = float(m[c]);
+      var[c]->f[p] = float(v[c]);
     }
   }
   ExrPlane& count = plane("n", TINYEXR_PIXELTYPE_FLOAT);
