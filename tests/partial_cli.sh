@@ -43,6 +43,15 @@ bad "an overlap" "overlaps" -- "$wavepath" merge "$work/a.exr" "$work/b.exr" "$w
 bad "other settings" "seed 7 vs 0" -- "$wavepath" merge "$work/a.exr" "$work/seed7.exr" "$work/c.exr" -o "$work/x.png"
 bad "another scene" "another scene" -- "$wavepath" merge "$work/a.exr" "$work/other.exr" "$work/c.exr" -o "$work/x.png"
 bad "a range past the render" "goes past the render's 48 samples" -- "$wavepath" render "$scene" "${r[@]}" --samples 40:64 -o "$work/x.png"
+bad "a duration that is none" "is not a duration" -- "$wavepath" render "$scene" "${r[@]}" --time soon -o "$work/x.png"
+bad "a checkpoint that is no EXR" "must be an .exr file" -- "$wavepath" render "$scene" "${r[@]}" --checkpoint "$work/ck.png" -o "$work/x.png"
+bad "an unknown AOV layer" "unknown output layer \"depht\"" -- "$wavepath" render "$scene" "${r[@]}" --aov depht -o "$work/x.png"
+bad "a range backwards" "not a sample range" -- "$wavepath" render "$scene" "${r[@]}" --samples 9:3 -o "$work/x.png"
+bad "--cpu with --devices" "--devices" -- "$wavepath" render "$scene" "${r[@]}" --cpu --devices 0,cpu -o "$work/x.png"
+bad "merging a plain render" "lacks the exact sums" -- "$wavepath" merge "$work/whole.exr" "$work/a.exr" -o "$work/x.png"
+bad "merging a missing file" "missing.exr" -- "$wavepath" merge "$work/a.exr" "$work/missing.exr" -o "$work/x.png"
+bad "resuming a missing checkpoint" "no-such.exr" -- "$wavepath" render "$scene" "${r[@]}" --resume "$work/no-such.exr" -o "$work/x.png"
+check "no output of a refused command" $([ ! -e "$work/x.png" ] && [ ! -e "$work/x.exr" ]; echo $?)
 "$wavepath" merge "$work/a.exr" "$work/c.exr" --allow-gaps -o "$work/gappy.png" >"$work/out" 2>&1
 check "--allow-gaps merges and records what is missing" \
   $([ $? -eq 0 ] && [ "$(exr_attr "$work/gappy.exr" wavepath:status)" = "partial: samples 16:40 missing" ]; echo $?)
