@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes wavepath's input loaders (darts JSON scenes, OBJ meshes, image files,
+# Fuzzes wavepath's input loaders (darts JSON scenes and test files, OBJ meshes, image files,
 # partial renders)
 # with libFuzzer, under AddressSanitizer and UndefinedBehaviorSanitizer.
 #
@@ -24,7 +24,7 @@ seeds() {  # the seed corpus of one kind, in a folder of its own
   local kind=$1 dir=$build/fuzz-seeds/$1
   rm -rf "$dir" && mkdir -p "$dir"
   case $kind in
-    scene) cp "$src"/scenes/*.json "$src"/tests/data/*.json "$dir"/ ;;
+    scene) cp "$src"/scenes/*.json "$src"/tests/data/*.json "$src"/tests/data/darts/*.json "$dir"/ ;;
     obj) cp "$src"/tests/data/*.obj "$dir"/ && find "$src/scenes/assets" -name '*.obj' -size -64k -exec cp {} "$dir"/ \; ;;
     image)  # the first byte names the file: 0 input.png (stb_image, by content), 1 input.exr, 2 input.tga
       for f in "$src"/tests/data/*.png "$src"/scenes/assets/*.png "$src"/scenes/assets/*.hdr; do

@@ -41,7 +41,7 @@ expect_error "OBJ index out of range" 2 "bad-index.obj:4|vertex 99" -- "$wavepat
 expect_error "OBJ negative index out of range" 2 "bad-negative.obj:4|vertex -7" -- "$wavepath" render "$data/mesh-bad-negative.json" -o "$out"
 expect_error "OBJ that does not parse" 2 "bad-token.obj:4|not a vertex index" -- "$wavepath" render "$data/mesh-bad-token.json" -o "$out"
 expect_error "missing OBJ" 2 "no-such-mesh.obj|no such file|mesh-missing.json" -- "$wavepath" render "$data/mesh-missing.json" -o "$out"
-expect_error "output is not a PNG" 2 "out.jpg|.png" -- "$wavepath" render "$data/furnace.json" -o "$work/out.jpg"
+expect_error "output in no image format" 2 "out.gif|extension must name one of|png, jpg" -- "$wavepath" render "$data/furnace.json" -o "$work/out.gif"
 expect_error "output directory missing" 2 "no-dir/out.png|does not exist" -- "$wavepath" render "$data/furnace.json" -o "$work/no-dir/out.png"
 # Benchmark and convergence results: refused before the (long) runs begin.
 expect_error "bench JSON directory missing" 2 "no-dir/r.json|does not exist" -- "$wavepath" bench --scenes "$data/furnace.json" --out "$work/no-dir/r.json"

@@ -4,6 +4,7 @@
 #include "test_support.h"
 
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <tuple>
@@ -11,6 +12,7 @@
 #include "gpu/wavefront.h"
 #include "scene/kinds.h"
 #include "stats/compare.h"
+#include "stats/darts_tests.h"
 #include "util/error.h"
 
 namespace wp::test {
@@ -739,6 +741,45 @@ TEST_F(Gpu, BalanceHeuristicMatchesTheCpuReference) {
   o.spp = 64;
   CompareResult r = gpu_against_cpu(scene, o);
   EXPECT_TRUE(r.passed()) << r.summary();
+}
+
+// darts' test files run through probe.comp: they pass on the kernels, and,
+// drawing the same random numbers, their histograms and pdfs are the CPU
+// reference's (a direction may land in the next cell where float rounding
+// differs).
+TEST(GpuDarts, TestFilesRunOnTheKernelsAsOnTheCpuReference) {
+  const std::string tests = R"({"type": "tests", "tests": [
+    {"type": "sample material", "name": "phong", "material": {"type": "phong", "exponent": 9}, "normal": [0.2, 0, 1],
+     "image size": [48, 24], "spp": 100},
+    {"type": "scatter material", "name": "metal", "material": {"type": "metal", "roughness": 0.3}, "normal": [0, 0, 1],
+     "image size": [48, 24], "spp": 100},
+    {"type": "sample surface", "name": "group", "image size": [48, 24], "spp": 100, "surfaces": {"type": "group", "children": [
+      {"type": "sphere", "transform": {"translate": [0, 0, 3]}, "material": {"type": "diffuse_light", "emit": 1}},
+      {"type": "triangle", "positions": [[-1, -1, -1], [1, -1, -1], [0, 1, -1]], "material": {"type": "lambertian"}}]}},
+    {"type": "intersection", "surface": {"type": "sphere", "material": {"type": "lambertian"}},
+     "ray": {"origin": [0, 0, 5], "direction": [0, 0, -2]}, "t": 2, "p": [0, 0, 1], "gn": [0, 0, 1], "sn": [0, 0, 1]}]})";
+  std::map<bool, std::string> dir;
+  for (bool cpu : {false, true}) {
+    dir[cpu] = scratch_path(cpu ? "cpu" : "gpu");
+    std::filesystem::create_directories(dir[cpu]);
+    std::ofstream(dir[cpu] + "/tests.json") << tests;
+    DartsTestOptions o;
+    o.cpu = cpu;
+    for (const DartsTestResult& r : run_darts_tests(dir[cpu] + "/tests.json", o, nullptr))
+      EXPECT_TRUE(r.passed) << (cpu ? "cpu " : "gpu ") << r.name << ": " << r.message;
+  }
+  for (const char* image : {"phong-sampled.exr", "phong-pdf.exr", "metal-sampled.exr", "group-sampled.exr", "group-pdf.exr"}) {
+    int w = 0, h = 0;
+    std::vector<float> a = read_exr_red_channel(dir[false] + "/" + image, w, h), b = read_exr_red_channel(dir[true] + "/" + image, w, h);
+    ASSERT_EQ(a.size(), b.size()) << image;
+    ASSERT_FALSE(a.empty()) << image;
+    double total = 0.0, differs = 0.0;
+    for (size_t p = 0; p < a.size(); ++p) {
+      total += b[p];
+      differs += std::fabs(a[p] - b[p]);
+    }
+    EXPECT_LT(differs, 1e-3 * total) << image;
+  }
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ std::vector<Expected> expected_layouts() {
 
 TEST(Layout, EveryKernelAgreesWithTheHostOnEveryStruct) {
   std::map<std::string, int> checked;
-  for (const char* kernel : {"generate", "prepare", "extend", "sort", "shade", "connect", "connect_multi", "accumulate", "megakernel", "raycast", "texprobe"}) {
+  for (const char* kernel : {"generate", "prepare", "extend", "sort", "shade", "connect", "connect_multi", "accumulate", "megakernel", "raycast", "probe"}) {
     SpirvLayouts spv(std::string(WAVEPATH_SPV_DIR) + "/" + kernel + ".spv");
     for (const Expected& e : expected_layouts()) {
       for (const auto& [id, name] : spv.names) {

@@ -170,11 +170,11 @@ TEST(Sampling, EmitterSamplingMatchesItsDirectionalDensity) {
           SceneView::LightSample ls;
           ok = view.sample_emitter(ref, glm::vec3(view.rng_next(extra), u.x, u.y), ls);
           if (ok) {
-            EXPECT_NEAR(ls.pdf, view.emitters_pdf_direction(ref, ls.wi), 2e-3f * ls.pdf);
+            EXPECT_NEAR(ls.pdf, view.emitters_pdf_direction(ref, ls.wi, false), 2e-3f * ls.pdf);
           }
           return ok ? ls.wi : glm::vec3(0, 0, 1);
         },
-        [&](glm::vec3 w) { return double(view.emitters_pdf_direction(ref, w)); }, seed++);
+        [&](glm::vec3 w) { return double(view.emitters_pdf_direction(ref, w, false)); }, seed++);
     expect_fit(r, "emitter directions");
   }
 }

@@ -1,12 +1,14 @@
 // test_support.h — helpers shared by the tests: paths to test data, scene
-// construction, and Pearson's chi-square goodness-of-fit test as pbrt, Mitsuba
-// and Nori use it (cells with expected count < 5 pooled, Sidak-corrected level).
+// construction, and the chi-square test of directions against a pdf
+// (stats/chi2.h has the test itself).
 #pragma once
 
 #include <gtest/gtest.h>
+#include <tinyexr.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <numeric>
 #include <string>
@@ -22,6 +24,8 @@
 #include "render/compiled_scene.h"
 #include "render/shader_cpp.h"
 #include "scene/load_scene.h"
+#include "stats/chi2.h"
+#include "util/error.h"
 
 namespace wp::test {
 
@@ -45,80 +49,38 @@ inline std::string scratch_path(const std::string& name) {
   return (dir / name).string();
 }
 
-// Regularised upper incomplete gamma Q(a, x) (series for x < a + 1, Lentz's
-// continued fraction otherwise): the chi-square survival function is Q(k/2, x/2).
-inline double gamma_q(double a, double x) {
-  if (x <= 0.0) return 1.0;
-  double lg = std::lgamma(a);
-  if (x < a + 1.0) {
-    double sum = 1.0 / a, term = sum;
-    for (int n = 1; n < 10000; ++n) {
-      term *= x / (a + n);
-      sum += term;
-      if (std::fabs(term) < std::fabs(sum) * 1e-15) break;
-    }
-    return 1.0 - sum * std::exp(-x + a * std::log(x) - lg);
-  }
-  double b = x + 1.0 - a, c = 1.0 / 1e-300, d = 1.0 / b, h = d;
-  for (int i = 1; i < 10000; ++i) {
-    double an = -i * (i - a);
-    b += 2.0;
-    d = an * d + b;
-    if (std::fabs(d) < 1e-300) d = 1e-300;
-    c = b + an / c;
-    if (std::fabs(c) < 1e-300) c = 1e-300;
-    d = 1.0 / d;
-    double del = d * c;
-    h *= del;
-    if (std::fabs(del - 1.0) < 1e-15) break;
-  }
-  return std::exp(-x + a * std::log(x) - lg) * h;
+inline std::string write_scene(const std::string& name, const std::string& text) {
+  std::string path = scratch_path(name);
+  std::ofstream(path) << text;
+  return path;
 }
 
-struct Chi2Result {
-  double statistic = 0.0;
-  int dof = 0;
-  double pValue = 1.0;
-  std::string problem;  // samples in zero-expectation cells, non-finite values...
-};
-
-// observed and expected counts per cell (expected already scaled to the sample count).
-inline Chi2Result chi2_test(const std::vector<double>& observed, const std::vector<double>& expected, double sampleCount) {
-  Chi2Result r;
-  double expTotal = std::accumulate(expected.begin(), expected.end(), 0.0);
-  if (expTotal > 1.1 * sampleCount) r.problem = "the pdf integrates to more than 1.1";
-  std::vector<size_t> order(observed.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return expected[a] < expected[b]; });
-  double poolObs = 0.0, poolExp = 0.0;
-  int cells = 0;
-  for (size_t i : order) {
-    if (expected[i] == 0.0) {
-      if (observed[i] > sampleCount * 1e-5) r.problem = "samples fell into a cell where the pdf is zero";
-      continue;
-    }
-    if (expected[i] < 5.0) {
-      poolObs += observed[i];
-      poolExp += expected[i];
-      continue;
-    }
-    double d = observed[i] - expected[i];
-    r.statistic += d * d / expected[i];
-    ++cells;
+// Loads `text` and expects an InputError whose message contains every part.
+inline void expect_error(const std::string& text, std::initializer_list<const char*> parts) {
+  std::string path = write_scene("bad.json", text);
+  try {
+    load_scene(path);
+    ADD_FAILURE() << "no error for: " << text;
+  } catch (const InputError& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    for (const char* p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
   }
-  if (poolExp > 0.0) {
-    double d = poolObs - poolExp;
-    r.statistic += d * d / poolExp;
-    ++cells;
-  }
-  r.dof = cells - 1;
-  r.pValue = r.dof > 0 ? gamma_q(0.5 * r.dof, 0.5 * r.statistic) : 1.0;
-  return r;
 }
 
-// Sidak-corrected per-test level for `tests` tests at family-wise level alpha.
-inline double sidak(double alpha, int tests) {
-  return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+// The red channel of any EXR tinyexr reads (a plain RGB image too).
+inline std::vector<float> read_exr_red_channel(const std::string& path, int& w, int& h) {
+  float* rgba = nullptr;
+  const char* err = nullptr;
+  if (LoadEXR(&rgba, &w, &h, path.c_str(), &err) != 0) {
+    ADD_FAILURE() << path << ": " << (err ? err : "?");
+    return {};
+  }
+  std::vector<float> red(size_t(w) * size_t(h));
+  for (size_t i = 0; i < red.size(); ++i) red[i] = rgba[4 * i];
+  std::free(rgba);
+  return red;
 }
 
 // Histogram of directions over (cos theta, phi) cells of equal solid angle,

@@ -221,7 +221,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (isDelta) weight /= 1.0f - lightProb;
   }
   if (mixture && !isDelta) {
-    pdf = mixture_pdf(emitters_pdf_direction(s.p, wi), bsdf_pdf(b, wo, wi), lightProb);
+    pdf = mixture_pdf(emitters_pdf_direction(s.p, wi, false), bsdf_pdf(b, wo, wi), lightProb);
     weight = pdf > 0.0f ? bsdf_eval(b, wo, wi) / pdf : vec3(0.0f);
   }
   if ((!isDelta && pdf <= 0.0f) || (weight.x <= 0.0f && weight.y <= 0.0f && weight.z <= 0.0f)) return false;

@@ -115,9 +115,10 @@ float sphere_cone(Sphere sp, vec3 ref, OUT(vec3) center, OUT(float) radius) {
   return sin2 < 1e-3f ? sin2 * (0.5f + 0.125f * sin2) : 1.0f - sqrt(1.0f - sin2);
 }
 
-// Solid-angle density with which sample_emitter, called at ref, reaches the
-// emitter surface point s at distance dist along unit direction wi.
-float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
+// Solid-angle density with which sample_emitter_surface, called at ref,
+// reaches the emitter surface point s at distance dist along unit direction
+// wi, from either side of the surface.
+float emitter_surface_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
   Emitter e = load_emitter(emitter);
   if (LIGHT_COMPILED(LIGHT_SPHERE) && (e.prim & HIT_SPHERE_BIT) != 0u) {
     vec3 c;
@@ -125,9 +126,64 @@ float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
     float cone = sphere_cone(load_sphere(e.prim & ~HIT_SPHERE_BIT), ref, c, r);
     return cone > 0.0f ? e.pmf * uniform_cone_pdf(cone) : 0.0f;
   }
-  float cosL = -dot(s.ng, wi);
+  float cosL = abs(dot(s.ng, wi));
   if (!LIGHT_COMPILED(LIGHT_AREA) || cosL <= 0.0f) return 0.0f;
   return e.pmf / triangle_area(load_triangle(e.prim)) * dist * dist / cosL;
+}
+
+// Solid-angle density with which sample_emitter, called at ref, reaches the
+// emitter surface point s at distance dist along unit direction wi: only its
+// front emits.
+float emitter_pdf(uint emitter, vec3 ref, SurfaceHit s, vec3 wi, float dist) {
+  return dot(s.ng, wi) < 0.0f ? emitter_surface_pdf(emitter, ref, s, wi, dist) : 0.0f;
+}
+
+// A point on surface emitter e (a sphere or a triangle, picked with
+// probability pmf), seen from ref from either side of the surface: uniform in
+// the cone a sphere subtends, uniform by area on a triangle. pdf is the
+// solid-angle density of wi, pick probability included.
+bool sample_emitter_surface(Emitter e, float pmf, vec3 ref, vec2 uv, OUT(SurfaceHit) s, OUT(vec3) wi, OUT(float) dist,
+                            OUT(float) pdf) {
+  wi = vec3(0.0f);
+  dist = 0.0f;
+  pdf = 0.0f;
+  if (LIGHT_COMPILED(LIGHT_SPHERE) && (e.prim & HIT_SPHERE_BIT) != 0u) {
+    Sphere sp = load_sphere(e.prim & ~HIT_SPHERE_BIT);
+    vec3 c;
+    float r;
+    float cone = sphere_cone(sp, ref, c, r);
+    if (cone <= 0.0f) return false;
+    vec3 axis = normalize(c - ref);
+    vec3 t;
+    vec3 b;
+    make_frame(axis, t, b);
+    vec3 local = square_to_uniform_cone(uv, cone);
+    vec3 w = frame_to_world(local, t, b, axis);
+    // The nearer intersection of the ray (ref, w) with the sphere.
+    float dc = length(c - ref);
+    float sin2 = max(0.0f, 1.0f - local.z * local.z);
+    float ds = dc * local.z - sqrt(max(0.0f, r * r - dc * dc * sin2));
+    s = sphere_surface_of(sp, ref + w * ds);
+    pdf = pmf * uniform_cone_pdf(cone);
+  } else if (LIGHT_COMPILED(LIGHT_AREA) && (e.prim & (EMITTER_POINT_BIT | EMITTER_ENVIRONMENT)) == 0u) {
+    Triangle tri = load_triangle(e.prim);
+    vec2 bary = square_to_triangle_barycentric(uv);
+    s = triangle_surface_of(tri, bary.x, bary.y);
+    pdf = pmf / triangle_area(tri);  // per unit area; per solid angle below
+  } else {
+    return false;
+  }
+  vec3 d = s.p - ref;
+  float dist2 = dot(d, d);
+  if (dist2 <= 0.0f) return false;
+  dist = sqrt(dist2);
+  wi = d / dist;
+  if (!LIGHT_COMPILED(LIGHT_SPHERE) || (e.prim & HIT_SPHERE_BIT) == 0u) {
+    float cosL = abs(dot(s.ng, wi));
+    if (cosL <= 0.0f) return false;
+    pdf *= dist2 / cosL;
+  }
+  return true;
 }
 
 // Next-event estimation: picks an emitter, then a point on it as seen from ref:
@@ -169,40 +225,8 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     return true;
   }
   SurfaceHit s;
-  if (LIGHT_COMPILED(LIGHT_SPHERE) && (e.prim & HIT_SPHERE_BIT) != 0u) {
-    Sphere sp = load_sphere(e.prim & ~HIT_SPHERE_BIT);
-    vec3 c;
-    float r;
-    float cone = sphere_cone(sp, ref, c, r);
-    if (cone <= 0.0f) return false;
-    vec3 axis = normalize(c - ref);
-    vec3 t;
-    vec3 b;
-    make_frame(axis, t, b);
-    vec3 local = square_to_uniform_cone(uv, cone);
-    vec3 w = frame_to_world(local, t, b, axis);
-    // The nearer intersection of the ray (ref, w) with the sphere.
-    float dc = length(c - ref);
-    float sin2 = max(0.0f, 1.0f - local.z * local.z);
-    float ds = dc * local.z - sqrt(max(0.0f, r * r - dc * dc * sin2));
-    s = sphere_surface_of(sp, ref + w * ds);
-    ls.pdf = pmf * uniform_cone_pdf(cone);
-  } else if (LIGHT_COMPILED(LIGHT_AREA)) {
-    Triangle tri = load_triangle(e.prim);
-    vec2 bary = square_to_triangle_barycentric(uv);
-    s = triangle_surface_of(tri, bary.x, bary.y);
-    ls.pdf = pmf / triangle_area(tri);  // per unit area; per solid angle below
-  } else {
-    return false;
-  }
-  vec3 d = s.p - ref;
-  float dist2 = dot(d, d);
-  if (dist2 <= 0.0f) return false;
-  ls.dist = sqrt(dist2);
-  ls.wi = d / ls.dist;
-  float cosL = -dot(s.ng, ls.wi);
-  if (cosL <= 0.0f) return false;  // back side: emits nothing
-  if (!LIGHT_COMPILED(LIGHT_SPHERE) || (e.prim & HIT_SPHERE_BIT) == 0u) ls.pdf *= dist2 / cosL;
+  if (!sample_emitter_surface(e, pmf, ref, uv, s, ls.wi, ls.dist, ls.pdf)) return false;
+  if (dot(s.ng, ls.wi) >= 0.0f) return false;  // back side: emits nothing
   ls.p = s.p;
   ls.n = s.ng;
   ls.radiance = emitted_radiance(s, -ls.wi);
@@ -211,8 +235,9 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
 
 // Solid-angle density with which sample_emitter at ref produces direction wi:
 // the sum over every emitter the line crosses from the front, occluded or not
-// (the mixture integrator needs the exact density). Loops over all emitters.
-float emitters_pdf_direction(vec3 ref, vec3 wi) {
+// (the mixture integrator needs the exact density), or with bothSides from
+// either side (the density of sample_emitter_surface). Loops over all emitters.
+float emitters_pdf_direction(vec3 ref, vec3 wi, bool bothSides) {
   float pdf = 0.0f;
   RayShear sh = make_ray_shear(wi);
   for (uint i = 0u; i < scene.counts.x; ++i) {
@@ -239,7 +264,7 @@ float emitters_pdf_direction(vec3 ref, vec3 wi) {
     } else {
       continue;
     }
-    if (dot(s.ng, wi) < 0.0f) pdf += emitter_pdf(i, ref, s, wi, t);
+    if (bothSides || dot(s.ng, wi) < 0.0f) pdf += emitter_surface_pdf(i, ref, s, wi, t);
   }
   return pdf;
 }

@@ -66,20 +66,13 @@ vec2 square_to_triangle_barycentric(vec2 u) {
   return vec2(1.0f - su, u.y * su);
 }
 
-// Uniform in the unit ball: radius by the cube root of u.x, direction from (u.y, u.z).
-vec3 square_to_uniform_ball(vec3 u) {
-  float r = pow(u.x, 1.0f / 3.0f);
-  return square_to_uniform_sphere(vec2(u.y, u.z)) * r;
-}
-
-float square_to_uniform_ball_pdf(vec3 v) {
-  return dot(v, v) <= 1.0f ? 3.0f / (4.0f * WP_PI) : 0.0f;
-}
-
-// Directions of normalize(c + radius * ball) for a unit vector c and a uniform
-// point of the unit ball (darts' rough metal): the density, per unit solid
-// angle, of direction d. Points t * d inside the ball fill t in [t0, t1]; the
-// density is the integral of t^2 dt over that segment divided by the ball's volume.
+// Directions of normalize(c + radius * s) for a unit vector c, a radius in
+// (0, 1] and s uniform on the unit sphere (darts' rough metal; at radius 1,
+// the cosine lobe around c): the density, per unit solid angle, of direction
+// d. The ray t * d meets that sphere of points where t = cos + or - h; each
+// meeting at t > 0 adds t^2 / (4 pi radius^2 |cos gamma|), gamma the angle
+// between the ray and the sphere's normal there, and |cos gamma| = h / radius.
+// The density grows without bound (integrably) towards the cone's rim.
 float fuzzed_direction_pdf(vec3 d, vec3 c, float radius) {
   float cosA = dot(d, c);
   float h2 = cosA * cosA - 1.0f + radius * radius;
@@ -87,10 +80,9 @@ float fuzzed_direction_pdf(vec3 d, vec3 c, float radius) {
   float h = sqrt(h2);
   float t1 = cosA + h;
   if (t1 <= 0.0f) return 0.0f;
-  float t0 = max(cosA - h, 0.0f);
-  // t1^3 - t0^3 in factored form: no cancellation for small radii.
-  float cubes = (t1 - t0) * (t1 * t1 + t1 * t0 + t0 * t0);
-  return cubes / (4.0f * WP_PI * radius * radius * radius);
+  float t0 = cosA - h;
+  float squares = t1 * t1 + (t0 > 0.0f ? t0 * t0 : 0.0f);
+  return squares / (4.0f * WP_PI * radius * h);
 }
 
 // cos^n lobe around +Z: pdf (n + 1) / (2 pi) cos^n theta over the hemisphere.

@@ -11,7 +11,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
 #include <functional>
+#include <string>
 
 namespace wp::cli {
 
@@ -27,5 +29,17 @@ Command add_bench(CLI::App& app);
 Command add_convergence(CLI::App& app);
 Command add_info(CLI::App& app);
 Command add_devices(CLI::App& app);
+Command add_test(CLI::App& app);
+
+// `wavepath test FILE` (test.cpp); `wavepath render` runs a test file this way too.
+struct TestArgs {
+  std::string file;
+  bool cpu = false;
+  std::string device;
+  int threads = 0;
+  uint32_t seed = 0;
+  bool validation = false;
+};
+int run_darts_tests(const TestArgs& a);
 
 }  // namespace wp::cli

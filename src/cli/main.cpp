@@ -7,9 +7,10 @@
 //   wavepath convergence SCENE            RMSE against spp per sampler    (convergence.cpp)
 //   wavepath info SCENE                   what the renderer builds        (info.cpp)
 //   wavepath devices                      Vulkan devices and variants     (devices.cpp)
+//   wavepath test FILE                    run a darts test file           (test.cpp)
 //
 // Exit status (commands.h): 0 success, 1 compare or bench found a
-// disagreement, 2 bad input, 3 rendering failed.
+// disagreement or a darts test failed, 2 bad input, 3 rendering failed.
 #include <cstdio>
 #include <vector>
 
@@ -22,7 +23,8 @@ int main(int argc, char** argv) {
   CLI::App app{"wavepath: a wavefront path tracer on Vulkan compute, with a CPU reference renderer"};
   app.require_subcommand(1);
   const std::vector<cli::Command> commands = {cli::add_render(app), cli::add_merge(app), cli::add_compare(app), cli::add_bench(app),
-                                              cli::add_convergence(app), cli::add_info(app), cli::add_devices(app)};
+                                              cli::add_convergence(app), cli::add_info(app), cli::add_devices(app),
+                                              cli::add_test(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

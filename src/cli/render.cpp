@@ -10,11 +10,14 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/render_args.h"
 #include "image/image.h"
+#include "image/image_file.h"
 #include "render/partial.h"
+#include "scene/darts_tests.h"
 #include "util/error.h"
 
 namespace wp::cli {
@@ -27,8 +30,11 @@ std::string rate_image_path(const std::string& out) {
   return (p.parent_path() / (p.stem().string() + "_rate.png")).string();
 }
 
-std::string default_output(const std::string& scenePath) {
-  return std::filesystem::path(scenePath).stem().string() + ".png";
+// SCENE.FORMAT in the current directory. (darts names its output after the
+// scene file, beside it, with the time appended; a name that changes on
+// every run would break scripts and merges, so wavepath keeps one.)
+std::string default_output(const std::string& scenePath, const std::string& format) {
+  return std::filesystem::path(scenePath).stem().string() + "." + (format.empty() ? "png" : format);
 }
 
 void print_stage_times(const StageTimes& times) {
@@ -134,8 +140,24 @@ RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const
 
 int run_render(const RenderArgs& a) {
   const auto commandStart = std::chrono::steady_clock::now();
-  std::string out = a.output.empty() ? default_output(a.scene) : a.output;
-  if (std::filesystem::path(out).extension() != ".png") throw InputError(out + ": the output image must be a .png file");
+  // A darts test file is run, as darts runs it, not rendered.
+  if (is_darts_test_file(a.scene)) return run_darts_tests(TestArgs{a.scene, a.cpu, a.device, a.threads, a.seed, a.validation});
+  std::string format = a.format;
+  std::string output = a.output;
+  // darts' -f names a format (-f exr); CS184's -f a file (-f out.png).
+  if (format.empty() && image_format_named(output) && output.find('.') == std::string::npos) {
+    format = output;
+    output.clear();
+  }
+  if (!format.empty() && !image_format_named(format))
+    throw InputError("--format " + format + ": not an image format wavepath writes (" + image_format_names() + ")");
+  std::string out = output.empty() ? default_output(a.scene, format) : output;
+  std::optional<ImageFormat> outFormat = image_format_of(out);
+  if (!outFormat) throw InputError(out + ": the output image's extension must name one of " + image_format_names());
+  if (!format.empty() && *outFormat != *image_format_named(format))
+    throw InputError(out + ": the extension contradicts --format " + format);
+  // The EXR of statistics goes beside the image, unless the image is that EXR.
+  const bool outIsExr = *outFormat == ImageFormat::Exr && (a.exr.empty() || a.exr == out);
   std::string exr = a.exr.empty() ? std::filesystem::path(out).replace_extension(".exr").string() : a.exr;
   if (std::filesystem::path(exr).extension() != ".exr") throw InputError(exr + ": the linear image must be an .exr file");
   if (!a.checkpoint.empty() && std::filesystem::path(a.checkpoint).extension() != ".exr")
@@ -246,21 +268,23 @@ int run_render(const RenderArgs& a) {
   std::string rate = first.adaptive.enabled() ? rate_image_path(out) : "";
   write_partial(exr, image, done, status, exactSums);
   try {
-    write_png(out, image);
+    if (*outFormat == ImageFormat::Png) write_png(out, image);
+    else if (!outIsExr) write_image(out, mean_rgb(image));
     if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
     if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status, true);
   } catch (...) {
     std::remove(exr.c_str());  // all images or none
-    std::remove(out.c_str());
+    if (!outIsExr) std::remove(out.c_str());
     throw;
   }
   if (image.nonFinite > 0) {
     std::fprintf(stderr, "wavepath: warning: %llu non-finite samples were dropped\n", (unsigned long long)image.nonFinite);
   }
   const std::string samples = format_sample_ranges(done);
+  const std::string written = outIsExr ? exr : out + " and " + exr;
   if (!complete) {
-    std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s and %s%s\n", status.c_str(),
-                 samples.c_str(), format_sample_ranges({plan.range}).c_str(), out.c_str(), exr.c_str(),
+    std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s%s%s\n", status.c_str(),
+                 samples.c_str(), format_sample_ranges({plan.range}).c_str(), written.c_str(), "",
                  a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str());
   }
   if (!a.quiet) {
@@ -269,7 +293,7 @@ int run_render(const RenderArgs& a) {
     // "N spp" for the whole render, else the ranges held.
     const std::string held = samples == "0:" + std::to_string(first.spp) ? std::to_string(first.spp) + " spp"
                                                                           : "samples " + samples + " of " + std::to_string(first.spp);
-    std::printf("wrote %s and %s: %dx%d, %s, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", out.c_str(), exr.c_str(),
+    std::printf("wrote %s: %dx%d, %s, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", written.c_str(),
                 first.width, first.height, held.c_str(), int(first.params.image.z), seconds, where.c_str(),
                 double(uint64_t(image.pixels()) * (samplesNow - samplesBefore)) / seconds * 1e-6);
     if (!rate.empty()) {
@@ -291,7 +315,11 @@ Command add_render(CLI::App& app) {
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG (and a linear EXR with statistics)");
   render->add_option("scene", r->scene, "scene file (darts JSON)")->required();
   // Short options in parentheses are the CS184 pathtracer's, for its students.
-  render->add_option("-o,-f,--output", r->output, "PNG to write (default: SCENE-NAME.png) (CS184: -f)");
+  render->add_option("-o,-f,--output", r->output,
+                     std::string("image to write: ") + image_format_names() +
+                         " by its extension (default: SCENE-NAME.png); a linear EXR of statistics goes beside it (CS184: -f FILE; "
+                         "darts: -f FORMAT)");
+  render->add_option("--format", r->format, std::string("format of the default output name (darts' -f): ") + image_format_names());
   render->add_option("--exr", r->exr,
                      "linear EXR: mean, variance, sample count, AOV layers, and the exact sums a merge or resume needs "
                      "(default: next to the PNG)");

@@ -18,6 +18,7 @@ namespace wp::cli {
 struct RenderArgs {
   std::string scene;
   std::string output;
+  std::string format;  // darts' -f FORMAT: the default output name's extension
   std::string exr;
   int spp = -1;
   int maxBounces = -1;

@@ -200,7 +200,7 @@ std::vector<std::pair<std::string, const vk::raii::Pipeline*>> WavefrontRenderer
       {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
       {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
       {"raycast-single", &raycastSingle}, {"occlude", &occlude}, {"occlude-single", &occludeSingle},
-      {"texprobe", &texprobe}};
+      {"probe", &probe}};
   for (size_t i = 0; i < shadeByKey.size(); ++i)
     k.emplace_back(shadeKeys[i] == SORT_KEY_MISS ? "shade-misses" : "shade-class-" + std::to_string(shadeKeys[i] - 1), &shadeByKey[i]);
   return k;
@@ -304,7 +304,7 @@ void WavefrontRenderer::Impl::create_pipelines() {
   }
   accumulate = make_pipeline(kernel(accumulate_spv));
   if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), {false, true, false});
-  // texprobe (eval_textures, for the tests) is made on first use.
+  // probe (eval_textures and run_probes) is made on first use.
 }
 
 std::vector<KernelStatistics> WavefrontRenderer::kernel_statistics() const {

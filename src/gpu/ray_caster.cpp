@@ -1,6 +1,6 @@
-// Work that only the benchmarks and the tests ask of the GPU renderer: closest
-// and any hits of given rays (the ray caster, raycast.comp) and texture
-// lookups (texprobe.comp).
+// Work that only the benchmarks, the tests and `wavepath test` ask of the GPU
+// renderer: closest and any hits of given rays (the ray caster, raycast.comp)
+// and the probes of probes.glsl (probe.comp).
 #include <algorithm>
 #include <cstring>
 
@@ -8,7 +8,7 @@
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
 #include "raycast.spv.h"
-#include "texprobe.spv.h"
+#include "probe.spv.h"
 
 namespace wp {
 
@@ -94,15 +94,23 @@ std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::
   return impl_->cast_rays(rays, truncated, kernelSeconds, coherent, false);
 }
 
+std::vector<shader::Hit> WavefrontRenderer::run_probes(const std::vector<shader::ShadowRay>& queries) {
+  if (!*impl_->probe) impl_->probe = impl_->make_pipeline(kernel(probe_spv));
+  std::vector<shader::Hit> out = impl_->run_on_rays(impl_->probe, nullptr, queries, nullptr, nullptr);
+  for (size_t i = 0; i < out.size(); ++i)
+    if ((queries[i].path >> PROBE_KIND_SHIFT) == PROBE_INTERSECT && out[i].prim == PROBE_TRUNCATED)
+      throw RenderError("a probe ray needed more than " + std::to_string(impl_->scene.params.counts.z) + " BVH traversal steps");
+  return out;
+}
+
 std::vector<glm::vec3> WavefrontRenderer::eval_textures(const std::vector<TextureQuery>& queries) {
   std::vector<shader::ShadowRay> rays(queries.size());
   for (size_t i = 0; i < queries.size(); ++i) {
     rays[i].origin = queries[i].p;
     rays[i].dir = glm::vec3(queries[i].uv, 0.0f);
-    rays[i].path = queries[i].texture;
+    rays[i].path = (PROBE_TEXTURE << PROBE_KIND_SHIFT) | queries[i].texture;
   }
-  if (!*impl_->texprobe) impl_->texprobe = impl_->make_pipeline(kernel(texprobe_spv));
-  std::vector<shader::Hit> out = impl_->run_on_rays(impl_->texprobe, nullptr, rays, nullptr, nullptr);
+  std::vector<shader::Hit> out = run_probes(rays);
   std::vector<glm::vec3> colors(out.size());
   for (size_t i = 0; i < out.size(); ++i) colors[i] = glm::vec3(out[i].t, out[i].u, out[i].v);
   return colors;

@@ -1,6 +1,6 @@
 // wavefront_impl.h — the GPU renderer's state, shared by the files that
 // implement it (src/gpu/): resources and pipelines (pipelines.cpp), the
-// wavefront loop (wavefront.cpp), and the ray caster and texture probe that
+// wavefront loop (wavefront.cpp), and the ray caster and the probes that
 // only the benchmarks and the tests use (ray_caster.cpp). Not part of the
 // renderer's interface (wavefront.h).
 #pragma once
@@ -53,7 +53,7 @@ struct WavefrontRenderer::Impl {
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, occlude{nullptr},
-      occludeSingle{nullptr}, texprobe{nullptr};
+      occludeSingle{nullptr}, probe{nullptr};
   // Sorting by material class: one shade kernel per sort key that can occur,
   // specialized to its class (shadeKeys[i] is shadeByKey[i]'s key), the
   // misses' first.
@@ -157,9 +157,9 @@ struct WavefrontRenderer::Impl {
   // whole rows of the interleave.
   uint32_t interleaved_groups(uint32_t n) const;
 
-  // Workgroups of the ray caster (or texprobe) for n rays, perInvocation to
+  // Workgroups of the ray caster (or the probes) for n rays, perInvocation to
   // an invocation. One ray to an invocation rounds up to whole rows of the
-  // interleave; texprobe, which does not interleave, takes the extra
+  // interleave; probe, which does not interleave, takes the extra
   // workgroups' items as out of range.
   uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const;
 
@@ -226,7 +226,7 @@ struct WavefrontRenderer::Impl {
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
                                      bool coherent, bool anyHit);
 
-  // Runs `kernel` (a ray caster or texprobe) over `rays` in chunks of the path
+  // Runs `kernel` (a ray caster or the probe kernel) over `rays` in chunks of the path
   // capacity: each ray in the shadow-ray buffer, each result in the hit
   // buffer. A ray caster taking tracingRays rays per invocation names
   // `single`, its one-ray pipeline, for chunks where a ray outran its share

@@ -17,6 +17,7 @@
 
 #include "../../shaders/shared/layers.glsl"
 #include "../../shaders/shared/limits.glsl"
+#include "image/image_file.h"
 #include "util/error.h"
 
 namespace wp {
@@ -157,32 +158,18 @@ ImageStats layer_as_color(const ImageStats& image, const std::string& name) {
 // Writes encoded PNG bytes atomically (see write_png).
 static void write_png_bytes(const std::string& path, const std::vector<uint8_t>& png);
 
-namespace {
 
-uint8_t to_srgb8(double linear) {
-  double c = std::clamp(linear, 0.0, 1.0);
-  double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return uint8_t(std::lround(s * 255.0));
-}
-
-// Writes through `write(tmpPath)` then renames over `path`.
-template <typename F>
-void write_atomically(const std::string& path, const char* what, F write) {
-  std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  std::string error;
-  if (!write(tmp, error)) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write " + what + (error.empty() ? "" : ": " + error));
+RgbImage mean_rgb(const ImageStats& image) {
+  RgbImage out;
+  out.width = image.width;
+  out.height = image.height;
+  out.rgb.resize(image.pixels() * 3);
+  for (size_t p = 0; p < image.pixels(); ++p) {
+    glm::dvec3 m = image.mean(p);
+    for (int c = 0; c < 3; ++c) out.rgb[3 * p + size_t(c)] = float(m[c]);
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write " + what + ": " + ec.message());
-  }
+  return out;
 }
-
-}  // namespace
 
 std::vector<uint8_t> to_srgb8(const ImageStats& image) {
   std::vector<uint8_t> rgb(image.pixels() * 3);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "image/image_file.h"
+
 namespace wp {
 
 // One output layer: its name and its channels' names. Layer 0 of every
@@ -64,6 +66,9 @@ struct ImageStats {
 // R, G, B, missing ones zero), with the same counts, so that
 // compare_images and the PNG writer work on any layer.
 ImageStats layer_as_color(const ImageStats& image, const std::string& layer);
+
+// The mean colour, as floats (image_file.h writes it in any format).
+RgbImage mean_rgb(const ImageStats& image);
 
 // The mean as 8-bit sRGB, clamped: three bytes per pixel, row by row.
 std::vector<uint8_t> to_srgb8(const ImageStats& image);

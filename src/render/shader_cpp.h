@@ -89,6 +89,7 @@ struct SceneView : ShaderMath {
 #define WP_NOTE_STEP() note_step()
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
+#include "../../shaders/shared/probes.glsl"
 };
 
 // Host-side layout checks; tests/test_layout.cpp checks the GLSL side.

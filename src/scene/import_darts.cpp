@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "scene/darts_tests.h"
 #include "scene/json_cursor.h"
 #include "scene/kinds.h"
 #include "scene/obj_mesh.h"
@@ -30,21 +31,19 @@ class DartsImporter {
  public:
   explicit DartsImporter(std::string path) : file_(std::move(path)) {}
 
+  void parse_document() { doc_ = read_json_file(file_); }
+
+  static bool holds_tests(const nlohmann::json& doc) {
+    return doc.is_object() && doc.contains("type") && doc["type"] == "tests";
+  }
+
   Scene load() {
-    std::ifstream in(file_, std::ios::binary);
-    if (!in) throw InputError(file_ + ": cannot open scene file (" + (fs::exists(file_) ? "permission denied" : "no such file") + ")");
-    std::stringstream text;
-    text << in.rdbuf();
-    try {
-      doc_ = nlohmann::json::parse(text.str());
-    } catch (const nlohmann::json::parse_error& e) {
-      throw InputError(file_ + ":" + location_of(text.str(), e.byte) + ": JSON syntax error: " + describe(e));
-    } catch (const nlohmann::json::out_of_range& e) {
-      throw InputError(file_ + ": " + number_out_of_range(text.str(), e));
-    }
+    parse_document();
     scene_.sourcePath = file_;
+    scene_.background = glm::vec3(0.2f);  // darts' default (scene.h of darts-2022)
     JsonCursor root(doc_, "", file_);
     root.expect_object();
+    if (holds_tests(doc_)) root["type"].fail("this file holds darts tests (\"type\": \"tests\"), not a scene: run it with wavepath test");
     root.allow_only({"camera", "sampler", "background", "accelerator", "integrator", "materials", "surfaces", "media"});
     if (root.has("media")) root["media"].fail("participating media are not supported yet");
     if (root.has("camera")) parse_camera(root["camera"]);
@@ -70,43 +69,6 @@ class DartsImporter {
   }
 
  private:
-  static std::string location_of(const std::string& text, size_t byte) {
-    // nlohmann reports the byte after the offending token; count lines up to it.
-    size_t end = std::min(byte == 0 ? 0 : byte - 1, text.size());
-    int line = 1;
-    int column = 1;
-    for (size_t i = 0; i < end; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    return std::to_string(line) + ":" + std::to_string(column);
-  }
-
-  // A number too large for a double (nlohmann: "number overflow parsing
-  // 'TOKEN'"), which the parser reports without a position: the place is
-  // that of the token's first appearance in the text.
-  static std::string number_out_of_range(const std::string& text, const nlohmann::json::out_of_range& e) {
-    const std::string w = e.what();
-    const size_t open = w.find('\''), close = w.rfind('\'');
-    if (open == std::string::npos || close <= open) return "JSON number out of range (" + w + ")";
-    std::string token = w.substr(open + 1, close - open - 1);
-    const size_t at = text.find(token);
-    if (token.size() > 40) token = token.substr(0, 37) + "...";
-    const std::string problem = "JSON number " + token + " is out of the range of double-precision numbers";
-    return at == std::string::npos ? problem : location_of(text, at + 1) + ": " + problem;
-  }
-
-  static std::string describe(const nlohmann::json::parse_error& e) {
-    // what() is "[json.exception.parse_error.101] parse error at line L, column C: MESSAGE".
-    std::string w = e.what();
-    size_t colon = w.find(": ");
-    return colon == std::string::npos ? w : w.substr(colon + 2);
-  }
-
   glm::vec3 non_negative(const JsonCursor& j) {
     glm::vec3 c = j.color();
     if (c.x < 0.0f || c.y < 0.0f || c.z < 0.0f) j.fail("colour components must not be negative");
@@ -117,16 +79,19 @@ class DartsImporter {
 
   uint32_t add_texture(const SceneTexture& t) { return wp::add_texture(scene_, t); }
 
-  // `mapping`: {type: "uv"} (the default: lookups at (u, v, 0)) or
-  // {type: "transform", transform: ...} (lookups at the hit point), either
-  // with an optional transform applied to the lookup point.
+  // `mapping`: {type: "uv"} (lookups at (u, v, 0)) or {type: "transform",
+  // transform: ...} (lookups at the hit point), either with an optional
+  // transform applied to the lookup point. Without one, the procedural
+  // textures are solid (the course's checker.json and marble.json references
+  // show patterns in world space) and images are looked up by UV.
   void parse_mapping(const JsonCursor& j, SceneTexture& t) {
+    t.solid = t.kind == TEX_CHECKER || t.kind == TEX_MARBLE;
     if (!j.has("mapping")) return;
     JsonCursor m = j["mapping"].expect_object();
     m.allow_only({"type", "transform"});
     std::string type = m.has("type") ? m["type"].string() : "transform";
-    if (type == "transform") t.solid = true;
-    else if (type != "uv") m["type"].fail("unknown texture mapping \"" + type + "\" (expected uv or transform)");
+    t.solid = type == "transform";
+    if (type != "transform" && type != "uv") m["type"].fail("unknown texture mapping \"" + type + "\" (expected uv or transform)");
     if (m.has("transform")) t.mapping = parse_transform(m["transform"]);
   }
 
@@ -149,7 +114,9 @@ class DartsImporter {
       if (depth >= TEXTURE_MAX_NESTING - 1) j.fail("checker textures nest more than " + std::to_string(TEXTURE_MAX_NESTING - 1) + " deep");
       t.kind = TEX_CHECKER;
       parse_mapping(j, t);
-      t.scale = j.has("scale") ? j["scale"].positive_number() : 1.0f;
+      // darts: odd where sin(x / scale) sin(y / scale) sin(z / scale) < 0, so
+      // cells are pi * scale wide (the course's checker.json reference).
+      t.scale = 1.0f / (float(M_PI) * (j.has("scale") ? j["scale"].positive_number() : 1.0f));
       // Children first: their indices go into this texture.
       t.even = j.has("even") ? texture_param(j["even"], depth + 1) : add_texture(constant_texture(glm::vec3(1.0f)));
       t.odd = j.has("odd") ? texture_param(j["odd"], depth + 1) : add_texture(constant_texture(glm::vec3(0.0f)));
@@ -292,8 +259,8 @@ class DartsImporter {
       j.allow_only({"type", "name", "albedo", "roughness"});
       m.kind = MAT_METAL;
       m.albedo = albedo_param(j, "albedo");
-      m.param = j.number_or("roughness", 0.0f);
-      if (!(m.param >= 0.0f)) j["roughness"].fail("roughness must not be negative");
+      // Clamped to [0, 1], as darts clamps it (metal.cpp).
+      m.param = std::clamp(j.number_or("roughness", 0.0f), 0.0f, 1.0f);
     } else if (type == "dielectric") {
       j.allow_only({"type", "name", "ior"});
       m.kind = MAT_DIELECTRIC;
@@ -314,7 +281,10 @@ class DartsImporter {
         j.fail("a blend may combine at most " + std::to_string(BSDF_MAX_LOBES) + " materials in all");
       }
     } else {
-      j["type"].fail("unknown material type \"" + type + "\" (expected " + kind_list(material_kinds()) + ")");
+      std::vector<std::string> kinds;
+      for (const KindInfo& k : material_kinds()) kinds.push_back(k.name);
+      std::string hint = did_you_mean(type, kinds);
+      j["type"].fail("unknown material type \"" + type + "\"" + (hint.empty() ? " (expected " + kind_list(material_kinds()) + ")" : hint));
     }
     scene_.materials.push_back(m);
     leaves_.push_back(m.kind == MAT_BLEND ? leaves_[m.a] + leaves_[m.b] : 1);
@@ -368,7 +338,7 @@ class DartsImporter {
     std::string type = j["type"].string();
     glm::mat4 xform = parent * (j.has("transform") ? parse_transform(j["transform"]) : glm::mat4(1.0f));
     if (type == "sphere") {
-      j.allow_only({"type", "radius", "transform", "material"});
+      j.allow_only({"type", "name", "radius", "transform", "material"});
       float radius = j.has("radius") ? j["radius"].positive_number() : 1.0f;
       SceneSphere s;
       s.toWorld = xform * glm::scale(glm::mat4(1.0f), glm::vec3(radius));
@@ -381,7 +351,7 @@ class DartsImporter {
         j.fail("emissive spheres must keep their shape (uniform scale): an emissive ellipsoid cannot be sampled yet");
       scene_.spheres.push_back(s);
     } else if (type == "quad") {
-      j.allow_only({"type", "size", "transform", "material"});
+      j.allow_only({"type", "name", "size", "transform", "material"});
       glm::vec2 size(1.0f);
       if (j.has("size")) {
         JsonCursor sz = j["size"];
@@ -405,7 +375,7 @@ class DartsImporter {
         for (int k = 0; k < 3; ++k) sh.uv[k] = kCornerUv[t[k]];
       }
     } else if (type == "triangle") {
-      j.allow_only({"type", "positions", "normals", "transform", "material"});
+      j.allow_only({"type", "name", "positions", "normals", "uvs", "transform", "material"});
       JsonCursor pos = j["positions"].expect_array();
       if (pos.size() != 3) pos.fail("expected 3 vertex positions, got " + std::to_string(pos.size()));
       glm::vec3 v[3];
@@ -423,23 +393,36 @@ class DartsImporter {
         }
         sh.hasNormals = true;
       }
+      if (j.has("uvs")) {
+        JsonCursor uvs = j["uvs"].expect_array();
+        if (uvs.size() != 3) uvs.fail("expected 3 vertex UVs, got " + std::to_string(uvs.size()));
+        SceneTriangleShading& sh = tri.shading == WP_INVALID ? add_shading(tri) : scene_.triangleShading[tri.shading];
+        for (size_t i = 0; i < 3; ++i) {
+          JsonCursor uv = uvs[i].expect_array();
+          if (uv.size() != 2) uv.fail("expected [u, v]");
+          sh.uv[i] = glm::vec2(uv[size_t(0)].number(), uv[size_t(1)].number());
+        }
+        sh.hasUvs = true;
+      }
     } else if (type == "mesh") {
-      j.allow_only({"type", "filename", "transform", "material", "material prefix"});
+      j.allow_only({"type", "name", "filename", "transform", "material", "material prefix"});
       load_mesh(j, xform);
     } else if (type == "point_light") {
       // wavepath extension (CS184's point lights): radiant intensity in W/sr.
-      j.allow_only({"type", "position", "intensity", "transform"});
+      j.allow_only({"type", "name", "position", "intensity", "transform"});
       ScenePointLight l;
       l.position = glm::vec3(xform * glm::vec4(j.vec3_or("position", glm::vec3(0.0f)), 1.0f));
       if (!is_finite(l.position)) j.fail(std::string("point light: ") + kPastFloatRange);
       l.intensity = non_negative(j["intensity"]);
       scene_.pointLights.push_back(l);
     } else if (type == "group") {
-      j.allow_only({"type", "children", "transform"});
+      j.allow_only({"type", "name", "children", "transform"});
       JsonCursor children = j["children"].expect_array();
       for (size_t i = 0; i < children.size(); ++i) parse_surface(children[i], xform);
     } else {
-      j["type"].fail("unknown surface type \"" + type + "\" (expected sphere, quad, triangle, mesh, group or point_light)");
+      const std::vector<std::string> kinds = {"sphere", "quad", "triangle", "mesh", "group", "point_light"};
+      std::string hint = did_you_mean(type, kinds);
+      j["type"].fail("unknown surface type \"" + type + "\"" + (hint.empty() ? " (expected sphere, quad, triangle, mesh, group or point_light)" : hint));
     }
   }
 
@@ -538,6 +521,151 @@ class DartsImporter {
              [&](const std::string& problem) { j.fail("mesh " + rel + ", " + problem); });
   }
 
+  // ---- test files (darts_tests.h) ---------------------------------------------
+
+ public:
+  bool is_test_file() {
+    parse_document();
+    return holds_tests(doc_);
+  }
+
+  std::vector<DartsTest> load_tests() {
+    parse_document();
+    JsonCursor root(doc_, "", file_);
+    root.expect_object();
+    if (!holds_tests(doc_)) root.fail("this file holds no darts tests (\"type\": \"tests\"): render it with wavepath render");
+    root.allow_only({"type", "tests"});
+    JsonCursor tests = root["tests"].expect_array();
+    std::vector<DartsTest> out(tests.size());
+    for (size_t i = 0; i < tests.size(); ++i) {
+      out[i].where = file_ + ": at " + tests[i].path();
+      const nlohmann::json& raw = tests[i].json();
+      if (raw.is_object() && raw.contains("name") && raw["name"].is_string()) out[i].name = raw["name"].get<std::string>();
+      try {
+        DartsImporter reader(file_);  // each test has its own materials, as darts makes each anew
+        reader.parse_test(tests[i], out[i]);
+        out[i].scene = std::move(reader.scene_);
+        out[i].scene.sourcePath = file_;
+      } catch (const InputError& e) {
+        out[i].loadError = e.what();
+      }
+    }
+    return out;
+  }
+
+ private:
+  // Sizes as darts' ScatterTest and SampleTest read them (test.cpp).
+  static void parse_sampling_options(const JsonCursor& j, DartsTest& t) {
+    t.name = j["name"].string();
+    if (t.name.empty() || t.name.find('/') != std::string::npos) j["name"].fail("a test's name names its output files: not empty, no '/'");
+    if (j.has("image size")) {
+      JsonCursor size = j["image size"].expect_array();
+      if (size.size() != 2) size.fail("expected [width, height]");
+      t.imageSize = glm::ivec2(size[size_t(0)].integer(1, 8192), size[size_t(1)].integer(1, 8192));
+    }
+    t.samplesPerPixel = uint64_t(j.integer_or("spp", 1000, 1, 1 << 24));
+    t.upSamples = uint32_t(j.integer_or("up samples", 4, 1, 64));
+    t.superSamples = uint32_t(j.integer_or("super samples", 32, 1, 256));
+    if (t.samplesPerPixel * uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y) > (uint64_t(1) << 34))
+      j.fail("spp x image size asks for more than 2^34 samples");
+    if (uint64_t(t.imageSize.x) * t.upSamples > 16384 || uint64_t(t.imageSize.y) * t.upSamples > 16384)
+      j.fail("image size x up samples must stay within 16384 pixels");
+  }
+
+  static glm::vec3 unit_vector(const JsonCursor& j) {
+    glm::vec3 v = j.vec3();
+    if (!(glm::length(v) > 0.0f) || !is_finite(v)) j.fail("expected a non-zero direction");
+    return glm::normalize(v);
+  }
+
+  void parse_test(const JsonCursor& j, DartsTest& t) {
+    j.expect_object();
+    std::string type = j["type"].string();
+    if (type == "scatter material" || type == "sample material") {
+      bool sampling = type == "sample material";
+      if (sampling) j.allow_only({"type", "name", "material", "normal", "incoming", "image size", "spp", "up samples", "super samples"});
+      else j.allow_only({"type", "name", "material", "normal", "incoming", "image size", "spp", "up samples"});
+      t.kind = sampling ? DartsTestKind::SampleMaterial : DartsTestKind::ScatterMaterial;
+      parse_sampling_options(j, t);
+      t.material = add_material(j["material"].expect_object(), t.name);
+      if (scene_.materials[t.material].kind == MAT_LIGHT) j["material"].fail("a diffuse_light scatters nothing to test");
+      t.normal = unit_vector(j["normal"]);
+      t.incoming = j.has("incoming") ? unit_vector(j["incoming"]) : sampling ? glm::normalize(glm::vec3(0.25f, 0.0f, -1.0f))
+                                                                               : glm::normalize(glm::vec3(0.0f, 0.25f, -1.0f));
+    } else if (type == "sample surface") {
+      j.allow_only({"type", "name", "surface", "surfaces", "image size", "spp", "up samples", "super samples"});
+      t.kind = DartsTestKind::SampleSurface;
+      parse_sampling_options(j, t);
+      parse_test_surfaces(j, t, true);
+    } else if (type == "intersection") {
+      j.allow_only({"type", "surface", "surfaces", "ray", "t", "p", "gn", "sn", "should_hit", "threshold"});
+      t.kind = DartsTestKind::Intersection;
+      t.name = "intersection";
+      parse_test_surfaces(j, t, false);
+      JsonCursor ray = j["ray"].expect_object();
+      ray.allow_only({"origin", "direction"});
+      t.rayOrigin = ray["origin"].vec3();
+      t.rayDirection = ray["direction"].vec3();
+      if (!(glm::length(t.rayDirection) > 0.0f)) ray["direction"].fail("expected a non-zero direction");
+      t.t = j["t"].number();
+      t.p = j["p"].vec3();
+      t.gn = j["gn"].vec3();
+      t.sn = j["sn"].vec3();
+      if (j.has("should_hit")) {
+        if (!j["should_hit"].json().is_boolean()) j["should_hit"].fail("expected true or false");
+        t.shouldHit = j["should_hit"].json().get<bool>();
+      }
+      t.threshold = j.number_or("threshold", 1e-5f);
+    } else if (type == "photon map") {
+      j["type"].fail("photon map tests need photon mapping, which wavepath does not have yet");
+    } else {
+      const std::vector<std::string> kinds = {"scatter material", "sample material", "sample surface", "intersection", "photon map"};
+      std::string hint = did_you_mean(type, kinds);
+      j["type"].fail("unknown test type \"" + type + "\"" +
+                     (hint.empty() ? " (expected scatter material, sample material, sample surface or intersection)" : hint));
+    }
+  }
+
+  // A test's "surface", or its "surfaces" (a group, or one surface). For
+  // sampling, each child of the group gets an emitting material of its own,
+  // so that the runner can pick children uniformly, as darts' group does.
+  void parse_test_surfaces(const JsonCursor& j, DartsTest& t, bool sampling) {
+    if (j.has("surface") == j.has("surfaces")) j.fail("a surface test needs \"surface\" or \"surfaces\" (one of them)");
+    JsonCursor top = j.has("surface") ? j["surface"] : j["surfaces"];
+    top.expect_object();
+    std::vector<JsonCursor> children;
+    glm::mat4 xform(1.0f);
+    if (top.has("type") && top["type"].is_string() && top["type"].string() == "group") {
+      top.allow_only({"type", "name", "children", "transform"});
+      if (top.has("transform")) xform = parse_transform(top["transform"]);
+      JsonCursor list = top["children"].expect_array();
+      for (size_t i = 0; i < list.size(); ++i) children.push_back(list[i]);
+      if (children.empty()) list.fail("a group to sample needs at least one child");
+    } else {
+      children.push_back(top);
+    }
+    for (const JsonCursor& child : children) {
+      const size_t triangles = scene_.triangles.size(), spheres = scene_.spheres.size(), points = scene_.pointLights.size();
+      parse_surface(child, xform);
+      if (!sampling) continue;
+      if (scene_.pointLights.size() != points) child.fail("a point light has no surface to sample");
+      SceneMaterial m;
+      m.name = "child " + std::to_string(t.childMaterials.size());
+      m.kind = MAT_LIGHT;
+      m.emission = add_texture(constant_texture(glm::vec3(1.0f)));
+      // Materials defined inside children come first; this one goes last.
+      for (size_t i = triangles; i < scene_.triangles.size(); ++i) scene_.triangles[i].material = uint32_t(scene_.materials.size());
+      for (size_t i = spheres; i < scene_.spheres.size(); ++i) {
+        if (!is_similarity(glm::mat3(scene_.spheres[i].toWorld)))
+          child.fail("spheres are sampled by the cone they subtend: an ellipsoid (non-uniform scale) cannot be");
+        scene_.spheres[i].material = uint32_t(scene_.materials.size());
+      }
+      t.childMaterials.push_back(uint32_t(scene_.materials.size()));
+      scene_.materials.push_back(m);
+      leaves_.push_back(1);
+    }
+  }
+
   std::string file_;
   nlohmann::json doc_;
   Scene scene_;
@@ -550,6 +678,18 @@ class DartsImporter {
 
 Scene import_darts(const std::string& path) {
   return DartsImporter(path).load();
+}
+
+bool is_darts_test_file(const std::string& path) {
+  try {
+    return DartsImporter(path).is_test_file();
+  } catch (const InputError&) {
+    return false;  // not JSON, or unreadable: the scene loader says what is wrong
+  }
+}
+
+std::vector<DartsTest> import_darts_tests(const std::string& path) {
+  return DartsImporter(path).load_tests();
 }
 
 }  // namespace wp

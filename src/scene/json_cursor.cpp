@@ -1,10 +1,74 @@
 #include "scene/json_cursor.h"
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <cctype>
 #include <cmath>
+#include <vector>
 
 #include "util/error.h"
 
 namespace wp {
+
+namespace {
+
+// Line and column of a byte of `text`. nlohmann reports the byte after the
+// offending token; count lines up to it.
+std::string location_of(const std::string& text, size_t byte) {
+  size_t end = std::min(byte == 0 ? 0 : byte - 1, text.size());
+  int line = 1;
+  int column = 1;
+  for (size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// A number too large for a double (nlohmann: "number overflow parsing
+// 'TOKEN'"), which the parser reports without a position: the place is
+// that of the token's first appearance in the text.
+std::string number_out_of_range(const std::string& text, const nlohmann::json::out_of_range& e) {
+  const std::string w = e.what();
+  const size_t open = w.find('\''), close = w.rfind('\'');
+  if (open == std::string::npos || close <= open) return "JSON number out of range (" + w + ")";
+  std::string token = w.substr(open + 1, close - open - 1);
+  const size_t at = text.find(token);
+  if (token.size() > 40) token = token.substr(0, 37) + "...";
+  const std::string problem = "JSON number " + token + " is out of the range of double-precision numbers";
+  return at == std::string::npos ? problem : location_of(text, at + 1) + ": " + problem;
+}
+
+std::string describe(const nlohmann::json::parse_error& e) {
+  // what() is "[json.exception.parse_error.101] parse error at line L, column C: MESSAGE".
+  std::string w = e.what();
+  size_t colon = w.find(": ");
+  return colon == std::string::npos ? w : w.substr(colon + 2);
+}
+
+}  // namespace
+
+nlohmann::json read_json_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError(path + ": cannot open scene file (" + (std::filesystem::exists(path) ? "permission denied" : "no such file") + ")");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    return nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path + ":" + location_of(text.str(), e.byte) + ": JSON syntax error: " + describe(e));
+  } catch (const nlohmann::json::out_of_range& e) {
+    throw InputError(path + ": " + number_out_of_range(text.str(), e));
+  }
+}
 
 std::string json_type_name(const nlohmann::json& value) {
   return value.type_name();
@@ -27,6 +91,40 @@ JsonCursor JsonCursor::operator[](size_t index) const {
   return JsonCursor(value_[index], path_ + "/" + std::to_string(index), file_);
 }
 
+// Levenshtein distance, case-insensitive: "Radius" and "radus" are both one
+// edit from "radius".
+static size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t above = row[j];
+      bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  // Close means at most a third of the word's letters changed (two for long
+  // words): a typo, not another word.
+  const size_t allowed = std::min<size_t>(2, std::max<size_t>(1, word.size() / 3));
+  std::string best;
+  size_t bestDistance = allowed + 1;
+  for (const std::string& c : candidates) {
+    size_t d = edit_distance(word, c);
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = c;
+    }
+  }
+  return best.empty() ? "" : " (did you mean \"" + best + "\"?)";
+}
+
 void JsonCursor::allow_only(std::initializer_list<const char*> allowed) const {
   expect_object();
   for (auto it = value_.begin(); it != value_.end(); ++it) {
@@ -35,7 +133,9 @@ void JsonCursor::allow_only(std::initializer_list<const char*> allowed) const {
     if (!known) {
       std::string list;
       for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-      JsonCursor(*it, path_ + "/" + it.key(), file_).fail("unknown key \"" + it.key() + "\" (expected one of: " + list + ")");
+      std::string hint = did_you_mean(it.key(), std::vector<std::string>(allowed.begin(), allowed.end()));
+      JsonCursor(*it, path_ + "/" + it.key(), file_)
+          .fail("unknown key \"" + it.key() + "\"" + (hint.empty() ? " (expected one of: " + list + ")" : hint));
     }
   }
 }

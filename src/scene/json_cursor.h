@@ -9,6 +9,7 @@
 
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace wp {
 
@@ -57,6 +58,13 @@ class JsonCursor {
   const std::string& file_;
 };
 
+// The JSON document in file `path`; an InputError names a syntax error's
+// line and column.
+nlohmann::json read_json_file(const std::string& path);
+
 std::string json_type_name(const nlohmann::json& value);
+
+// " (did you mean \"NAME\"?)" for the candidate a typo away from `word`, or "".
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates);
 
 }  // namespace wp

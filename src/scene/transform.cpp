@@ -75,6 +75,9 @@ static glm::mat4 parse_one(const JsonCursor& j) {
     return glm::rotate(glm::mat4(1.0f), glm::radians(r[size_t(0)].number()), glm::normalize(axis));
   }
   j.allow_only({"matrix"});
+  // darts takes one number s as diag(s, s, s, s), with a warning: it scales
+  // directions, not points. Say what to write instead.
+  if (j["matrix"].is_number()) j["matrix"].fail("one number is not a matrix: give 16 numbers (row-major), or {\"scale\": s}");
   JsonCursor m = j["matrix"].expect_array();
   if (m.size() != 16) m.fail("expected 16 numbers (a row-major 4x4 matrix), got " + std::to_string(m.size()));
   glm::mat4 out;

@@ -9,6 +9,7 @@
 
 #include "render/compiled_scene.h"
 #include "render/partial.h"
+#include "scene/darts_tests.h"
 #include "scene/load_scene.h"
 #include "scene/obj_mesh.h"
 #include "scene/texture_image.h"
@@ -58,7 +59,12 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         path = write_input("scene.json", data, size);
         RenderOptions options;
         options.spp = 1;
-        compile_scene(load_scene(path), options);
+        if (is_darts_test_file(path)) {  // darts' test files: each test's scene, as wavepath test builds it
+          for (const DartsTest& t : import_darts_tests(path))
+            if (t.loadError.empty()) compile_scene(t.scene, options);
+        } else {
+          compile_scene(load_scene(path), options);
+        }
         break;
       }
       case FuzzedInput::Obj:

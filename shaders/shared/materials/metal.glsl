@@ -1,5 +1,9 @@
-// metal.glsl — darts' metal: the mirror direction perturbed by a point of the
-// ball of radius `roughness` (param), a delta mirror when it is 0. As darts
+// metal.glsl — darts' metal: the mirror direction plus `roughness` (param)
+// times a uniform point of the unit sphere, normalised; a delta mirror when
+// roughness is 0. (The skeleton's comment speaks of random_in_unit_sphere,
+// but the course's reference histograms, metal*-sampled-ref.png, show the
+// rim-bright lobe of points on the sphere, not the centre-peaked one of the
+// ball: docs/scene-format.md.) As darts
 // defines it, f * cos is the albedo times the sampling density, so sampling
 // returns exactly the albedo and directions below the surface are absorbed.
 // Lobe functions as no_lobe.glsl describes them.
@@ -19,7 +23,7 @@ vec3 metal_eval(float roughness, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
 }
 
 vec3 metal_sample(float roughness, vec3 ns, vec3 wo, vec3 u) {
-  vec3 d = reflect_about(wo, ns) + square_to_uniform_ball(u) * roughness;
+  vec3 d = reflect_about(wo, ns) + square_to_uniform_sphere(vec2(u.x, u.y)) * roughness;
   float len = length(d);
   return len > 0.0f ? d / len : vec3(0.0f);
 }

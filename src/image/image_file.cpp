@@ -1,0 +1,176 @@
+#include "image/image_file.h"
+
+#include <stb_image_write.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <unistd.h>
+
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+struct FormatName {
+  const char* name;
+  ImageFormat format;
+};
+
+const FormatName kFormats[] = {{"png", ImageFormat::Png}, {"jpg", ImageFormat::Jpeg}, {"jpeg", ImageFormat::Jpeg},
+                               {"bmp", ImageFormat::Bmp}, {"tga", ImageFormat::Tga},  {"hdr", ImageFormat::Hdr},
+                               {"pfm", ImageFormat::Pfm}, {"exr", ImageFormat::Exr}};
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+bool write_file(const std::string& path, const void* data, size_t bytes) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) return false;
+  bool ok = std::fwrite(data, 1, bytes, f) == bytes;
+  return std::fclose(f) == 0 && ok;
+}
+
+// PFM (Portable Float Map): "PF", width and height, and a scale whose sign
+// gives the byte order (negative: little-endian), then float RGB rows from the
+// bottom up.
+bool write_pfm(const std::string& path, const RgbImage& image) {
+  std::string header = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
+  std::vector<float> rows(image.rgb.size());
+  const size_t row = size_t(image.width) * 3;
+  for (int y = 0; y < image.height; ++y)
+    std::copy_n(image.rgb.begin() + ptrdiff_t(size_t(image.height - 1 - y) * row), row, rows.begin() + ptrdiff_t(size_t(y) * row));
+  FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) return false;
+  bool ok = std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
+            std::fwrite(rows.data(), sizeof(float), rows.size(), f) == rows.size();
+  return std::fclose(f) == 0 && ok;
+}
+
+bool write_exr_rgb(const std::string& path, const RgbImage& image, std::string& error) {
+  const size_t n = size_t(image.width) * size_t(image.height);
+  std::vector<float> planes[3];
+  for (int c = 0; c < 3; ++c) {
+    planes[c].resize(n);
+    for (size_t p = 0; p < n; ++p) planes[c][p] = image.rgb[3 * p + size_t(c)];
+  }
+  // Channels in the alphabetical order readers expect: B, G, R.
+  float* pointers[3] = {planes[2].data(), planes[1].data(), planes[0].data()};
+  EXRHeader header;
+  InitEXRHeader(&header);
+  EXRImage exr;
+  InitEXRImage(&exr);
+  exr.num_channels = 3;
+  exr.images = reinterpret_cast<unsigned char**>(pointers);
+  exr.width = image.width;
+  exr.height = image.height;
+  EXRChannelInfo channels[3] = {};
+  int types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+  const char* names[3] = {"B", "G", "R"};
+  for (int c = 0; c < 3; ++c) std::snprintf(channels[c].name, sizeof(channels[c].name), "%s", names[c]);
+  header.num_channels = 3;
+  header.channels = channels;
+  header.pixel_types = types;
+  header.requested_pixel_types = types;
+  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
+  const char* err = nullptr;
+  int rc = SaveEXRImageToFile(&exr, &header, path.c_str(), &err);
+  if (rc != TINYEXR_SUCCESS) {
+    error = err ? err : "tinyexr error " + std::to_string(rc);
+    if (err) FreeEXRErrorMessage(err);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<ImageFormat> image_format_named(const std::string& name) {
+  const std::string n = lower(name);
+  for (const FormatName& f : kFormats)
+    if (n == f.name) return f.format;
+  return std::nullopt;
+}
+
+std::optional<ImageFormat> image_format_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (ext.empty()) return std::nullopt;
+  return image_format_named(ext.substr(1));
+}
+
+const char* image_format_names() {
+  return "png, jpg, jpeg, bmp, tga, hdr, pfm, exr";
+}
+
+bool is_float_format(ImageFormat f) {
+  return f == ImageFormat::Hdr || f == ImageFormat::Pfm || f == ImageFormat::Exr;
+}
+
+uint8_t to_srgb8(double linear) {
+  double c = std::clamp(linear, 0.0, 1.0);
+  double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return uint8_t(std::lround(s * 255.0));
+}
+
+void write_atomically(const std::string& path, const char* what, const std::function<bool(const std::string&, std::string&)>& write) {
+  std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  std::string error;
+  if (!write(tmp, error)) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot write " + what + (error.empty() ? "" : ": " + error));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw InputError(path + ": cannot write " + what + ": " + ec.message());
+  }
+}
+
+void write_image(const std::string& path, const RgbImage& image) {
+  std::optional<ImageFormat> format = image_format_of(path);
+  if (!format) throw InputError(path + ": unknown image format (expected the extension of one of " + image_format_names() + ")");
+  if (image.rgb.size() != size_t(image.width) * size_t(image.height) * 3 || image.width <= 0 || image.height <= 0)
+    throw InputError(path + ": internal error: the image's size does not match its pixels");
+  std::vector<uint8_t> bytes;
+  if (!is_float_format(*format)) {
+    // Non-finite values show as magenta, as darts shows them.
+    bytes.resize(image.rgb.size());
+    for (size_t i = 0; i < image.rgb.size(); i += 3) {
+      bool finite = std::isfinite(image.rgb[i]) && std::isfinite(image.rgb[i + 1]) && std::isfinite(image.rgb[i + 2]);
+      for (size_t c = 0; c < 3; ++c) bytes[i + c] = finite ? to_srgb8(image.rgb[i + c]) : (c == 1 ? 0 : 255);
+    }
+  }
+  const int w = image.width, h = image.height;
+  const char* what = "image";
+  std::vector<uint8_t> encoded;
+  auto append = [](void* ctx, void* data, int size) {
+    auto* v = static_cast<std::vector<uint8_t>*>(ctx);
+    v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+  };
+  write_atomically(path, what, [&](const std::string& tmp, std::string& error) {
+    int ok = 1;
+    switch (*format) {
+      case ImageFormat::Png: ok = stbi_write_png_to_func(append, &encoded, w, h, 3, bytes.data(), w * 3); break;
+      case ImageFormat::Jpeg: ok = stbi_write_jpg_to_func(append, &encoded, w, h, 3, bytes.data(), 95); break;
+      case ImageFormat::Bmp: ok = stbi_write_bmp_to_func(append, &encoded, w, h, 3, bytes.data()); break;
+      case ImageFormat::Tga: ok = stbi_write_tga_to_func(append, &encoded, w, h, 3, bytes.data()); break;
+      case ImageFormat::Hdr: ok = stbi_write_hdr_to_func(append, &encoded, w, h, 3, image.rgb.data()); break;
+      case ImageFormat::Pfm: return write_pfm(tmp, image);
+      case ImageFormat::Exr: return write_exr_rgb(tmp, image, error);
+    }
+    if (!ok || encoded.empty()) {
+      error = "encoding failed";
+      return false;
+    }
+    return write_file(tmp, encoded.data(), encoded.size());
+  });
+}
+
+}  // namespace wp

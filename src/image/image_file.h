@@ -1,0 +1,44 @@
+// image_file.h — a colour image (linear RGB floats) written in any format
+// darts can save, picked by the file's extension: PNG, JPEG, BMP, TGA (8-bit
+// sRGB, clamped), Radiance HDR, PFM and OpenEXR (32-bit float, linear).
+// Every file is written to a temporary name and renamed, so a failed or
+// interrupted write never leaves a complete-looking image.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace wp {
+
+enum class ImageFormat { Png, Jpeg, Bmp, Tga, Hdr, Pfm, Exr };
+
+// The format a file name's extension asks for (case-insensitive), if any.
+std::optional<ImageFormat> image_format_of(const std::string& path);
+// The format a name such as "png" or "jpg" (darts' --format) names, if any.
+std::optional<ImageFormat> image_format_named(const std::string& name);
+// "png, jpg, jpeg, bmp, tga, hdr, pfm, exr", for messages.
+const char* image_format_names();
+// Whether a format holds linear floating-point values (HDR, PFM, EXR).
+bool is_float_format(ImageFormat f);
+
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgb;  // 3 floats a pixel, rows top to bottom
+};
+
+// Writes `image` in the format of `path`'s extension; an InputError names the
+// file where the extension is not a format or the write fails.
+void write_image(const std::string& path, const RgbImage& image);
+
+// 8-bit sRGB of a linear value, clamped to [0, 1].
+uint8_t to_srgb8(double linear);
+
+// Writes through write(temporaryPath, error), then renames over `path`;
+// throws InputError("PATH: cannot write WHAT: error") where either fails.
+void write_atomically(const std::string& path, const char* what, const std::function<bool(const std::string&, std::string&)>& write);
+
+}  // namespace wp

@@ -1,0 +1,340 @@
+#include "stats/darts_tests.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+
+#include "gpu/wavefront.h"
+#include "render/compiled_scene.h"
+#include "scene/darts_tests.h"
+#include "stats/direction_test.h"
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+using shader::Hit;
+using shader::ShadowRay;
+
+// A test failed: its message is printed and the others still run.
+struct TestFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The family-wise level of the chi-square verdicts of one file.
+constexpr double kChi2Level = 0.01;
+
+// Answers probes on the GPU (through probe.comp) or on the CPU reference.
+class Prober {
+ public:
+  Prober(const CompiledScene& scene, const DartsTestOptions& a, const VulkanContext* ctx) : scene_(scene), view_(scene.view()), threads_(a.threads) {
+    if (ctx) gpu_ = std::make_unique<WavefrontRenderer>(*ctx, scene, kernel_variant("gpu").settings);
+  }
+
+  std::vector<Hit> run(const std::vector<ShadowRay>& queries) {
+    if (gpu_) return gpu_->run_probes(queries);
+    std::vector<Hit> out(queries.size());
+    tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) out[i] = view_.run_probe(queries[i]);
+      });
+    });
+    for (size_t i = 0; i < queries.size(); ++i)
+      if ((queries[i].path >> PROBE_KIND_SHIFT) == PROBE_INTERSECT && out[i].prim == PROBE_TRUNCATED)
+        throw RenderError("a probe ray needed more than " + std::to_string(scene_.params.counts.z) + " BVH traversal steps");
+    return out;
+  }
+
+ private:
+  const CompiledScene& scene_;
+  shader::SceneView view_;
+  int threads_;
+  std::unique_ptr<WavefrontRenderer> gpu_;
+};
+
+// Four random numbers of sample i: a stream of its own, so that the result
+// does not depend on how the samples are batched.
+glm::vec4 random4(uint64_t i, uint32_t seed) {
+  shader::ShaderMath m;
+  uint32_t state = m.rng_seed(uint32_t(i), uint32_t(i >> 32), seed);
+  glm::vec4 u;
+  for (int k = 0; k < 4; ++k) u[k] = m.rng_next(state);
+  return u;
+}
+
+uint32_t probe_path(uint32_t kind, uint32_t index) {
+  return (kind << PROBE_KIND_SHIFT) | index;
+}
+
+std::string output_path(const std::string& file, const std::string& name, const char* suffix) {
+  return (std::filesystem::path(file).parent_path() / (name + suffix)).string();
+}
+
+// darts' group: a child uniformly, then (here) a point on it in proportion
+// to area; the emitter table is rebuilt with those probabilities.
+void pick_children_uniformly(CompiledScene& cs, const DartsTest& t) {
+  std::vector<double> area(cs.emitters.size()), childArea(t.childMaterials.size(), 0.0);
+  std::vector<size_t> child(cs.emitters.size());
+  for (size_t e = 0; e < cs.emitters.size(); ++e) {
+    const uint32_t prim = cs.emitters[e].prim;
+    uint32_t material;
+    if (prim & HIT_SPHERE_BIT) {
+      const shader::Sphere& s = cs.spheres[prim & ~HIT_SPHERE_BIT];
+      material = s.material;
+      area[e] = s.area;
+    } else {
+      const shader::Triangle& tri = cs.triangles[prim];
+      material = tri.material;
+      area[e] = 0.5 * glm::length(glm::cross(glm::dvec3(tri.v1 - tri.v0), glm::dvec3(tri.v2 - tri.v0)));
+    }
+    child[e] = size_t(std::find(t.childMaterials.begin(), t.childMaterials.end(), material) - t.childMaterials.begin());
+    childArea[child[e]] += area[e];
+  }
+  std::vector<double> weights(cs.emitters.size());
+  for (size_t e = 0; e < weights.size(); ++e) weights[e] = area[e] / childArea[child[e]] / double(t.childMaterials.size());
+  std::vector<shader::Emitter> table = build_alias_table(weights);
+  for (size_t e = 0; e < table.size(); ++e) table[e].prim = cs.emitters[e].prim;
+  cs.emitters = table;
+}
+
+struct SamplingOutcome {
+  std::optional<Chi2Result> chi2;  // where the sampler has a density
+};
+
+class TestRunner {
+ public:
+  TestRunner(const std::string& file, const DartsTestOptions& a, const VulkanContext* ctx, int chi2Tests, FILE* log)
+      : file_(file), args_(a), ctx_(ctx), level_(sidak(kChi2Level, std::max(chi2Tests, 1))), log_(log) {}
+
+  // Runs test t; throws TestFailure with darts' message (or ours) if it fails.
+  void run(const DartsTest& t) {
+    RenderOptions options;
+    options.seed = args_.seed;
+    CompiledScene cs = compile_scene(t.scene, options);
+    if (t.kind == DartsTestKind::SampleSurface) {
+      if (cs.params.counts.x == 0 || t.childMaterials.empty()) throw TestFailure("there is no surface to sample");
+      pick_children_uniformly(cs, t);
+    }
+    Prober prober(cs, args_, ctx_);
+    if (t.kind == DartsTestKind::Intersection) return intersect(t, prober);
+    sample(t, prober);
+  }
+
+ private:
+  // The queries of samples [first, first + n) of a sampling test.
+  std::vector<ShadowRay> sample_queries(const DartsTest& t, uint64_t first, size_t n) const {
+    std::vector<ShadowRay> q(n);
+    for (size_t i = 0; i < n; ++i) {
+      glm::vec4 u = random4(first + i, args_.seed);
+      q[i].origin = glm::vec3(u);
+      q[i].tmax = u.w;
+      if (t.kind == DartsTestKind::SampleSurface) {
+        q[i].contribution = glm::vec3(0.0f);  // darts samples surfaces as seen from the origin
+        q[i].path = probe_path(PROBE_SURFACE_SAMPLE, 0);
+      } else {
+        q[i].dir = -t.incoming;
+        q[i].contribution = t.normal;
+        q[i].path = probe_path(PROBE_MATERIAL_SAMPLE, t.material);
+      }
+    }
+    return q;
+  }
+
+  std::vector<float> pdf_at(const DartsTest& t, Prober& prober, const std::vector<glm::vec3>& dirs) const {
+    // The planted error (tests only): a tilted normal, a moved viewpoint.
+    const float e = args_.plantedPdfError;
+    const glm::vec3 tilt = glm::normalize(glm::abs(t.normal.x) < 0.9f ? glm::cross(t.normal, glm::vec3(1, 0, 0)) : glm::cross(t.normal, glm::vec3(0, 1, 0)));
+    const glm::vec3 normal = glm::normalize(t.normal * std::cos(e) + tilt * std::sin(e));
+    std::vector<ShadowRay> q(dirs.size());
+    for (size_t i = 0; i < dirs.size(); ++i) {
+      if (t.kind == DartsTestKind::SampleSurface) {
+        q[i].dir = dirs[i];
+        q[i].contribution = glm::vec3(e, 0.0f, 0.0f);
+        q[i].path = probe_path(PROBE_SURFACE_PDF, 0);
+      } else {
+        q[i].origin = dirs[i];
+        q[i].dir = -t.incoming;
+        q[i].contribution = normal;
+        q[i].path = probe_path(PROBE_MATERIAL_PDF, t.material);
+      }
+    }
+    std::vector<Hit> answers = prober.run(q);
+    std::vector<float> pdf(answers.size());
+    for (size_t i = 0; i < answers.size(); ++i) pdf[i] = answers[i].t;
+    return pdf;
+  }
+
+  void write_pair(const std::string& name, const char* what, const std::vector<double>& values, double exposure, const DartsTest& t) const {
+    write_image(output_path(file_, name, (std::string("-") + what + ".png").c_str()), heatmap_image(values, t.imageSize, t.upSamples, exposure));
+    write_image(output_path(file_, name, (std::string("-") + what + ".exr").c_str()), graymap_image(values, t.imageSize, t.upSamples));
+  }
+
+  void sample(const DartsTest& t, Prober& prober) {
+    const bool material = t.kind != DartsTestKind::SampleSurface;
+    const bool hasPdfImage = t.kind != DartsTestKind::ScatterMaterial;  // darts' scatter tests have no pdf
+    const uint64_t total = t.samplesPerPixel * uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y);
+
+    // The histogram first: whether any sample was a delta decides whether
+    // the chi-square applies.
+    DirectionHistogram histogram(t.imageSize, total);
+    bool anyDelta = false, anyBelow = false;
+    const glm::vec3 n = t.normal;
+    for (uint64_t first = 0; first < total;) {
+      // Batches end at powers of two, where the histogram keeps its counts for the chi-square.
+      uint64_t next = first < 1024 ? 1024 : std::min<uint64_t>(first * 2, first + (1u << 20));
+      const size_t count = size_t(std::min<uint64_t>(total, next) - first);
+      std::vector<Hit> answers = prober.run(sample_queries(t, first, count));
+      for (const Hit& h : answers) {
+        glm::vec3 wi(h.t, h.u, h.v);
+        if (h.prim & PROBE_DELTA) anyDelta = true;
+        // darts counts directions below the surface as failures of opaque materials.
+        bool below = material && glm::dot(wi, n) < -1e-4f;
+        anyBelow = anyBelow || ((h.prim & PROBE_VALID) && below);
+        if ((h.prim & PROBE_VALID) && !below) histogram.add(wi);
+        else histogram.add_invalid();
+      }
+      first += count;
+    }
+
+    std::optional<PdfGrid> pdf;
+    if (!anyDelta) {
+      pdf = integrate_pdf(t.imageSize, t.superSamples, [&](const std::vector<glm::vec3>& dirs) { return pdf_at(t, prober, dirs); });
+    }
+    // One exposure for both heat maps, the histogram's, as in the course's
+    // reference images (*-pdf-ref.png is as bright as *-sampled-ref.png).
+    const double exposure = heatmap_exposure(histogram.density());
+    if (pdf && hasPdfImage) write_pair(t.name, "pdf", pdf->mean, exposure, t);
+    write_pair(t.name, "sampled", histogram.density(), exposure, t);
+
+    // darts' checks and messages, in its order.
+    if (hasPdfImage) {
+      if (!pdf) throw TestFailure("is_specular is set. It should not be.");
+      std::string integral = "Integral of PDF (should be close to 1): " + std::to_string(pdf->integral);
+      if (pdf->integral > 1.01 || pdf->integral < 0.90) throw TestFailure(integral);
+      say(integral);
+    }
+    const uint64_t percent = histogram.valid() * 100 / total;
+    std::string valid = std::to_string(percent) + "% of the scattered directions were valid (this should be close to 100%)";
+    if (percent > 100 || percent < 90) throw TestFailure(valid);
+    say(valid);
+    if (histogram.non_finite())
+      throw TestFailure("Some directions/PDFs contained invalid values (NaN or infinity). This should not happen.");
+    if (anyBelow) throw TestFailure("Some generated directions were below the hemisphere.");
+
+    // Beyond darts: the histogram against the pdf.
+    if (!pdf) {
+      say("chi-square: skipped (a delta lobe has no density to test against)");
+      return;
+    }
+    uint64_t used = std::min(total, chi2_sample_budget(*pdf));
+    const std::vector<double>& counts = histogram.counts_of_first(used);
+    if (used < 10000) {
+      say("chi-square: not applicable (the pdf's integrals over the cells are too uncertain to test even 10000 samples)");
+      return;
+    }
+    Chi2Result r = direction_chi2(counts, *pdf, used);
+    char line[320];
+    std::snprintf(line, sizeof line, "chi-square of the first %llu samples: %.1f with %d degrees of freedom, p = %.3g (fails below %.3g)",
+                  static_cast<unsigned long long>(used), r.statistic, r.dof, r.pValue, level_);
+    if (!r.problem.empty()) throw TestFailure(std::string(line) + ": " + r.problem);
+    if (r.pValue < level_) throw TestFailure(std::string(line) + ": the samples do not follow the pdf");
+    say(line);
+  }
+
+  void intersect(const DartsTest& t, Prober& prober) {
+    std::vector<ShadowRay> q(4);
+    for (uint32_t i = 0; i < 4; ++i) {
+      q[i].origin = t.rayOrigin;
+      q[i].dir = t.rayDirection;
+      q[i].tmax = WP_INF;
+      q[i].path = probe_path(PROBE_INTERSECT, 0);
+      q[i].pad = i;  // PROBE_ANSWER_HIT, _POINT, _GEOMETRIC_NORMAL, _SHADING_NORMAL
+    }
+    std::vector<Hit> a = prober.run(q);
+    const bool hit = a[PROBE_ANSWER_HIT].prim != WP_INVALID;
+    if (!hit) {
+      if (t.shouldHit) throw TestFailure("Intersection incorrect! Ray should hit surface.");
+      say("the ray misses, as it should");
+      return;
+    }
+    if (!t.shouldHit) throw TestFailure("Intersection incorrect! Ray should not hit the surface.");
+    auto vec = [](const Hit& h) { return glm::vec3(h.t, h.u, h.v); };
+    auto check = [&](const char* what, glm::vec3 want, glm::vec3 got) {
+      glm::vec3 d = glm::abs(want - got);
+      if (std::max(d.x, std::max(d.y, d.z)) > t.threshold) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg, "%s incorrect! Should be (%g, %g, %g) but got (%g, %g, %g)", what, want.x, want.y, want.z, got.x,
+                      got.y, got.z);
+        throw TestFailure(msg);
+      }
+    };
+    const float tHit = a[PROBE_ANSWER_HIT].t;
+    if (std::fabs(tHit - t.t) > t.threshold)
+      throw TestFailure("Intersection distance incorrect! Should be " + std::to_string(t.t) + " but got " + std::to_string(tHit));
+    check("Intersection point", t.p, vec(a[PROBE_ANSWER_POINT]));
+    check("Geometric normal", t.gn, vec(a[PROBE_ANSWER_GEOMETRIC_NORMAL]));
+    check("Shading normal", t.sn, vec(a[PROBE_ANSWER_SHADING_NORMAL]));
+    say("hit at t = " + std::to_string(tHit) + ", as it should");
+  }
+
+  std::string file_;
+  const DartsTestOptions& args_;
+  const VulkanContext* ctx_;
+  double level_;
+  FILE* log_;
+
+  void say(const std::string& line) const {
+    if (log_) std::fprintf(log_, "%s\n", line.c_str());
+  }
+};
+
+}  // namespace
+
+std::vector<DartsTestResult> run_darts_tests(const std::string& file, const DartsTestOptions& a, FILE* log) {
+  std::vector<DartsTest> tests = import_darts_tests(file);
+  int chi2Tests = 0;
+  for (const DartsTest& t : tests) chi2Tests += t.kind != DartsTestKind::Intersection;
+  std::unique_ptr<VulkanContext> ctx;
+  if (!a.cpu) ctx = std::make_unique<VulkanContext>(a.device, a.validation || VulkanContext::validation_requested_by_environment());
+  TestRunner runner(file, a, ctx.get(), chi2Tests, log);
+  std::vector<DartsTestResult> results;
+  for (const DartsTest& t : tests) {
+    DartsTestResult r;
+    r.name = t.name;
+    r.where = t.where;
+    if (log) {
+      const char* on = ctx ? ctx->info().name.c_str() : "the CPU reference";
+      std::fprintf(log, "---------------------------------------------------------------------------\n");
+      if (t.kind == DartsTestKind::Intersection && t.loadError.empty()) std::fprintf(log, "Testing surface intersection (%s) on %s\n", t.where.c_str(), on);
+      else std::fprintf(log, "Running test for \"%s\" (%s) on %s\n", t.name.c_str(), t.where.c_str(), on);
+      std::fflush(log);
+    }
+    if (!t.loadError.empty()) {
+      r.unreadable = true;
+      r.message = t.loadError;
+    } else {
+      try {
+        runner.run(t);
+        r.passed = true;
+      } catch (const TestFailure& e) {
+        r.message = e.what();
+      }
+    }
+    results.push_back(r);
+  }
+  if (ctx && ctx->validation_messages() > 0)
+    throw RenderError(std::to_string(ctx->validation_messages()) + " Vulkan validation message(s) reported");
+  return results;
+}
+
+}  // namespace wp

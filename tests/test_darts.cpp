@@ -1,0 +1,276 @@
+// The darts dialect (docs/scene-format.md): each key the darts-2022 skeleton
+// reads, loaded with its darts meaning or refused with the reason; test
+// files of every kind run on the CPU reference, against analytic densities;
+// and a planted pdf error that the verdict must catch.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "scene/darts_tests.h"
+#include "stats/darts_tests.h"
+#include "stats/direction_test.h"
+#include "test_support.h"
+
+namespace wp::test {
+namespace {
+
+Scene load_text(const std::string& name, const std::string& text) {
+  return load_scene(write_scene(name, text));
+}
+
+// ---- the scene vocabulary ------------------------------------------------------
+
+TEST(DartsKeys, NameIsALabelOnEverySurfaceKind) {
+  std::string obj = scratch_path("tri.obj");
+  std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  Scene s = load_text("names.json", R"({"camera": {}, "materials": [{"type": "lambertian", "name": "m"}], "surfaces": [
+    {"type": "sphere", "name": "ball", "material": "m"},
+    {"type": "quad", "name": "floor", "material": "m"},
+    {"type": "triangle", "name": "tri", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "material": "m"},
+    {"type": "mesh", "name": "obj", "filename": "tri.obj", "material": "m"},
+    {"type": "group", "name": "g", "children": [{"type": "sphere", "name": "inner", "material": "m"}]},
+    {"type": "point_light", "name": "lamp", "intensity": 1}]})");
+  EXPECT_EQ(s.spheres.size(), 2u);
+  EXPECT_EQ(s.triangles.size(), 4u);
+  EXPECT_EQ(s.pointLights.size(), 1u);
+}
+
+TEST(DartsKeys, TriangleUvsAreItsTextureCoordinates) {
+  Scene s = load_text("uvs.json", R"({"camera": {}, "surfaces": [{"type": "triangle", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+    "uvs": [[0.1, 0.2], [0.9, 0.2], [0.1, 0.8]], "material": {"type": "lambertian"}}]})");
+  ASSERT_EQ(s.triangles.size(), 1u);
+  ASSERT_NE(s.triangles[0].shading, WP_INVALID);
+  const SceneTriangleShading& sh = s.triangleShading[s.triangles[0].shading];
+  EXPECT_TRUE(sh.hasUvs);
+  EXPECT_FALSE(sh.hasNormals);
+  EXPECT_EQ(sh.uv[1], glm::vec2(0.9f, 0.2f));
+  expect_error(R"({"surfaces": [{"type": "triangle", "positions": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "uvs": [[0, 0], [1, 0]],
+    "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/uvs", "expected 3 vertex UVs"});
+}
+
+TEST(DartsKeys, MetalRoughnessIsClampedAsDartsClampsIt) {
+  Scene s = load_text("metal.json", R"({"camera": {}, "materials": [{"type": "metal", "name": "a", "roughness": -0.1},
+    {"type": "metal", "name": "b", "roughness": 1.5}, {"type": "metal", "name": "c", "roughness": 0.25}]})");
+  ASSERT_EQ(s.materials.size(), 3u);
+  EXPECT_EQ(s.materials[0].param, 0.0f);
+  EXPECT_EQ(s.materials[1].param, 1.0f);
+  EXPECT_EQ(s.materials[2].param, 0.25f);
+}
+
+TEST(DartsKeys, BackgroundDefaultsToDartsGrey) {
+  EXPECT_EQ(load_text("bg.json", R"({"camera": {}})").background, glm::vec3(0.2f));
+  EXPECT_EQ(load_text("bg0.json", R"({"camera": {}, "background": 0})").background, glm::vec3(0.0f));
+}
+
+// darts' checker: odd where sin(x / s) sin(y / s) sin(z / s) < 0, looked up
+// at the hit point unless a mapping says otherwise (checker.json's reference).
+TEST(DartsKeys, CheckerIsTheSignOfThreeSinesAtTheHitPoint) {
+  Scene s = load_text("checker.json", R"({"camera": {}, "materials": [{"type": "lambertian", "name": "c",
+    "albedo": {"type": "checker", "even": 0.25, "odd": 0.75, "scale": 0.1}}]})");
+  CompiledScene cs = compile_scene(s, RenderOptions());
+  shader::SceneView view = cs.view();
+  const uint32_t tex = cs.materials[0].info.y;
+  uint32_t state = 9;
+  int checked = 0;
+  for (int i = 0; i < 2000; ++i) {
+    glm::vec3 p(view.rng_next(state) * 4 - 2, view.rng_next(state) * 4 - 2, view.rng_next(state) * 4 - 2);
+    double sines = std::sin(p.x / 0.1) * std::sin(p.y / 0.1) * std::sin(p.z / 0.1);
+    if (std::fabs(sines) < 1e-3) continue;  // on a boundary, float and double may differ
+    glm::vec3 c = view.texture_eval(tex, glm::vec2(0.5f), p);  // the UV must not matter
+    EXPECT_EQ(c.x, sines < 0.0 ? 0.75f : 0.25f) << "at " << p.x << ", " << p.y << ", " << p.z;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1900);
+}
+
+TEST(DartsKeys, TyposGetASuggestionAndOtherWordsTheList) {
+  expect_error(R"({"surfaces": [{"type": "sphere", "radus": 1, "material": {"type": "lambertian"}}]})",
+               {"/surfaces/0/radus", "did you mean \"radius\""});
+  expect_error(R"({"materials": [{"type": "lambertain", "name": "a"}]})", {"/materials/0/type", "did you mean \"lambertian\""});
+  expect_error(R"({"surfaces": [{"type": "sphre", "material": {"type": "lambertian"}}]})", {"did you mean \"sphere\""});
+  expect_error(R"({"camera": {"zoom": 2}})", {"/camera/zoom", "expected one of: transform, vfov"});
+}
+
+TEST(DartsKeys, WhatWavepathCannotHonourIsRefusedWithTheReason) {
+  expect_error(R"({"media": [{"type": "homogeneous", "albedo": 0.5, "total": 1}]})", {"/media", "not supported yet"});
+  expect_error(R"({"type": "tests", "tests": []})", {"/type", "wavepath test"});
+  expect_error(R"({"camera": {"transform": {"matrix": 2}}})", {"/camera/transform/matrix", "16 numbers"});
+}
+
+// ---- test files ----------------------------------------------------------------
+
+std::string write_tests(const std::string& name, const std::string& tests) {
+  return write_scene(name, R"({"type": "tests", "tests": [)" + tests + "]}");
+}
+
+TEST(DartsTests, ReadEveryKindWithDartsDefaults) {
+  std::string path = write_tests("kinds.json", R"(
+    {"type": "scatter material", "name": "s", "material": {"type": "lambertian"}, "normal": [0, 0, 2]},
+    {"type": "sample material", "name": "m", "material": {"type": "phong", "exponent": 5}, "normal": [0, 0, 1],
+     "image size": [64, 32], "spp": 10, "up samples": 2, "super samples": 8},
+    {"type": "sample surface", "name": "g", "surfaces": {"type": "group", "children": [
+      {"type": "sphere", "radius": 1, "transform": {"translate": [0, 0, 4]}, "material": {"type": "lambertian"}},
+      {"type": "quad", "transform": {"translate": [0, 0, -3]}, "material": {"type": "diffuse_light", "emit": 1}}]}},
+    {"type": "intersection", "surface": {"type": "sphere", "material": {"type": "lambertian"}},
+     "ray": {"origin": [0, 0, 5], "direction": [0, 0, -2]}, "t": 2, "p": [0, 0, 1], "gn": [0, 0, 1], "sn": [0, 0, 1]},
+    {"type": "photon map", "name": "pm"},
+    {"type": "sample surfce", "name": "typo"})");
+  std::vector<DartsTest> t = import_darts_tests(path);
+  ASSERT_EQ(t.size(), 6u);
+  EXPECT_EQ(t[0].kind, DartsTestKind::ScatterMaterial);
+  EXPECT_EQ(t[0].imageSize, glm::ivec2(256, 128));
+  EXPECT_EQ(t[0].samplesPerPixel, 1000u);
+  EXPECT_EQ(t[0].upSamples, 4u);
+  EXPECT_EQ(t[0].normal, glm::vec3(0, 0, 1));
+  EXPECT_NEAR(glm::length(t[0].incoming - glm::normalize(glm::vec3(0.0f, 0.25f, -1.0f))), 0.0f, 1e-6f);
+  EXPECT_EQ(t[1].kind, DartsTestKind::SampleMaterial);
+  EXPECT_EQ(t[1].imageSize, glm::ivec2(64, 32));
+  EXPECT_EQ(t[1].samplesPerPixel, 10u);
+  EXPECT_EQ(t[1].upSamples, 2u);
+  EXPECT_EQ(t[1].superSamples, 8u);
+  EXPECT_NEAR(glm::length(t[1].incoming - glm::normalize(glm::vec3(0.25f, 0.0f, -1.0f))), 0.0f, 1e-6f);
+  EXPECT_EQ(t[2].kind, DartsTestKind::SampleSurface);
+  EXPECT_EQ(t[2].childMaterials.size(), 2u);
+  EXPECT_EQ(t[2].superSamples, 32u);
+  EXPECT_EQ(t[3].kind, DartsTestKind::Intersection);
+  EXPECT_EQ(t[3].rayDirection, glm::vec3(0, 0, -2));
+  EXPECT_EQ(t[3].threshold, 1e-5f);
+  EXPECT_TRUE(t[3].shouldHit);
+  EXPECT_NE(t[4].loadError.find("photon mapping"), std::string::npos) << t[4].loadError;
+  EXPECT_EQ(t[4].name, "pm");
+  EXPECT_NE(t[5].loadError.find("did you mean \"sample surface\""), std::string::npos) << t[5].loadError;
+  for (size_t i = 0; i < 4; ++i) EXPECT_TRUE(t[i].loadError.empty()) << t[i].loadError;
+}
+
+// Small images so that the CPU runs them in a second or two.
+const char* kSmall = R"("image size": [64, 32], "spp": 400)";
+
+DartsTestResult run_one(const std::string& path, float planted = 0.0f) {
+  DartsTestOptions o;
+  o.cpu = true;
+  o.plantedPdfError = planted;
+  std::vector<DartsTestResult> r = run_darts_tests(path, o, nullptr);
+  EXPECT_EQ(r.size(), 1u);
+  return r.empty() ? DartsTestResult{} : r[0];
+}
+
+// A sphere of radius 1 at distance 2 subtends a cone of half-angle 30 degrees:
+// its directions have density 1 / (2 pi (1 - cos 30)) inside, 0 outside.
+TEST(DartsTests, SphereSurfaceSamplingMatchesTheSolidAngleDensity) {
+  std::string path = write_tests("sphere.json", std::string(R"({"type": "sample surface", "name": "ball", )") + kSmall +
+                                                    R"(, "surface": {"type": "sphere", "transform": {"translate": [0, 0, 2]},
+                                                    "material": {"type": "diffuse_light", "emit": 1}}})");
+  DartsTestResult r = run_one(path);
+  EXPECT_TRUE(r.passed) << r.message;
+  int w = 0, h = 0;
+  std::string dir = std::filesystem::path(path).parent_path().string();
+  std::vector<float> pdf = read_exr_red_channel(dir + "/ball-pdf.exr", w, h);
+  std::vector<float> sampled = read_exr_red_channel(dir + "/ball-sampled.exr", w, h);
+  ASSERT_EQ(w, 64 * 4);
+  ASSERT_EQ(h, 32 * 4);
+  const double inside = 1.0 / (2.0 * M_PI * (1.0 - std::cos(M_PI / 6.0)));
+  // Cells wholly inside or outside the cone (theta below 26 or above 34 degrees).
+  double pdfError = 0.0, histogramSum = 0.0, histogramCells = 0.0;
+  for (int y = 0; y < h; y += 4)
+    for (int x = 0; x < w; x += 4) {
+      double theta0 = (y / 4) * M_PI / 32, theta1 = (y / 4 + 1) * M_PI / 32;
+      double expected = theta1 < M_PI / 180 * 26 ? inside : theta0 > M_PI / 180 * 34 ? 0.0 : -1.0;
+      if (expected < 0.0) continue;  // the edge runs through the cell
+      pdfError = std::max(pdfError, std::fabs(pdf[size_t(y) * w + x] - expected));
+      if (expected > 0.0 && theta0 > 0.1) {
+        histogramSum += sampled[size_t(y) * w + x];
+        histogramCells += 1.0;
+      }
+      if (expected == 0.0) {
+        EXPECT_EQ(sampled[size_t(y) * w + x], 0.0f);
+      }
+    }
+  EXPECT_LT(pdfError, 1e-4 * inside);
+  // 819200 samples over the cone's cells: their mean density within 1 %.
+  EXPECT_NEAR(histogramSum / histogramCells, inside, 0.01 * inside);
+}
+
+TEST(DartsTests, MaterialAndSurfaceTestsPassOnTheCpuReference) {
+  for (const std::string& test :
+       {std::string(R"({"type": "sample material", "name": "lambertian", "material": {"type": "lambertian", "albedo": 1},
+                       "normal": [0.25, 0.5, 1], )") + kSmall + "}",
+        std::string(R"({"type": "sample material", "name": "phong", "material": {"type": "phong", "exponent": 12},
+                       "normal": [0, 0, 1], )") + kSmall + "}",
+        std::string(R"({"type": "scatter material", "name": "metal", "material": {"type": "metal", "roughness": 0.4},
+                       "normal": [0, 0, 1], )") + kSmall + "}",
+        std::string(R"({"type": "sample surface", "name": "quad", "surface": {"type": "quad", "size": 1,
+                       "transform": {"o": [0, 0, 1], "x": [1, 0, 0], "y": [0, 1, 1]}, "material": {"type": "diffuse_light", "emit": 1}}, )") +
+            kSmall + "}"}) {
+    DartsTestResult r = run_one(write_tests("pass.json", test));
+    EXPECT_TRUE(r.passed) << r.name << ": " << r.message;
+  }
+}
+
+TEST(DartsTests, APlantedPdfErrorFailsTheVerdict) {
+  // A normal tilted by 1 degree; and a viewpoint moved by 0.02 for a sphere at distance 2.
+  DartsTestResult m = run_one(write_tests("tilt.json", std::string(R"({"type": "sample material", "name": "tilted",
+    "material": {"type": "phong", "exponent": 12}, "normal": [0, 0, 1], )") + kSmall + "}"),
+                              float(M_PI / 180));
+  EXPECT_FALSE(m.passed);
+  EXPECT_EQ(m.name, "tilted");
+  EXPECT_NE(m.message.find("chi-square"), std::string::npos) << m.message;
+  DartsTestResult s = run_one(write_tests("moved.json", std::string(R"({"type": "sample surface", "name": "moved", )") + kSmall +
+                                                             R"(, "surface": {"type": "sphere", "transform": {"translate": [0, 0, 2]},
+                                                             "material": {"type": "diffuse_light", "emit": 1}}})"),
+                              0.02f);
+  EXPECT_FALSE(s.passed);
+  EXPECT_NE(s.message.find("chi-square"), std::string::npos) << s.message;
+}
+
+TEST(DartsTests, DartsOwnChecksFailAsDartsFails) {
+  // A delta lobe in a sampling test; a ray that should hit but misses; a wrong normal.
+  DartsTestResult d = run_one(write_tests("delta.json", std::string(R"({"type": "sample material", "name": "mirror",
+    "material": {"type": "metal", "roughness": 0}, "normal": [0, 0, 1], )") + kSmall + "}"));
+  EXPECT_FALSE(d.passed);
+  EXPECT_NE(d.message.find("is_specular"), std::string::npos) << d.message;
+  const char* sphere = R"("surface": {"type": "sphere", "material": {"type": "lambertian"}})";
+  DartsTestResult miss = run_one(write_tests("miss.json", std::string(R"({"type": "intersection", )") + sphere +
+                                                              R"(, "ray": {"origin": [0, 3, 5], "direction": [0, 0, -1]}, "t": 1, "p": [0, 0, 0], "gn": [0, 0, 1], "sn": [0, 0, 1]})"));
+  EXPECT_FALSE(miss.passed);
+  EXPECT_NE(miss.message.find("should hit"), std::string::npos) << miss.message;
+  DartsTestResult hit = run_one(write_tests("hit.json", std::string(R"({"type": "intersection", )") + sphere +
+                                                            R"(, "ray": {"origin": [0, 0, 5], "direction": [0, 0, -2]}, "t": 2, "p": [0, 0, 1], "gn": [0, 0, 1], "sn": [0, 0, 1]})"));
+  EXPECT_TRUE(hit.passed) << hit.message;
+  DartsTestResult wrong = run_one(write_tests("wrong.json", std::string(R"({"type": "intersection", )") + sphere +
+                                                                R"(, "ray": {"origin": [0, 0, 5], "direction": [0, 0, -2]}, "t": 2, "p": [0, 0, 1], "gn": [0, 1, 0], "sn": [0, 0, 1]})"));
+  EXPECT_FALSE(wrong.passed);
+  EXPECT_NE(wrong.message.find("Geometric normal"), std::string::npos) << wrong.message;
+}
+
+// darts' histogram weights: each sample adds cells / (2 pi^2 N sin theta), so
+// the histogram integrates (over the sphere, by cells) to the valid share.
+TEST(DirectionTest, HistogramIntegratesToTheValidShare) {
+  const glm::ivec2 size(32, 16);
+  DirectionHistogram hist(size, 1000);
+  shader::ShaderMath m;
+  uint32_t state = 3;
+  for (int i = 0; i < 1000; ++i) {
+    if (i % 4 == 0) {
+      hist.add_invalid();
+      continue;
+    }
+    hist.add(m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state))));
+  }
+  EXPECT_EQ(hist.valid(), 750u);
+  double integral = 0.0;
+  for (int y = 0; y < size.y; ++y) {
+    double solidAngle = (std::cos(y * M_PI / size.y) - std::cos((y + 1) * M_PI / size.y)) * 2.0 * M_PI / size.x;
+    for (int x = 0; x < size.x; ++x) integral += hist.density()[size_t(y) * size.x + x] * solidAngle;
+  }
+  EXPECT_NEAR(integral, 0.75, 0.05);  // the 1 / sin(theta) weights are exact only on average over a cell
+  glm::dvec3 d = glm::normalize(glm::dvec3(0.3, -0.5, 0.2));
+  glm::dvec3 back = cell_to_direction(direction_to_cell(d, size), size);
+  EXPECT_NEAR(glm::length(back - d), 0.0, 1e-12);
+  uint64_t first = 300;
+  hist.counts_of_first(first);
+  EXPECT_EQ(first, 256u);  // counts are kept at powers of two
+}
+
+}  // namespace
+}  // namespace wp::test
