@@ -130,8 +130,8 @@ class WavefrontRenderer {
   };
   std::vector<glm::vec3> eval_textures(const std::vector<TextureQuery>& queries);
 
-  // The probes of probes.glsl (run_probe) on the GPU, one answer a query.
-  // Throws RenderError if an intersection probe ran past the step cap.
+  // The probes of probes.glsl (run_probe) on the GPU, one answer a query
+  // (an intersection past the step cap answers PROBE_TRUNCATED).
   std::vector<shader::Hit> run_probes(const std::vector<shader::ShadowRay>& queries);
 
   // The driver's statistics of every kernel this renderer compiled. Needs

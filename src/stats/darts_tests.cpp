@@ -41,14 +41,18 @@ class Prober {
   }
 
   std::vector<Hit> run(const std::vector<ShadowRay>& queries) {
-    if (gpu_) return gpu_->run_probes(queries);
-    std::vector<Hit> out(queries.size());
-    tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) out[i] = view_.run_probe(queries[i]);
+    std::vector<Hit> out;
+    if (gpu_) {
+      out = gpu_->run_probes(queries);
+    } else {
+      out.resize(queries.size());
+      tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+          for (size_t i = r.begin(); i != r.end(); ++i) out[i] = view_.run_probe(queries[i]);
+        });
       });
-    });
+    }
     for (size_t i = 0; i < queries.size(); ++i)
       if ((queries[i].path >> PROBE_KIND_SHIFT) == PROBE_INTERSECT && out[i].prim == PROBE_TRUNCATED)
         throw RenderError("a probe ray needed more than " + std::to_string(scene_.params.counts.z) + " BVH traversal steps");
@@ -106,10 +110,6 @@ void pick_children_uniformly(CompiledScene& cs, const DartsTest& t) {
   for (size_t e = 0; e < table.size(); ++e) table[e].prim = cs.emitters[e].prim;
   cs.emitters = table;
 }
-
-struct SamplingOutcome {
-  std::optional<Chi2Result> chi2;  // where the sampler has a density
-};
 
 class TestRunner {
  public:
