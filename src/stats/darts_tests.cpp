@@ -17,6 +17,7 @@
 #include "scene/darts_tests.h"
 #include "stats/direction_test.h"
 #include "util/error.h"
+#include "util/progress.h"
 
 namespace wp {
 
@@ -183,6 +184,8 @@ class TestRunner {
     const bool material = t.kind != DartsTestKind::SampleSurface;
     const bool hasPdfImage = t.kind != DartsTestKind::ScatterMaterial;  // darts' scatter tests have no pdf
     const uint64_t total = t.samplesPerPixel * uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y);
+    // A progress line on a terminal: the course's files take a minute or two a test on two cores.
+    Progress progress("samples", total, log_ && Progress::stderr_is_terminal());
 
     // The histogram first: whether any sample was a delta decides whether
     // the chi-square applies.
@@ -204,11 +207,22 @@ class TestRunner {
         else histogram.add_invalid();
       }
       first += count;
+      progress.add(count);
     }
+    progress.finish();
 
     std::optional<PdfGrid> pdf;
     if (!anyDelta) {
-      pdf = integrate_pdf(t.imageSize, t.superSamples, [&](const std::vector<glm::vec3>& dirs) { return pdf_at(t, prober, dirs); });
+      const uint64_t points = uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y) * t.superSamples * t.superSamples;
+      Progress pdfProgress("pdf points", points, log_ && Progress::stderr_is_terminal());
+      uint64_t counted = 0;  // the refining pass's points come on top: the line stops at 100 %
+      pdf = integrate_pdf(t.imageSize, t.superSamples, [&](const std::vector<glm::vec3>& dirs) {
+        const uint64_t add = std::min<uint64_t>(dirs.size(), points - counted);
+        counted += add;
+        pdfProgress.add(add);
+        return pdf_at(t, prober, dirs);
+      });
+      pdfProgress.finish();
     }
     // One exposure for both heat maps, the histogram's, as in the course's
     // reference images (*-pdf-ref.png is as bright as *-sampled-ref.png).
