@@ -563,6 +563,8 @@ class DartsImporter {
       if (size.size() != 2) size.fail("expected [width, height]");
       t.imageSize = glm::ivec2(size[size_t(0)].integer(1, 8192), size[size_t(1)].integer(1, 8192));
     }
+    if (uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y) > (uint64_t(1) << 23))
+      j["image size"].fail("more than 2^23 cells (4096 x 2048): the histogram and the pdf would need gigabytes");
     t.samplesPerPixel = uint64_t(j.integer_or("spp", 1000, 1, 1 << 24));
     t.upSamples = uint32_t(j.integer_or("up samples", 4, 1, 64));
     t.superSamples = uint32_t(j.integer_or("super samples", 32, 1, 256));

@@ -184,20 +184,11 @@ class TestRunner {
     const bool material = t.kind != DartsTestKind::SampleSurface;
     const bool hasPdfImage = t.kind != DartsTestKind::ScatterMaterial;  // darts' scatter tests have no pdf
     const uint64_t total = t.samplesPerPixel * uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y);
-    // A progress line on a terminal: the course's files take a minute or two a test on two cores.
-    Progress progress("samples", total, log_ && Progress::stderr_is_terminal());
-
-    // The histogram first: whether any sample was a delta decides whether
-    // the chi-square applies.
     DirectionHistogram histogram(t.imageSize, total);
     bool anyDelta = false, anyBelow = false;
     const glm::vec3 n = t.normal;
-    for (uint64_t first = 0; first < total;) {
-      // Batches end at powers of two, where the histogram keeps its counts for the chi-square.
-      uint64_t next = first < 1024 ? 1024 : std::min<uint64_t>(first * 2, first + (1u << 20));
-      const size_t count = size_t(std::min<uint64_t>(total, next) - first);
-      std::vector<Hit> answers = prober.run(sample_queries(t, first, count));
-      for (const Hit& h : answers) {
+    auto add_samples = [&](uint64_t first, size_t count) {
+      for (const Hit& h : prober.run(sample_queries(t, first, count))) {
         glm::vec3 wi(h.t, h.u, h.v);
         if (h.prim & PROBE_DELTA) anyDelta = true;
         // darts counts directions below the surface as failures of opaque materials.
@@ -206,15 +197,18 @@ class TestRunner {
         if ((h.prim & PROBE_VALID) && !below) histogram.add(wi);
         else histogram.add_invalid();
       }
-      first += count;
-      progress.add(count);
-    }
-    progress.finish();
-
+    };
+    // A first batch says whether a delta lobe samples (no density to
+    // integrate); the pdf then says how many samples its chi-square may
+    // take, and the histogram keeps its counts at that point.
+    const size_t firstBatch = size_t(std::min<uint64_t>(total, 1024));
+    add_samples(0, firstBatch);
     std::optional<PdfGrid> pdf;
+    uint64_t chi2Samples = 0;
+    const bool terminal = log_ && Progress::stderr_is_terminal();  // the course's files take a minute or two a test
     if (!anyDelta) {
       const uint64_t points = uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y) * t.superSamples * t.superSamples;
-      Progress pdfProgress("pdf points", points, log_ && Progress::stderr_is_terminal());
+      Progress pdfProgress("pdf points", points, terminal);
       uint64_t counted = 0;  // the refining pass's points come on top: the line stops at 100 %
       pdf = integrate_pdf(t.imageSize, t.superSamples, [&](const std::vector<glm::vec3>& dirs) {
         const uint64_t add = std::min<uint64_t>(dirs.size(), points - counted);
@@ -223,7 +217,20 @@ class TestRunner {
         return pdf_at(t, prober, dirs);
       });
       pdfProgress.finish();
+      chi2Samples = std::max<uint64_t>(firstBatch, std::min(total, chi2_sample_budget(*pdf)));
+      histogram.keep_counts_after(chi2Samples);
     }
+    Progress progress("samples", total, terminal);
+    progress.add(firstBatch);
+    for (uint64_t first = firstBatch; first < total;) {
+      uint64_t end = std::min(total, first + (1u << 20));
+      if (first < chi2Samples && chi2Samples < end) end = chi2Samples;  // a batch ends where the chi-square's samples do
+      add_samples(first, size_t(end - first));
+      progress.add(end - first);
+      first = end;
+    }
+    progress.finish();
+
     // One exposure for both heat maps, the histogram's, as in the course's
     // reference images (*-pdf-ref.png is as bright as *-sampled-ref.png).
     const double exposure = heatmap_exposure(histogram.density());
@@ -246,12 +253,12 @@ class TestRunner {
     if (anyBelow) throw TestFailure("Some generated directions were below the hemisphere.");
 
     // Beyond darts: the histogram against the pdf.
-    if (!pdf) {
+    if (!pdf || anyDelta) {
       say("chi-square: skipped (a delta lobe has no density to test against)");
       return;
     }
-    uint64_t used = std::min(total, chi2_sample_budget(*pdf));
-    const std::vector<double>& counts = histogram.counts_of_first(used);
+    const uint64_t used = histogram.kept_samples();
+    const std::vector<double>& counts = histogram.kept_counts();
     if (used < 10000) {
       say("chi-square: not applicable (the pdf's integrals over the cells are too uncertain to test even 10000 samples)");
       return;

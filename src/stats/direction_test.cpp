@@ -57,36 +57,22 @@ glm::dvec3 cell_to_direction(glm::dvec2 cell, glm::ivec2 size) {
 DirectionHistogram::DirectionHistogram(glm::ivec2 size, uint64_t totalSamples)
     : size_(size), total_(totalSamples), density_(size_t(size.x) * size_t(size.y), 0.0), counts_(density_.size(), 0.0) {}
 
-void DirectionHistogram::count_prefix() {
-  if (seen_ > 0 && (seen_ & (seen_ - 1)) == 0) prefixes_.emplace_back(seen_, counts_);
+void DirectionHistogram::keep_counts_after(uint64_t samples) {
+  keepAfter_ = std::max(samples, seen_);  // samples already added stay counted
+  if (seen_ == keepAfter_) kept_ = counts_;
+}
+
+void DirectionHistogram::count_sample() {
+  if (++seen_ == keepAfter_) kept_ = counts_;
 }
 
 void DirectionHistogram::add(glm::vec3 dir) {
   add_valid(dir);
-  ++seen_;
-  count_prefix();
+  count_sample();
 }
 
 void DirectionHistogram::add_invalid() {
-  ++seen_;
-  count_prefix();
-}
-
-const std::vector<double>& DirectionHistogram::counts_of_first(uint64_t& samples) const {
-  if (samples >= seen_) {
-    samples = seen_;
-    return counts_;
-  }
-  const std::vector<double>* best = nullptr;
-  uint64_t bestSamples = 0;
-  for (const auto& [n, counts] : prefixes_)
-    if (n <= samples && n > bestSamples) {
-      bestSamples = n;
-      best = &counts;
-    }
-  samples = bestSamples;
-  static const std::vector<double> none;
-  return best ? *best : none;
+  count_sample();
 }
 
 void DirectionHistogram::add_valid(glm::vec3 dir) {

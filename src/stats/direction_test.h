@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -32,9 +33,12 @@ class DirectionHistogram {
   // direction are added as invalid. Samples are numbered in the order added.
   void add(glm::vec3 dir);
   void add_invalid();
-  // The cell counts of the first `samples` samples, rounded down to a power
-  // of two (or all of them); sets `samples` to the number counted.
-  const std::vector<double>& counts_of_first(uint64_t& samples) const;
+  // Keep the cell counts as they stand after the first `samples` samples
+  // (call before adding them), for a chi-square that may not take them all.
+  void keep_counts_after(uint64_t samples);
+  // Those counts (all counts, where fewer samples were added).
+  const std::vector<double>& kept_counts() const { return seen_ > keepAfter_ ? kept_ : counts_; }
+  uint64_t kept_samples() const { return std::min(seen_, keepAfter_); }
   // darts' histogram: per cell, the samples' weights cells / (2 pi^2 N sin theta).
   const std::vector<double>& density() const { return density_; }
   const std::vector<double>& counts() const { return counts_; }
@@ -49,10 +53,11 @@ class DirectionHistogram {
   uint64_t valid_ = 0;
   bool nonFinite_ = false;
   uint64_t seen_ = 0;
-  std::vector<std::pair<uint64_t, std::vector<double>>> prefixes_;  // counts after 2^k samples
+  uint64_t keepAfter_ = UINT64_MAX;
+  std::vector<double> kept_;
 
   void add_valid(glm::vec3 dir);
-  void count_prefix();
+  void count_sample();
 };
 
 // The pdf over the grid: per cell the mean of super x super evaluations
