@@ -39,6 +39,13 @@ check "an unreadable test: exit 2, the others still run" $([ $rc -eq 2 ] && grep
 check "the typo gets a suggestion" $(grep -q '/tests/1/type.*did you mean "sample material"' "$work/err"; echo $?)
 check "photon maps are refused with the reason" $(grep -q "/tests/2/type: photon map tests need photon mapping" "$work/err"; echo $?)
 bad "a scene given to test" "holds no darts tests" -- "$wavepath" test "$data/quad-light.json"
+mkdir "$work/readonly" && cp "$work/test_failing.json" "$work/readonly/" && chmod 555 "$work/readonly"
+if [ -w "$work/readonly" ]; then
+  pass "a test file in a folder it cannot write to (skipped: root writes anywhere)"
+else
+  bad "a test file in a folder it cannot write to" "the output directory is not writable" -- "$wavepath" test "$work/readonly/test_failing.json"
+fi
+chmod 755 "$work/readonly"
 
 # Output formats, by extension.
 scene="$data/quad-light.json"

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <unistd.h>
 
@@ -30,9 +32,13 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool write_file(const std::string& path, const void* data, size_t bytes) {
+// Sets `error` to the system's reason where the file cannot be written.
+bool write_file(const std::string& path, const void* data, size_t bytes, std::string& error) {
   FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return false;
+  if (!f) {
+    error = std::strerror(errno);
+    return false;
+  }
   bool ok = std::fwrite(data, 1, bytes, f) == bytes;
   return std::fclose(f) == 0 && ok;
 }
@@ -40,14 +46,17 @@ bool write_file(const std::string& path, const void* data, size_t bytes) {
 // PFM (Portable Float Map): "PF", width and height, and a scale whose sign
 // gives the byte order (negative: little-endian), then float RGB rows from the
 // bottom up.
-bool write_pfm(const std::string& path, const RgbImage& image) {
+bool write_pfm(const std::string& path, const RgbImage& image, std::string& error) {
   std::string header = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
   std::vector<float> rows(image.rgb.size());
   const size_t row = size_t(image.width) * 3;
   for (int y = 0; y < image.height; ++y)
     std::copy_n(image.rgb.begin() + ptrdiff_t(size_t(image.height - 1 - y) * row), row, rows.begin() + ptrdiff_t(size_t(y) * row));
   FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return false;
+  if (!f) {
+    error = std::strerror(errno);
+    return false;
+  }
   bool ok = std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
             std::fwrite(rows.data(), sizeof(float), rows.size(), f) == rows.size();
   return std::fclose(f) == 0 && ok;
@@ -162,14 +171,14 @@ void write_image(const std::string& path, const RgbImage& image) {
       case ImageFormat::Bmp: ok = stbi_write_bmp_to_func(append, &encoded, w, h, 3, bytes.data()); break;
       case ImageFormat::Tga: ok = stbi_write_tga_to_func(append, &encoded, w, h, 3, bytes.data()); break;
       case ImageFormat::Hdr: ok = stbi_write_hdr_to_func(append, &encoded, w, h, 3, image.rgb.data()); break;
-      case ImageFormat::Pfm: return write_pfm(tmp, image);
+      case ImageFormat::Pfm: return write_pfm(tmp, image, error);
       case ImageFormat::Exr: return write_exr_rgb(tmp, image, error);
     }
     if (!ok || encoded.empty()) {
       error = "encoding failed";
       return false;
     }
-    return write_file(tmp, encoded.data(), encoded.size());
+    return write_file(tmp, encoded.data(), encoded.size(), error);
   });
 }
 
