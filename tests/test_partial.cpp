@@ -178,7 +178,9 @@ TEST(Partial, CpuResumeEqualsAnUninterruptedRender) {
     int passes = 0;
     uint32_t reached = render_cpu(cs, 0, image, {0, 48}, p, [&](const ImageStats&, uint32_t) { return ++passes < 2; });
     ASSERT_LT(reached, 48u) << "stopped after two passes";
-    if (adaptive) EXPECT_EQ(reached % 8u, 0u) << "adaptive renders stop at batch ends";
+    if (adaptive) {
+      EXPECT_EQ(reached % 8u, 0u) << "adaptive renders stop at batch ends";
+    }
     // Through the partial file, as --checkpoint and --resume do.
     PartialFile checkpoint = read_partial(write_part("ck.exr", image, cs, format_sample_ranges({{0, reached}})));
     EXPECT_EQ(render_cpu(cs, 0, checkpoint.image, {reached, 48}, p), 48u);

@@ -283,8 +283,8 @@ int run_render(const RenderArgs& a) {
   const std::string samples = format_sample_ranges(done);
   const std::string written = outIsExr ? exr : out + " and " + exr;
   if (!complete) {
-    std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s%s%s\n", status.c_str(),
-                 samples.c_str(), format_sample_ranges({plan.range}).c_str(), written.c_str(), "",
+    std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s%s\n", status.c_str(),
+                 samples.c_str(), format_sample_ranges({plan.range}).c_str(), written.c_str(),
                  a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str());
   }
   if (!a.quiet) {

@@ -1,6 +1,5 @@
 #include "cli/render_args.h"
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -171,11 +170,5 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
   return done;
 }
 
-void require_output_directory(const std::string& path) {
-  std::filesystem::path dir = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) throw InputError(path + ": the output directory does not exist");
-  if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
-}
 
 }  // namespace wp::cli

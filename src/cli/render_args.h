@@ -96,8 +96,4 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
 // `ranges` sorted and joined where adjacent.
 std::vector<SampleRange> join_ranges(std::vector<SampleRange> ranges);
 
-// Checks where an output file goes before any time is spent on the work
-// whose result it holds.
-void require_output_directory(const std::string& path);
-
 }  // namespace wp::cli

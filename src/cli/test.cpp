@@ -8,8 +8,6 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "cli/render_args.h"
-#include "scene/darts_tests.h"
 #include "stats/darts_tests.h"
 
 namespace wp::cli {
@@ -21,9 +19,6 @@ int run_darts_tests(const TestArgs& a) {
   o.threads = a.threads;
   o.seed = a.seed;
   o.validation = a.validation;
-  // The tests write their images beside the file, as darts does: say so
-  // before a minute of sampling, not after.
-  if (is_darts_test_file(a.file)) require_output_directory(a.file);
   std::vector<DartsTestResult> results = wp::run_darts_tests(a.file, o, stdout);
   int passed = 0;
   bool unreadable = false;

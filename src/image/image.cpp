@@ -155,8 +155,6 @@ ImageStats layer_as_color(const ImageStats& image, const std::string& name) {
   return out;
 }
 
-// Writes encoded PNG bytes atomically (see write_png).
-static void write_png_bytes(const std::string& path, const std::vector<uint8_t>& png);
 
 
 RgbImage mean_rgb(const ImageStats& image) {
@@ -183,17 +181,11 @@ std::vector<uint8_t> to_srgb8(const ImageStats& image) {
 }
 
 std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t>& rgb) {
-  std::vector<uint8_t> out;
-  auto append = [](void* ctx, void* data, int size) {
-    auto* v = static_cast<std::vector<uint8_t>*>(ctx);
-    v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
-  };
-  if (!stbi_write_png_to_func(append, &out, width, height, 3, rgb.data(), width * 3)) out.clear();
-  return out;
+  return encode_8bit(ImageFormat::Png, width, height, rgb);
 }
 
 void write_png(const std::string& path, const ImageStats& image) {
-  write_png_bytes(path, encode_png(image.width, image.height, to_srgb8(image)));
+  write_bytes_atomically(path, "PNG", encode_png(image.width, image.height, to_srgb8(image)));
 }
 
 void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples) {
@@ -206,20 +198,7 @@ void write_sample_rate_png(const std::string& path, const ImageStats& image, int
     rgb[3 * p + 1] = uint8_t(std::lround(255.0 * g));
     rgb[3 * p + 2] = uint8_t(std::lround(255.0 * b));
   }
-  write_png_bytes(path, encode_png(image.width, image.height, rgb));
-}
-
-static void write_png_bytes(const std::string& path, const std::vector<uint8_t>& png) {
-  write_atomically(path, "PNG", [&](const std::string& tmp, std::string& error) {
-    if (png.empty()) {
-      error = "PNG encoding failed";
-      return false;
-    }
-    FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) return false;
-    bool ok = std::fwrite(png.data(), 1, png.size(), f) == png.size();
-    return std::fclose(f) == 0 && ok;
-  });
+  write_bytes_atomically(path, "PNG", encode_png(image.width, image.height, rgb));
 }
 
 namespace {

@@ -32,34 +32,40 @@ std::string lower(std::string s) {
   return s;
 }
 
+// Whether a format holds linear floating-point values (HDR, PFM, EXR).
+bool is_float_format(ImageFormat f) {
+  return f == ImageFormat::Hdr || f == ImageFormat::Pfm || f == ImageFormat::Exr;
+}
+
+// stb_image_write's callback: appends to the std::vector<uint8_t> ctx.
+void append_bytes(void* ctx, void* data, int size) {
+  auto* v = static_cast<std::vector<uint8_t>*>(ctx);
+  v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+}
+
 // Sets `error` to the system's reason where the file cannot be written.
-bool write_file(const std::string& path, const void* data, size_t bytes, std::string& error) {
+bool write_file(const std::string& path, const std::vector<uint8_t>& bytes, std::string& error) {
   FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) {
     error = std::strerror(errno);
     return false;
   }
-  bool ok = std::fwrite(data, 1, bytes, f) == bytes;
+  bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
   return std::fclose(f) == 0 && ok;
 }
 
 // PFM (Portable Float Map): "PF", width and height, and a scale whose sign
 // gives the byte order (negative: little-endian), then float RGB rows from the
 // bottom up.
-bool write_pfm(const std::string& path, const RgbImage& image, std::string& error) {
-  std::string header = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
-  std::vector<float> rows(image.rgb.size());
-  const size_t row = size_t(image.width) * 3;
+std::vector<uint8_t> encode_pfm(const RgbImage& image) {
+  const std::string header = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
+  const size_t rowBytes = size_t(image.width) * 3 * sizeof(float);
+  std::vector<uint8_t> bytes(header.begin(), header.end());
+  bytes.resize(header.size() + rowBytes * size_t(image.height));
   for (int y = 0; y < image.height; ++y)
-    std::copy_n(image.rgb.begin() + ptrdiff_t(size_t(image.height - 1 - y) * row), row, rows.begin() + ptrdiff_t(size_t(y) * row));
-  FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    error = std::strerror(errno);
-    return false;
-  }
-  bool ok = std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
-            std::fwrite(rows.data(), sizeof(float), rows.size(), f) == rows.size();
-  return std::fclose(f) == 0 && ok;
+    std::memcpy(bytes.data() + header.size() + size_t(y) * rowBytes, image.rgb.data() + size_t(image.height - 1 - y) * size_t(image.width) * 3,
+                rowBytes);
+  return bytes;
 }
 
 bool write_exr_rgb(const std::string& path, const RgbImage& image, std::string& error) {
@@ -117,14 +123,41 @@ const char* image_format_names() {
   return "png, jpg, jpeg, bmp, tga, hdr, pfm, exr";
 }
 
-bool is_float_format(ImageFormat f) {
-  return f == ImageFormat::Hdr || f == ImageFormat::Pfm || f == ImageFormat::Exr;
-}
-
 uint8_t to_srgb8(double linear) {
   double c = std::clamp(linear, 0.0, 1.0);
   double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
   return uint8_t(std::lround(s * 255.0));
+}
+
+std::vector<uint8_t> encode_8bit(ImageFormat format, int width, int height, const std::vector<uint8_t>& rgb) {
+  std::vector<uint8_t> out;
+  int ok = 0;
+  switch (format) {
+    case ImageFormat::Png: ok = stbi_write_png_to_func(append_bytes, &out, width, height, 3, rgb.data(), width * 3); break;
+    case ImageFormat::Jpeg: ok = stbi_write_jpg_to_func(append_bytes, &out, width, height, 3, rgb.data(), 95); break;
+    case ImageFormat::Bmp: ok = stbi_write_bmp_to_func(append_bytes, &out, width, height, 3, rgb.data()); break;
+    case ImageFormat::Tga: ok = stbi_write_tga_to_func(append_bytes, &out, width, height, 3, rgb.data()); break;
+    default: break;  // not an 8-bit format
+  }
+  if (!ok) out.clear();
+  return out;
+}
+
+void write_bytes_atomically(const std::string& path, const char* what, const std::vector<uint8_t>& bytes) {
+  write_atomically(path, what, [&](const std::string& tmp, std::string& error) {
+    if (bytes.empty()) {
+      error = "encoding failed";
+      return false;
+    }
+    return write_file(tmp, bytes, error);
+  });
+}
+
+void require_output_directory(const std::string& path) {
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::is_directory(dir, ec)) throw InputError(path + ": the output directory does not exist");
+  if (::access(dir.empty() ? "." : dir.c_str(), W_OK) != 0) throw InputError(path + ": the output directory is not writable");
 }
 
 void write_atomically(const std::string& path, const char* what, const std::function<bool(const std::string&, std::string&)>& write) {
@@ -156,30 +189,19 @@ void write_image(const std::string& path, const RgbImage& image) {
       for (size_t c = 0; c < 3; ++c) bytes[i + c] = finite ? to_srgb8(image.rgb[i + c]) : (c == 1 ? 0 : 255);
     }
   }
-  const int w = image.width, h = image.height;
-  const char* what = "image";
+  if (*format == ImageFormat::Exr) {
+    write_atomically(path, "image", [&](const std::string& tmp, std::string& error) { return write_exr_rgb(tmp, image, error); });
+    return;
+  }
   std::vector<uint8_t> encoded;
-  auto append = [](void* ctx, void* data, int size) {
-    auto* v = static_cast<std::vector<uint8_t>*>(ctx);
-    v->insert(v->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
-  };
-  write_atomically(path, what, [&](const std::string& tmp, std::string& error) {
-    int ok = 1;
-    switch (*format) {
-      case ImageFormat::Png: ok = stbi_write_png_to_func(append, &encoded, w, h, 3, bytes.data(), w * 3); break;
-      case ImageFormat::Jpeg: ok = stbi_write_jpg_to_func(append, &encoded, w, h, 3, bytes.data(), 95); break;
-      case ImageFormat::Bmp: ok = stbi_write_bmp_to_func(append, &encoded, w, h, 3, bytes.data()); break;
-      case ImageFormat::Tga: ok = stbi_write_tga_to_func(append, &encoded, w, h, 3, bytes.data()); break;
-      case ImageFormat::Hdr: ok = stbi_write_hdr_to_func(append, &encoded, w, h, 3, image.rgb.data()); break;
-      case ImageFormat::Pfm: return write_pfm(tmp, image, error);
-      case ImageFormat::Exr: return write_exr_rgb(tmp, image, error);
-    }
-    if (!ok || encoded.empty()) {
-      error = "encoding failed";
-      return false;
-    }
-    return write_file(tmp, encoded.data(), encoded.size(), error);
-  });
+  if (*format == ImageFormat::Pfm) {
+    encoded = encode_pfm(image);
+  } else if (*format == ImageFormat::Hdr) {
+    if (!stbi_write_hdr_to_func(append_bytes, &encoded, image.width, image.height, 3, image.rgb.data())) encoded.clear();
+  } else {
+    encoded = encode_8bit(*format, image.width, image.height, bytes);
+  }
+  write_bytes_atomically(path, "image", encoded);
 }
 
 }  // namespace wp

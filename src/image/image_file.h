@@ -21,8 +21,6 @@ std::optional<ImageFormat> image_format_of(const std::string& path);
 std::optional<ImageFormat> image_format_named(const std::string& name);
 // "png, jpg, jpeg, bmp, tga, hdr, pfm, exr", for messages.
 const char* image_format_names();
-// Whether a format holds linear floating-point values (HDR, PFM, EXR).
-bool is_float_format(ImageFormat f);
 
 struct RgbImage {
   int width = 0;
@@ -33,6 +31,18 @@ struct RgbImage {
 // Writes `image` in the format of `path`'s extension; an InputError names the
 // file where the extension is not a format or the write fails.
 void write_image(const std::string& path, const RgbImage& image);
+
+// The file contents of 8-bit RGB pixels (three bytes a pixel, rows top to
+// bottom) in PNG, JPEG, BMP or TGA; empty where encoding fails.
+std::vector<uint8_t> encode_8bit(ImageFormat format, int width, int height, const std::vector<uint8_t>& rgb);
+
+// Writes encoded file contents as write_atomically does; empty contents
+// (a failed encoding) are an error.
+void write_bytes_atomically(const std::string& path, const char* what, const std::vector<uint8_t>& bytes);
+
+// Throws InputError naming `path` where its folder does not exist or cannot
+// be written to: checked before work whose output would be lost.
+void require_output_directory(const std::string& path);
 
 // 8-bit sRGB of a linear value, clamped to [0, 1].
 uint8_t to_srgb8(double linear);

@@ -16,6 +16,7 @@
 #include "render/compiled_scene.h"
 #include "scene/darts_tests.h"
 #include "stats/direction_test.h"
+#include "image/image_file.h"
 #include "util/error.h"
 #include "util/progress.h"
 
@@ -88,6 +89,7 @@ std::string output_path(const std::string& file, const std::string& name, const 
 // darts' group: a child uniformly, then (here) a point on it in proportion
 // to area; the emitter table is rebuilt with those probabilities.
 void pick_children_uniformly(CompiledScene& cs, const DartsTest& t) {
+  shader::SceneView view = cs.view();
   std::vector<double> area(cs.emitters.size()), childArea(t.childMaterials.size(), 0.0);
   std::vector<size_t> child(cs.emitters.size());
   for (size_t e = 0; e < cs.emitters.size(); ++e) {
@@ -100,7 +102,7 @@ void pick_children_uniformly(CompiledScene& cs, const DartsTest& t) {
     } else {
       const shader::Triangle& tri = cs.triangles[prim];
       material = tri.material;
-      area[e] = 0.5 * glm::length(glm::cross(glm::dvec3(tri.v1 - tri.v0), glm::dvec3(tri.v2 - tri.v0)));
+      area[e] = view.triangle_area(tri);
     }
     child[e] = size_t(std::find(t.childMaterials.begin(), t.childMaterials.end(), material) - t.childMaterials.begin());
     childArea[child[e]] += area[e];
@@ -323,6 +325,9 @@ class TestRunner {
 
 std::vector<DartsTestResult> run_darts_tests(const std::string& file, const DartsTestOptions& a, FILE* log) {
   std::vector<DartsTest> tests = import_darts_tests(file);
+  // The tests write their images beside the file, as darts does: say so
+  // before a minute of sampling, not after.
+  require_output_directory(file);
   int chi2Tests = 0;
   for (const DartsTest& t : tests) chi2Tests += t.kind != DartsTestKind::Intersection;
   std::unique_ptr<VulkanContext> ctx;

@@ -95,15 +95,21 @@ void DirectionHistogram::add_valid(glm::vec3 dir) {
 
 namespace {
 
-// Evaluates the pdf at res x res midpoints of each listed cell, a million
-// points to a call of `evaluate`; adds each cell's integral to integral[k]
-// and its values to sum[k] (both indexed like `cells`).
-void integrate_cells(glm::ivec2 size, uint32_t res, const std::vector<size_t>& cells,
-                     const std::function<std::vector<float>(const std::vector<glm::vec3>&)>& evaluate, std::vector<double>& integral,
-                     std::vector<double>& sum, std::vector<double>* low, std::vector<double>* high) {
+// What res x res midpoints of a cell say of the pdf there.
+struct CellPoints {
+  double sum = 0.0;       // of the values
+  double integral = 0.0;  // midpoint rule over the cell's solid angle
+  double low = INFINITY, high = 0.0;
+};
+
+// The pdf at res x res midpoints of each listed cell, a million points to a
+// call of `evaluate`.
+std::vector<CellPoints> integrate_cells(glm::ivec2 size, uint32_t res, const std::vector<size_t>& cells,
+                                        const std::function<std::vector<float>(const std::vector<glm::vec3>&)>& evaluate) {
   const double pointArea = (kPi / res) * (2.0 * kPi / res) / (double(size.x) * double(size.y));  // times sin theta
   const size_t perCell = size_t(res) * res;
   const size_t cellsPerBatch = std::max<size_t>(1, (size_t(1) << 20) / perCell);
+  std::vector<CellPoints> out(cells.size());
   std::vector<glm::vec3> dirs;
   std::vector<double> sinThetas;
   for (size_t c0 = 0; c0 < cells.size(); c0 += cellsPerBatch) {
@@ -122,60 +128,58 @@ void integrate_cells(glm::ivec2 size, uint32_t res, const std::vector<size_t>& c
     std::vector<float> pdf = evaluate(dirs);
     size_t i = 0;
     for (size_t k = c0; k < c1; ++k) {
-      double lo = INFINITY, hi = 0.0;
+      CellPoints& c = out[k];
       for (size_t s = 0; s < perCell; ++s, ++i) {
         double value = pdf[i];
-        sum[k] += value;
-        integral[k] += pointArea * sinThetas[i] * value;
-        lo = std::min(lo, value);
-        hi = std::max(hi, value);
+        c.sum += value;
+        c.integral += pointArea * sinThetas[i] * value;
+        c.low = std::min(c.low, value);
+        c.high = std::max(c.high, value);
       }
-      if (low) (*low)[k] = lo;
-      if (high) (*high)[k] = hi;
     }
   }
+  return out;
 }
 
 }  // namespace
 
 PdfGrid integrate_pdf(glm::ivec2 size, uint32_t super, const std::function<std::vector<float>(const std::vector<glm::vec3>&)>& evaluate,
                       uint32_t refine) {
-  PdfGrid grid;
   const size_t cells = size_t(size.x) * size_t(size.y);
   std::vector<size_t> all(cells);
   for (size_t i = 0; i < cells; ++i) all[i] = i;
-  std::vector<double> sum(cells, 0.0), low(cells), high(cells);
-  grid.cellIntegral.assign(cells, 0.0);
-  integrate_cells(size, super, all, evaluate, grid.cellIntegral, sum, &low, &high);
+  const std::vector<CellPoints> points = integrate_cells(size, super, all, evaluate);
+  PdfGrid grid;
   grid.mean.resize(cells);
+  grid.cellIntegral.resize(cells);
+  grid.cellError.assign(cells, 0.0);
   for (size_t i = 0; i < cells; ++i) {
-    grid.mean[i] = sum[i] / (double(super) * super);
-    grid.integral += grid.cellIntegral[i];
+    grid.mean[i] = points[i].sum / (double(super) * super);
+    grid.cellIntegral[i] = points[i].integral;
+    grid.integral += points[i].integral;
   }
   // Where the pdf varies across a cell (an edge, a peak), or a cell where it
   // vanishes touches one where it does not (a sliver of support), the
   // midpoint rule may err by more than a chi-square of millions of samples
   // forgives: integrate those cells again, refine times finer in each
   // direction, and keep the change as the estimate's error.
-  grid.cellError.assign(cells, 0.0);
   auto nonzero_near = [&](size_t i) {
     const int x = int(i % size_t(size.x)), y = int(i / size_t(size.x));
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int nx = (x + dx + size.x) % size.x, ny = y + dy;  // phi wraps around
-        if (ny >= 0 && ny < size.y && high[size_t(ny) * size_t(size.x) + size_t(nx)] > 0.0) return true;
+        if (ny >= 0 && ny < size.y && points[size_t(ny) * size_t(size.x) + size_t(nx)].high > 0.0) return true;
       }
     return false;
   };
   std::vector<size_t> rough;
   for (size_t i = 0; i < cells; ++i)
-    if (high[i] > 1.05 * low[i] || (high[i] == 0.0 && nonzero_near(i))) rough.push_back(i);
+    if (points[i].high > 1.05 * points[i].low || (points[i].high == 0.0 && nonzero_near(i))) rough.push_back(i);
   if (refine > 1 && !rough.empty()) {
-    std::vector<double> integral(rough.size(), 0.0), ignored(rough.size(), 0.0);
-    integrate_cells(size, super * refine, rough, evaluate, integral, ignored, nullptr, nullptr);
+    const std::vector<CellPoints> finer = integrate_cells(size, super * refine, rough, evaluate);
     for (size_t k = 0; k < rough.size(); ++k) {
-      grid.cellError[rough[k]] = std::fabs(integral[k] - grid.cellIntegral[rough[k]]);
-      grid.cellIntegral[rough[k]] = integral[k];
+      grid.cellError[rough[k]] = std::fabs(finer[k].integral - grid.cellIntegral[rough[k]]);
+      grid.cellIntegral[rough[k]] = finer[k].integral;
     }
   }
   return grid;
@@ -203,10 +207,11 @@ Chi2Result direction_chi2(const std::vector<double>& counts, const PdfGrid& pdf,
 }
 
 double heatmap_exposure(const std::vector<double>& values) {
-  std::vector<double> sorted = values;
-  std::sort(sorted.begin(), sorted.end());
-  double top = sorted.empty() ? 0.0 : sorted[size_t(double(sorted.size() - 1) * 0.9995)];
-  return top > 0.0 ? 1.0 / top : 0.0;
+  if (values.empty()) return 0.0;
+  std::vector<double> v = values;
+  auto at = v.begin() + ptrdiff_t(double(v.size() - 1) * 0.9995);
+  std::nth_element(v.begin(), at, v.end());
+  return *at > 0.0 ? 1.0 / *at : 0.0;
 }
 
 RgbImage heatmap_image(const std::vector<double>& values, glm::ivec2 size, uint32_t up, double exposure) {
