@@ -24,7 +24,10 @@ seeds() {  # the seed corpus of one kind, in a folder of its own
   local kind=$1 dir=$build/fuzz-seeds/$1
   rm -rf "$dir" && mkdir -p "$dir"
   case $kind in
-    scene) cp "$src"/scenes/*.json "$src"/tests/data/*.json "$src"/tests/data/darts/*.json "$dir"/ ;;
+    scene)
+      cp "$src"/scenes/*.json "$src"/tests/data/*.json "$src"/tests/data/darts/*.json "$dir"/
+      for f in "$src"/tests/data/features/*.json; do cp "$f" "$dir/feature-$(basename "$f")"; done
+      ;;
     obj) cp "$src"/tests/data/*.obj "$dir"/ && find "$src/scenes/assets" -name '*.obj' -size -64k -exec cp {} "$dir"/ \; ;;
     image)  # the first byte names the file: 0 input.png (stb_image, by content), 1 input.exr, 2 input.tga
       for f in "$src"/tests/data/*.png "$src"/scenes/assets/*.png "$src"/scenes/assets/*.hdr; do

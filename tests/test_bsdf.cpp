@@ -13,8 +13,10 @@ using namespace shader;
 struct Lobe {
   uint32_t type;
   glm::vec3 color;
-  float param;
+  float param;  // params.x
   float weight;
+  glm::vec4 params{0.0f};  // when param alone does not say it: params, then params2
+  glm::vec4 params2{0.0f};
 };
 
 ShaderMath::Bsdf make_bsdf(glm::vec3 n, const std::vector<Lobe>& lobes, bool front = true) {
@@ -26,7 +28,8 @@ ShaderMath::Bsdf make_bsdf(glm::vec3 n, const std::vector<Lobe>& lobes, bool fro
   for (const Lobe& l : lobes) {
     b.lobeType[b.lobeCount] = l.type;
     b.lobeColor[b.lobeCount] = l.color;
-    b.lobeParam[b.lobeCount] = l.param;
+    ShaderMath{}.bsdf_set_params(b, b.lobeCount, l.params == glm::vec4(0.0f) ? glm::vec4(l.param, 0.0f, 0.0f, 0.0f) : l.params,
+                                 l.params2);
     b.lobeWeight[b.lobeCount] = l.weight;
     ++b.lobeCount;
   }
@@ -36,7 +39,12 @@ ShaderMath::Bsdf make_bsdf(glm::vec3 n, const std::vector<Lobe>& lobes, bool fro
 struct Config {
   const char* name;
   std::vector<Lobe> lobes;
+  bool front = true;  // wo on the outer side
 };
+
+// Gold's complex index of refraction at the red, green and blue primaries.
+const glm::vec4 kGoldEta(0.0f, 0.143f, 0.374f, 1.442f);  // x: alpha goes here
+const glm::vec4 kGoldK(3.983f, 2.385f, 1.603f, 0.0f);
 
 // The smooth lobes, including both cases of the metal's fuzz sphere (radius
 // below 1: it excludes the origin; above 1: it contains it) and a blend.
@@ -51,6 +59,19 @@ const std::vector<Config>& smooth_configs() {
       {"blinn-phong 200", {{MAT_BLINN_PHONG, glm::vec3(1.0f), 200.0f, 1.0f}}},
       {"blend lambertian 0.4 + phong 30 0.6",
        {{MAT_LAMBERTIAN, glm::vec3(1.0f), 0.0f, 0.4f}, {MAT_PHONG, glm::vec3(1.0f), 30.0f, 0.6f}}},
+      // The GGX lobes (params: kinds.glsl); MicrofacetLobes.* tests the
+      // narrow ones, whose lobes fit in a cell or two of this grid.
+      {"rough conductor (gold) alpha 0.09",
+       {{MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), 0.0f, 1.0f, kGoldEta + glm::vec4(0.09f, 0, 0, 0), kGoldK}}},
+      {"rough conductor (gold) alpha 0.5",
+       {{MAT_ROUGH_CONDUCTOR, glm::vec3(1.0f), 0.0f, 1.0f, kGoldEta + glm::vec4(0.5f, 0, 0, 0), kGoldK}}},
+      {"rough dielectric ior 1.5 alpha 0.09", {{MAT_ROUGH_DIELECTRIC, glm::vec3(1.0f), 0.0f, 1.0f, {1.5f, 0.09f, 0, 0}}}},
+      {"rough dielectric ior 1.5 alpha 0.4, from inside",
+       {{MAT_ROUGH_DIELECTRIC, glm::vec3(1.0f), 0.0f, 1.0f, {1.5f, 0.4f, 0, 0}}},
+       false},
+      {"metal-rough alpha 0.09 metallic 0", {{MAT_METAL_ROUGH, glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, 1.0f, {0.09f, 0.0f, 1.5f, 0}}}},
+      {"metal-rough alpha 0.49 metallic 0.5", {{MAT_METAL_ROUGH, glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, 1.0f, {0.49f, 0.5f, 1.5f, 0}}}},
+      {"metal-rough alpha 1 metallic 1", {{MAT_METAL_ROUGH, glm::vec3(1.0f), 0.0f, 1.0f, {1.0f, 1.0f, 1.5f, 0}}}},
   };
   return configs;
 }
@@ -71,7 +92,7 @@ Sample sample_of(const ShaderMath::Bsdf& b, glm::vec3 wo, uint32_t& state) {
 }
 
 ShaderMath::Bsdf bsdf_of(const Config& c, glm::vec3 n) {
-  return make_bsdf(n, c.lobes);
+  return make_bsdf(n, c.lobes, c.front);
 }
 
 // Normal and incident direction pairs: normal incidence, oblique, grazing,
@@ -87,7 +108,7 @@ const Geometry kGeometries[] = {
 };
 
 constexpr int kChi2Samples = 300000;
-const int kChi2Tests = int(std::size(kGeometries)) * 8;  // smooth_configs().size() configurations
+const int kChi2Tests = int(std::size(kGeometries)) * 15;  // smooth_configs().size() configurations
 const double kLevel = sidak(0.01, kChi2Tests);
 
 glm::vec3 unit(glm::vec3 v) { return glm::normalize(v); }
@@ -95,24 +116,11 @@ glm::vec3 unit(glm::vec3 v) { return glm::normalize(v); }
 // Chi-square of the directions `sampled` produces from wo against the pdf
 // `claimed` reports (the same BSDF, unless an error is planted).
 Chi2Result lobe_chi2(const ShaderMath::Bsdf& sampled, const ShaderMath::Bsdf& claimed, glm::vec3 wo, uint32_t seed) {
-  ShaderMath m;
-  uint32_t extra = m.rng_seed(seed, 1u, 2u);  // a stream unrelated to the harness's
   DirectionalChi2 chi;
   chi.thetaRes = 48;
   chi.phiRes = 96;
   chi.integrationRes = 10;
-  return chi.run(
-      kChi2Samples,
-      [&](glm::vec2 u, bool& ok) {
-        glm::vec4 u4(u.x, u.y, m.rng_next(extra), m.rng_next(extra));
-        glm::vec3 wi;
-        float pdf;
-        bool isDelta;
-        glm::vec3 w = m.bsdf_sample(sampled, wo, u4, wi, pdf, isDelta);
-        ok = pdf > 0.0f && !isDelta && (w.x > 0.0f || w.y > 0.0f || w.z > 0.0f);
-        return wi;
-      },
-      [&](glm::vec3 wi) { return double(m.bsdf_pdf(claimed, wo, wi)); }, seed);
+  return bsdf_chi2(chi, kChi2Samples, sampled, claimed, wo, seed);
 }
 
 std::string str(glm::vec3 v) {
@@ -129,6 +137,10 @@ TEST(Bsdf, EverySmoothLobeSamplesItsPdf) {
       if (glm::dot(wo, n) <= 0.0f) wo = -wo;
       ShaderMath::Bsdf b = bsdf_of(c, n);
       Chi2Result r = lobe_chi2(b, b, wo, seed++);
+      // Entering glass head-on, the transmitted lobe narrows around the pole
+      // to less than this grid's cells there: NarrowLobesSampleTheirPdf
+      // tests that case on a grid centred on it.
+      if (c.lobes[0].type == MAT_ROUGH_DIELECTRIC && c.front && glm::dot(wo, n) > 0.999f) continue;
       // Below radius 1 the metal's density grows without bound at the rim of
       // its cone, which no grid of cells integrates well enough: RoughMetal
       // tests it in the variable where its distribution is known in closed form.
@@ -170,7 +182,13 @@ TEST(Bsdf, SmoothLobesConserveEnergyAndWeightIsEvalOverPdf) {
         ASSERT_NEAR(ratio.x, r.weight.x, 1e-3f * std::max(1.0f, r.weight.x)) << c.name;
         sum += r.weight.x;
       }
-      EXPECT_LT(sum / samples, 1.01) << c.name << ", direction " << d;
+      // glTF's dielectric layer weighs its base by 1 - F(wo.h), which at
+      // grazing incidence adds up to more than it receives (Appendix B's
+      // model, kept as specified; docs/scene-format.md): a white base at 89
+      // degrees returns about 1.84x.
+      const Lobe& l = c.lobes[0];
+      const double bound = l.type == MAT_METAL_ROUGH && l.params.y < 1.0f ? 1.9 : 1.01;
+      EXPECT_LT(sum / samples, bound) << c.name << ", direction " << d;
     }
   }
 }
@@ -182,6 +200,7 @@ TEST(Bsdf, PdfIntegratesToOneWhenTheLobeIsAboveTheSurface) {
   ShaderMath m;
   for (const Config& c : smooth_configs()) {
     if (c.lobes[0].type == MAT_METAL) continue;  // radius above 1 reaches below the surface; below 1, RoughMetal
+    if (c.lobes[0].params != glm::vec4(0.0f)) continue;  // GGX loses samples below the surface: MicrofacetLobes
     glm::vec3 n(0, 0, 1);
     ShaderMath::Bsdf b = bsdf_of(c, n);
     DirectionalChi2 grid;

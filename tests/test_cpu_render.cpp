@@ -167,7 +167,8 @@ TEST(CpuReference, TruncatedTraversalIsAnErrorNotAnImage) {
 // agreed to 0.02%); the furnace checks it analytically, Gpu.EveryFeature...
 // against the GPU.
 TEST(CpuRender, AllPathTracersAgreeOnOneScene) {
-  for (const char* file : {"tests/data/features/integrators.json", "tests/data/features/environment.json"}) {
+  for (const char* file : {"tests/data/features/integrators.json", "tests/data/features/environment.json",
+                           "tests/data/features/microfacet.json"}) {
     Scene scene = load_scene(source_path(file));
     auto render = [&](IntegratorKind kind, uint32_t seed, float bias) {
       RenderOptions o;

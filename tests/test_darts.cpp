@@ -53,9 +53,42 @@ TEST(DartsKeys, MetalRoughnessIsClampedAsDartsClampsIt) {
   Scene s = load_text("metal.json", R"({"camera": {}, "materials": [{"type": "metal", "name": "a", "roughness": -0.1},
     {"type": "metal", "name": "b", "roughness": 1.5}, {"type": "metal", "name": "c", "roughness": 0.25}]})");
   ASSERT_EQ(s.materials.size(), 3u);
-  EXPECT_EQ(s.materials[0].param, 0.0f);
-  EXPECT_EQ(s.materials[1].param, 1.0f);
-  EXPECT_EQ(s.materials[2].param, 0.25f);
+  EXPECT_EQ(s.materials[0].params.x, 0.0f);
+  EXPECT_EQ(s.materials[1].params.x, 1.0f);
+  EXPECT_EQ(s.materials[2].params.x, 0.25f);
+}
+
+// wavepath's GGX materials in darts files: alpha = roughness^2, 0 below
+// GGX_MIN_ALPHA (a smooth lobe); eta and k per channel; glTF's defaults for
+// metal-rough; every value checked with its JSON path.
+TEST(DartsKeys, MicrofacetMaterialsReadTheirParameters) {
+  Scene s = load_text("ggx.json", R"({"camera": {}, "materials": [
+    {"type": "rough_conductor", "name": "gold", "eta": [0.14, 0.37, 1.44], "k": [3.98, 2.38, 1.6], "roughness": 0.5},
+    {"type": "rough_conductor", "name": "mirror", "eta": 0.2, "k": 3, "roughness": 0.01},
+    {"type": "rough_dielectric", "name": "glass", "ior": 1.33, "roughness": 0.2},
+    {"type": "metal_rough", "name": "default"},
+    {"type": "metal_rough", "name": "plastic", "base_color": [0.5, 0.1, 0.1], "metallic": 0, "roughness": 0.6, "ior": 1.4,
+     "metallic_roughness": {"type": "checker", "even": 1, "odd": 0.5}}]})");
+  ASSERT_EQ(s.materials.size(), 5u);
+  EXPECT_EQ(s.materials[0].kind, MAT_ROUGH_CONDUCTOR);
+  EXPECT_EQ(s.materials[0].params, glm::vec4(0.25f, 0.14f, 0.37f, 1.44f));
+  EXPECT_EQ(s.materials[0].params2, glm::vec4(3.98f, 2.38f, 1.6f, 0.0f));
+  EXPECT_EQ(s.materials[1].params.x, 0.0f) << "alpha 1e-4 is below GGX_MIN_ALPHA: a mirror";
+  EXPECT_EQ(s.materials[2].kind, MAT_ROUGH_DIELECTRIC);
+  EXPECT_EQ(s.materials[2].params, glm::vec4(1.33f, 0.2f * 0.2f, 0.0f, 0.0f));
+  EXPECT_EQ(s.materials[3].params, glm::vec4(1.0f, 1.0f, 1.5f, 0.0f)) << "glTF's defaults: roughness 1, metallic 1";
+  EXPECT_EQ(s.materials[3].amount, WP_INVALID);
+  EXPECT_EQ(s.materials[4].params, glm::vec4(0.6f, 0.0f, 1.4f, 0.0f));
+  EXPECT_NE(s.materials[4].amount, WP_INVALID);
+  const char* conductor = R"({"materials": [{"type": "rough_conductor", "name": "m", )";
+  expect_error(std::string(conductor) + R"("k": 1}]})", {"/materials/0", "eta"});
+  expect_error(std::string(conductor) + R"("eta": [1, -1, 1], "k": 1}]})", {"/materials/0/eta", "between 0 and 1000"});
+  expect_error(std::string(conductor) + R"("eta": 1, "k": -2}]})", {"/materials/0/k", "from 0 to 1000"});
+  expect_error(std::string(conductor) + R"("eta": 1, "k": 1, "roughness": 1.5}]})", {"/materials/0/roughness", "[0, 1]"});
+  expect_error(R"({"materials": [{"type": "metal_rough", "name": "m", "metallic": 2}]})", {"/materials/0/metallic", "[0, 1]"});
+  expect_error(R"({"materials": [{"type": "rough_dielectric", "name": "m", "ior": 0}]})", {"/materials/0/ior"});
+  expect_error(R"({"materials": [{"type": "rough_dielectric", "name": "m", "eta": 1.5}]})", {"/materials/0", "eta"});
+  expect_error(R"({"materials": [{"type": "metal_roughh", "name": "m"}]})", {"/materials/0/type", "metal_rough"});
 }
 
 TEST(DartsKeys, BackgroundDefaultsToDartsGrey) {

@@ -585,6 +585,11 @@ const FeatureCase kFeatureCases[] = {
     {"environment.json", IntegratorKind::PathMixture, "HDR environment map (mixture)"},
     {"integrators.json", IntegratorKind::PathHemisphere, "uniform hemisphere sampling (CS184 -H)"},
     {"camera.json", std::nullopt, "thin lens (aperture, focus distance), cmj sampler, 2:1 image"},
+    {"microfacet.json", IntegratorKind::PathMis,
+     "GGX: rough conductor and its smooth limit, rough and tinted dielectrics, metal-rough with a metallic-roughness "
+     "texture, a blend with a transmissive lobe (mis)"},
+    {"microfacet.json", IntegratorKind::PathMixture, "the GGX materials, path tracer mixture"},
+    {"microfacet.json", IntegratorKind::PathMats, "the GGX materials, path tracer mats"},
 };
 
 TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {

@@ -228,7 +228,7 @@ TEST(Scene, ShadeClassesHoldTheKindsOfTheirMaterials) {
       SceneMaterial m;
       m.kind = type;
       m.albedo = albedo;
-      m.param = type == MAT_DIELECTRIC ? 1.5f : 10.0f;
+      m.params.x = type == MAT_DIELECTRIC ? 1.5f : 10.0f;
       scene.materials.push_back(m);
       SceneSphere sp;
       sp.toWorld = glm::translate(glm::mat4(1.0f), glm::vec3(float(scene.spheres.size()) * 3.0f, 0.0f, 0.0f));

@@ -93,12 +93,34 @@ struct DirectionalChi2 {
   bool refineEdges = false;
   std::vector<double> observed, expected;
 
+  // Cells are uniform in azimuth around `pole` and in s = 1 - ((1 - z) / 2)^(1 /
+  // polarPower), z the cosine to the pole: power 1 makes them equal in solid
+  // angle; a higher power crowds them towards the pole, where a narrow lobe
+  // centred on it needs them.
+  glm::vec3 pole{0.0f, 0.0f, 1.0f};
+  int polarPower = 1;
+
+  void frame(glm::vec3& t, glm::vec3& b) const {
+    if (pole == glm::vec3(0.0f, 0.0f, 1.0f)) {
+      t = glm::vec3(1.0f, 0.0f, 0.0f);
+      b = glm::vec3(0.0f, 1.0f, 0.0f);
+    } else {
+      shader::ShaderMath{}.make_frame(pole, t, b);
+    }
+  }
+
   int cell(glm::vec3 w) const {
-    float z = std::clamp(w.z, -1.0f, 1.0f);
-    int i = std::min(thetaRes - 1, int((z + 1.0f) * 0.5f * float(thetaRes)));
-    float phi = std::atan2(w.y, w.x);
-    if (phi < 0.0f) phi += 2.0f * float(M_PI);
-    int j = std::min(phiRes - 1, int(phi / (2.0f * float(M_PI)) * float(phiRes)));
+    glm::vec3 t, b;
+    frame(t, b);
+    glm::dvec3 d(w);
+    double x = glm::dot(d, glm::dvec3(t)), y = glm::dot(d, glm::dvec3(b)), z = std::clamp(glm::dot(d, glm::dvec3(pole)), -1.0, 1.0);
+    // 1 - z from the transverse part, which keeps its precision near the pole.
+    double oneMinusZ = z > 0.0 ? (x * x + y * y) / (1.0 + z) : 1.0 - z;
+    double s = 1.0 - std::pow(std::min(oneMinusZ * 0.5, 1.0), 1.0 / polarPower);
+    int i = std::min(thetaRes - 1, int(s * thetaRes));
+    double phi = std::atan2(y, x);
+    if (phi < 0.0) phi += 2.0 * M_PI;
+    int j = std::min(phiRes - 1, int(phi / (2.0 * M_PI) * phiRes));
     return i * phiRes + j;
   }
 
@@ -121,17 +143,22 @@ struct DirectionalChi2 {
       }
       observed[size_t(cell(w))] += 1.0;
     }
-    double dz = 2.0 / thetaRes, dphi = 2.0 * M_PI / phiRes;
+    double ds = 1.0 / thetaRes, dphi = 2.0 * M_PI / phiRes;
+    glm::vec3 ft, fb;
+    frame(ft, fb);
     // Midpoint rule over a k x k grid of the cell; returns the mean pdf and
     // whether the pdf jumps inside the cell (an edge of its support, or a step).
     auto integrate = [&](int i, int j, int k, bool& jumps) {
       double sum = 0.0, lo = INFINITY, hi = 0.0;
       for (int a = 0; a < k; ++a)
         for (int b = 0; b < k; ++b) {
-          double z = -1.0 + (i + (a + 0.5) / k) * dz;
+          double s = (i + (a + 0.5) / k) * ds;
+          double z = 1.0 - 2.0 * std::pow(1.0 - s, polarPower);
+          double dzds = 2.0 * polarPower * std::pow(1.0 - s, polarPower - 1);
           double phi = (j + (b + 0.5) / k) * dphi;
           double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-          double p = pdf(glm::vec3(float(r * std::cos(phi)), float(r * std::sin(phi)), float(z)));
+          glm::dvec3 w = glm::dvec3(ft) * (r * std::cos(phi)) + glm::dvec3(fb) * (r * std::sin(phi)) + glm::dvec3(pole) * z;
+          double p = pdf(glm::vec3(glm::normalize(w))) * dzds;
           sum += p;
           lo = std::min(lo, p);
           hi = std::max(hi, p);
@@ -143,7 +170,7 @@ struct DirectionalChi2 {
     for (int i = 0; i < thetaRes; ++i)
       for (int j = 0; j < phiRes; ++j) {
         bool jumps = false;
-        expected[size_t(i * phiRes + j)] = integrate(i, j, integrationRes, jumps) * dz * dphi * n;
+        expected[size_t(i * phiRes + j)] = integrate(i, j, integrationRes, jumps) * ds * dphi * n;
         jumpy[size_t(i * phiRes + j)] = jumps;
       }
     // Densities with sharp edges (emitters seen from a point) need a much finer
@@ -163,12 +190,37 @@ struct DirectionalChi2 {
               if (jumpy[size_t(ii * phiRes + jj)] || std::max(a, b) > 1.5 * std::min(a, b)) near = true;
             }
           bool jumps = false;
-          if (near) expected[size_t(i * phiRes + j)] = integrate(i, j, integrationRes * 16, jumps) * dz * dphi * n;
+          if (near) expected[size_t(i * phiRes + j)] = integrate(i, j, integrationRes * 16, jumps) * ds * dphi * n;
         }
     }
     return chi2_test(observed, expected, n);
   }
 };
+
+// Chi-square over `grid`'s cells of n directions bsdf_sample draws from
+// `sampled` at wo against the pdf `claimed` reports (the same BSDF, unless a
+// test plants an error). Samples the BSDF absorbs are not counted; the
+// expected counts are the pdf's integrals, which then sum to less than n.
+// `keep`, where given, restricts both to the directions it accepts (one of
+// two narrow peaks, which one grid cannot resolve together).
+inline Chi2Result bsdf_chi2(DirectionalChi2& grid, int n, const shader::ShaderMath::Bsdf& sampled,
+                            const shader::ShaderMath::Bsdf& claimed, glm::vec3 wo, uint32_t seed,
+                            const std::function<bool(glm::vec3)>& keep = nullptr) {
+  shader::ShaderMath m;
+  uint32_t extra = m.rng_seed(seed, 1u, 2u);  // a stream unrelated to the harness's
+  return grid.run(
+      n,
+      [&](glm::vec2 u, bool& ok) {
+        glm::vec4 u4(u.x, u.y, m.rng_next(extra), m.rng_next(extra));
+        glm::vec3 wi;
+        float pdf;
+        bool isDelta;
+        glm::vec3 w = m.bsdf_sample(sampled, wo, u4, wi, pdf, isDelta);
+        ok = pdf > 0.0f && !isDelta && (w.x > 0.0f || w.y > 0.0f || w.z > 0.0f) && (!keep || keep(wi));
+        return wi;
+      },
+      [&](glm::vec3 wi) { return !keep || keep(wi) ? double(m.bsdf_pdf(claimed, wo, wi)) : 0.0; }, seed);
+}
 
 // The bunny (28.6k triangles, scaled to about 10 units) with a few spheres,
 // one of them an ellipsoid, some overlapping the mesh.

@@ -24,11 +24,42 @@ struct Bsdf {
   uint lobeCount;
   vec3 ng;  // geometric normal, on wo's side
   bool front;  // wo is on the front (outer) side: a dielectric is entered, not left
-  uint lobeType[BSDF_MAX_LOBES];    // MAT_* of each lobe
-  vec3 lobeColor[BSDF_MAX_LOBES];   // albedo (white for the dielectric)
-  float lobeParam[BSDF_MAX_LOBES];  // exponent, roughness or ior
+  uint lobeType[BSDF_MAX_LOBES];      // MAT_* of each lobe
+  vec3 lobeColor[BSDF_MAX_LOBES];     // albedo (white for the dielectric)
+  // The kind's parameters at the hit (kinds.glsl), params.x apart from the
+  // rest, which only kernels with kinds that read them store: lavapipe keeps
+  // arrays written at a varying index in memory, and every store costs.
+  float lobeParam[BSDF_MAX_LOBES];      // params.x
+  vec3 lobeParamYzw[BSDF_MAX_LOBES];    // params.yzw
+  vec4 lobeParams2[BSDF_MAX_LOBES];     // params2
   float lobeWeight[BSDF_MAX_LOBES];
 };
+
+// What one lobe's functions read: its colour and parameters, and which side
+// wo is on (the dielectrics' ratio of indices depends on it).
+struct Lobe {
+  vec4 params;
+  vec4 params2;
+  vec3 color;
+  bool front;
+};
+
+// Sets lobe k's parameters (the material's, or resolved at the hit).
+void bsdf_set_params(INOUT(Bsdf) b, uint k, vec4 params, vec4 params2) {
+  b.lobeParam[k] = params.x;
+  if (MATERIAL_PARAMS_YZW_COMPILED) b.lobeParamYzw[k] = vec3(params.y, params.z, params.w);
+  if (MATERIAL_PARAMS2_COMPILED) b.lobeParams2[k] = params2;
+}
+
+Lobe lobe_of(Bsdf b, uint i) {
+  Lobe l;
+  vec3 yzw = MATERIAL_PARAMS_YZW_COMPILED ? b.lobeParamYzw[i] : vec3(0.0f);
+  l.params = vec4(b.lobeParam[i], yzw.x, yzw.y, yzw.z);
+  l.params2 = MATERIAL_PARAMS2_COMPILED ? b.lobeParams2[i] : vec4(0.0f);
+  l.color = b.lobeColor[i];
+  l.front = b.front;
+  return l;
+}
 
 vec3 reflect_about(vec3 wo, vec3 n) {
   return n * (2.0f * dot(wo, n)) - wo;
@@ -46,6 +77,8 @@ float fresnel_dielectric(float cosI, float eta) {
   return 0.5f * (rs * rs + rp * rp);
 }
 
+#include "microfacet.glsl"
+
 // Each material kind's lobe functions (no_lobe.glsl lists them), one file a
 // kind, as WP_MATERIAL_KINDS names them.
 #include "materials/no_lobe.glsl"
@@ -54,46 +87,57 @@ float fresnel_dielectric(float cosI, float eta) {
 #include "materials/dielectric.glsl"
 #include "materials/phong.glsl"
 #include "materials/blinn_phong.glsl"
+#include "materials/rough_conductor.glsl"
+#include "materials/rough_dielectric.glsl"
+#include "materials/metal_rough.glsl"
 
 // The lobe functions of a lobe of kind `type`, dispatched through the kind
 // table: one branch per kind, each compiled only where the scene has the kind.
 #define WP_LOBE_IS_DELTA(id, name, prefix, lobes) \
-  if (MATERIAL_COMPILED(id) && type == id) return prefix##_is_delta(param);
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_is_delta(l);
+#define WP_LOBE_TRANSMITS(id, name, prefix, lobes) \
+  if (MATERIAL_COMPILED(id) && type == id) return ((lobes) & LOBE_TRANSMISSIVE) != 0u && !prefix##_is_delta(l);
 #define WP_LOBE_PDF(id, name, prefix, lobes) \
-  if (MATERIAL_COMPILED(id) && type == id) return prefix##_pdf(param, ns, wo, wi);
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_pdf(l, ns, wo, wi);
 #define WP_LOBE_EVAL(id, name, prefix, lobes) \
-  if (MATERIAL_COMPILED(id) && type == id) return prefix##_eval(param, color, ns, wo, wi);
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_eval(l, ns, wo, wi);
 #define WP_LOBE_SAMPLE(id, name, prefix, lobes) \
-  if (MATERIAL_COMPILED(id) && type == id) return prefix##_sample(param, ns, wo, u);
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_sample(l, ns, wo, u);
 #define WP_LOBE_SAMPLE_DELTA(id, name, prefix, lobes) \
-  if (MATERIAL_COMPILED(id) && type == id) return prefix##_sample_delta(param, color, front, ns, ng, wo, uPick, wi);
+  if (MATERIAL_COMPILED(id) && type == id) return prefix##_sample_delta(l, ns, ng, wo, uPick, wi);
 
-bool lobe_is_delta(uint type, float param) {
+bool lobe_is_delta(uint type, Lobe l) {
   WP_MATERIAL_KINDS(WP_LOBE_IS_DELTA)
+  return false;
+}
+
+// Whether a smooth lobe has a density on the far side of the surface.
+bool lobe_transmits(uint type, Lobe l) {
+  WP_MATERIAL_KINDS(WP_LOBE_TRANSMITS)
   return false;
 }
 
 // Density (solid angle) with which a smooth lobe of `type` samples wi; ns is
 // the shading normal on wo's side. 0 for delta lobes.
-float lobe_pdf(uint type, float param, vec3 ns, vec3 wo, vec3 wi) {
+float lobe_pdf(uint type, Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   WP_MATERIAL_KINDS(WP_LOBE_PDF)
   return 0.0f;
 }
 
-// f * cos of a smooth lobe (zero below the surface).
-vec3 lobe_eval(uint type, float param, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
+// f * |cos| of a smooth lobe (zero where it does not reach).
+vec3 lobe_eval(uint type, Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   WP_MATERIAL_KINDS(WP_LOBE_EVAL)
   return vec3(0.0f);
 }
 
 // Direction from a smooth lobe, or a zero vector when the lobe produced none.
-vec3 lobe_sample(uint type, float param, vec3 ns, vec3 wo, vec3 u) {
+vec3 lobe_sample(uint type, Lobe l, vec3 ns, vec3 wo, vec3 u) {
   WP_MATERIAL_KINDS(WP_LOBE_SAMPLE)
   return vec3(0.0f);
 }
 
 // Direction from a delta lobe, and f * |cos| / pdf (zero when absorbed).
-vec3 lobe_sample_delta(uint type, float param, vec3 color, bool front, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+vec3 lobe_sample_delta(uint type, Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   WP_MATERIAL_KINDS(WP_LOBE_SAMPLE_DELTA)
   wi = vec3(0.0f);
   return vec3(0.0f);
@@ -106,7 +150,7 @@ vec3 lobe_sample_delta(uint type, float param, vec3 color, bool front, vec3 ns, 
 bool bsdf_has_smooth_lobe(Bsdf b) {
   bool any = false;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
+    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], lobe_of(b, i))) any = true;
   }
   return any;
 }
@@ -114,24 +158,33 @@ bool bsdf_has_smooth_lobe(Bsdf b) {
 bool bsdf_has_delta_lobe(Bsdf b) {
   bool any = false;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && lobe_is_delta(b.lobeType[i], b.lobeParam[i])) any = true;
+    if (i < b.lobeCount && lobe_is_delta(b.lobeType[i], lobe_of(b, i))) any = true;
   }
   return any;
 }
 
-// Reflection only: both directions on the same side of the geometric and the
-// shading surface, so shading normals cannot leak light through a surface.
+// Where wi leaves: above both the geometric and the shading surface
+// (reflection) or below both (transmission). A direction between the two
+// surfaces reaches no lobe, so shading normals cannot leak light through a
+// surface; reflective lobes see reflections only.
 bool bsdf_reflects(Bsdf b, vec3 wi) {
   return dot(wi, b.ng) > 0.0f && dot(wi, b.ns) > 0.0f;
+}
+
+bool bsdf_transmits(Bsdf b, vec3 wi) {
+  return dot(wi, b.ng) < 0.0f && dot(wi, b.ns) < 0.0f;
 }
 
 // f(wo, wi) * |cos(wi)| summed over the smooth lobes.
 vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
   vec3 f = vec3(0.0f);
-  if (!bsdf_reflects(b, wi)) return f;
+  bool reflects = bsdf_reflects(b, wi);
+  bool transmits = bsdf_transmits(b, wi);
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i]))
-      f += lobe_eval(b.lobeType[i], b.lobeParam[i], b.lobeColor[i], b.ns, wo, wi) * b.lobeWeight[i];
+    Lobe l = lobe_of(b, i);
+    uint type = b.lobeType[i];
+    if (i < b.lobeCount && !lobe_is_delta(type, l) && (reflects || (transmits && lobe_transmits(type, l))))
+      f += lobe_eval(type, l, b.ns, wo, wi) * b.lobeWeight[i];
   }
   return f;
 }
@@ -139,10 +192,13 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
 // Density with which bsdf_sample produces wi through its smooth lobes.
 float bsdf_pdf(Bsdf b, vec3 wo, vec3 wi) {
   float pdf = 0.0f;
-  if (!bsdf_reflects(b, wi)) return pdf;
+  bool reflects = bsdf_reflects(b, wi);
+  bool transmits = bsdf_transmits(b, wi);
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && !lobe_is_delta(b.lobeType[i], b.lobeParam[i]))
-      pdf += lobe_pdf(b.lobeType[i], b.lobeParam[i], b.ns, wo, wi) * b.lobeWeight[i];
+    Lobe l = lobe_of(b, i);
+    uint type = b.lobeType[i];
+    if (i < b.lobeCount && !lobe_is_delta(type, l) && (reflects || (transmits && lobe_transmits(type, l))))
+      pdf += lobe_pdf(type, l, b.ns, wo, wi) * b.lobeWeight[i];
   }
   return pdf;
 }
@@ -150,8 +206,8 @@ float bsdf_pdf(Bsdf b, vec3 wo, vec3 wi) {
 // Samples wi. Returns f * |cos| / pdf (zero when the sample is absorbed), writes
 // the pdf (of the smooth lobes' mixture) and whether a delta lobe was taken, in
 // which case pdf is 0 and MIS does not apply. u.z picks the lobe and is then
-// reused (rescaled) for the lobe's own choice (the dielectric's between
-// reflection and refraction).
+// reused (rescaled) for a delta lobe's own choice (the dielectric's between
+// reflection and refraction); a smooth lobe gets (u.x, u.y, u.w).
 vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool) isDelta) {
   wi = vec3(0.0f);
   pdf = 0.0f;
@@ -160,24 +216,22 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
   // Pick lobe k with probability lobeWeight[k]; copy its fields out with
   // constant indices.
   uint type = b.lobeType[0];
-  vec3 color = b.lobeColor[0];
-  float param = b.lobeParam[0];
+  Lobe l = lobe_of(b, 0u);
   float uPick = clamp(u.z / b.lobeWeight[0], 0.0f, 0.99999994f);
   float below = 0.0f;
   for (uint i = 1u; i < BSDF_LOBES_OF_SCENE; ++i) {
     below += b.lobeWeight[i - 1u];
     if (i < b.lobeCount && u.z >= below) {
       type = b.lobeType[i];
-      color = b.lobeColor[i];
-      param = b.lobeParam[i];
+      l = lobe_of(b, i);
       uPick = clamp((u.z - below) / b.lobeWeight[i], 0.0f, 0.99999994f);
     }
   }
-  if (lobe_is_delta(type, param)) {
+  if (lobe_is_delta(type, l)) {
     isDelta = true;
-    return lobe_sample_delta(type, param, color, b.front, b.ns, b.ng, wo, uPick, wi);
+    return lobe_sample_delta(type, l, b.ns, b.ng, wo, uPick, wi);
   }
-  wi = lobe_sample(type, param, b.ns, wo, vec3(u.x, u.y, u.w));
+  wi = lobe_sample(type, l, b.ns, wo, vec3(u.x, u.y, u.w));
   pdf = bsdf_pdf(b, wo, wi);
   if (pdf <= 0.0f) {
     pdf = 0.0f;

@@ -88,12 +88,12 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
 }
 
 // The segment a shadow ray checks for light sample ls, seen from surface
-// point p whose geometric normal ng faces the side the ray leaves from: it
+// point p of geometric normal ng, leaving from the side ls.wi points to: it
 // ends just in front of the light point (at a point light itself), or is
 // unbounded towards the environment. (The ray-casting benchmark aims its
 // shadow rays with it too.)
 void aim_shadow_ray(vec3 p, vec3 ng, LightSample ls, OUT(vec3) origin, OUT(vec3) dir, OUT(float) tmax) {
-  origin = offset_ray(p, ng);
+  origin = offset_ray(p, dot(ls.wi, ng) >= 0.0f ? ng : -ng);  // a transmissive lobe sees lights behind the surface
   if (ls.dist == WP_INF) {
     dir = ls.wi;
     tmax = WP_INF;

@@ -28,25 +28,37 @@
 #define LOBE_TRANSMISSIVE 0x8u  // scatters through the surface
 #define LOBE_EMISSIVE 0x10u     // only emits; scatters nothing (bsdf_at gives no lobe)
 #define LOBE_COMPOSITE 0x20u    // mixes other materials, which bsdf_at flattens into their lobes
+#define LOBE_PARAMS_YZW 0x40u   // reads Material.params beyond x
+#define LOBE_PARAMS2 0x80u      // reads Material.params2
 
 // Material kinds (Material.info.x). Columns: id; the kind's name (darts scene
 // files use it); the prefix of its lobe functions in materials/*.glsl (kinds
-// that have no lobe of their own use no_lobe); what its lobe can do.
+// that have no lobe of their own use no_lobe); what its lobe can do and
+// which parameters it reads. Parameters (Material.params, params2; the
+// lobe's at the hit): metal roughness, dielectric ior, Phong and
+// Blinn-Phong exponent in params.x; the GGX kinds as their files say.
 #define MAT_LAMBERTIAN 0u
 #define MAT_LIGHT 1u        // darts diffuse_light: emits, does not scatter
-#define MAT_METAL 2u        // mirror direction perturbed by a ball of radius `roughness`
+#define MAT_METAL 2u        // mirror direction plus `roughness` times a point on the unit sphere
 #define MAT_DIELECTRIC 3u   // smooth glass: Fresnel reflection and refraction (delta)
 #define MAT_PHONG 4u        // cos^n lobe around the mirror direction
 #define MAT_BLINN_PHONG 5u  // cos^n lobe of the half vector around the normal
 #define MAT_BLEND 6u        // (1 - amount) * a + amount * b
-#define WP_MATERIAL_KINDS(X)                                                 \
-  X(MAT_LAMBERTIAN, "lambertian", lambertian, LOBE_DIFFUSE)                  \
-  X(MAT_LIGHT, "diffuse_light", no_lobe, LOBE_EMISSIVE)                      \
-  X(MAT_METAL, "metal", metal, LOBE_GLOSSY | LOBE_DELTA)                     \
-  X(MAT_DIELECTRIC, "dielectric", dielectric, LOBE_DELTA | LOBE_TRANSMISSIVE) \
-  X(MAT_PHONG, "phong", phong, LOBE_GLOSSY)                                  \
-  X(MAT_BLINN_PHONG, "blinn-phong", blinn_phong, LOBE_GLOSSY)                \
-  X(MAT_BLEND, "blend", no_lobe, LOBE_COMPOSITE)
+#define MAT_ROUGH_CONDUCTOR 7u   // GGX microfacet metal: Fresnel of eta + i k, tinted
+#define MAT_ROUGH_DIELECTRIC 8u  // GGX microfacet glass: reflection and refraction
+#define MAT_METAL_ROUGH 9u       // glTF 2.0 metal-rough: GGX over a Lambertian base, mixed with a metal
+#define WP_MATERIAL_KINDS(X)                                                                                            \
+  X(MAT_LAMBERTIAN, "lambertian", lambertian, LOBE_DIFFUSE)                                                             \
+  X(MAT_LIGHT, "diffuse_light", no_lobe, LOBE_EMISSIVE)                                                                 \
+  X(MAT_METAL, "metal", metal, LOBE_GLOSSY | LOBE_DELTA)                                                                \
+  X(MAT_DIELECTRIC, "dielectric", dielectric, LOBE_DELTA | LOBE_TRANSMISSIVE)                                           \
+  X(MAT_PHONG, "phong", phong, LOBE_GLOSSY)                                                                             \
+  X(MAT_BLINN_PHONG, "blinn-phong", blinn_phong, LOBE_GLOSSY)                                                           \
+  X(MAT_BLEND, "blend", no_lobe, LOBE_COMPOSITE)                                                                        \
+  X(MAT_ROUGH_CONDUCTOR, "rough_conductor", rough_conductor, LOBE_GLOSSY | LOBE_DELTA | LOBE_PARAMS_YZW | LOBE_PARAMS2) \
+  X(MAT_ROUGH_DIELECTRIC, "rough_dielectric", rough_dielectric,                                                         \
+    LOBE_GLOSSY | LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW)                                                     \
+  X(MAT_METAL_ROUGH, "metal_rough", metal_rough, LOBE_DIFFUSE | LOBE_GLOSSY | LOBE_PARAMS_YZW)
 
 // Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
 // solid mapping. Columns: id, name.
@@ -87,5 +99,13 @@
 #define LIGHT_COMPILED(id) ((LIGHT_KINDS_OF_SCENE & KIND_BIT(id)) != 0u)
 #define FEATURE_COMPILED(id) ((FEATURES_OF_SCENE & KIND_BIT(id)) != 0u)
 #define ALL_KINDS 0xffffffffu
+
+// Whether a compiled material kind reads params.yzw or params2: kernels
+// without one carry one float of parameters per lobe (on lavapipe every
+// copy of the unused lanes costs, in bsdf_sample's pick of a lobe most).
+#define WP_READS_PARAMS_YZW(id, name, prefix, lobes) | (((lobes) & LOBE_PARAMS_YZW) != 0u ? KIND_BIT(id) : 0u)
+#define WP_READS_PARAMS2(id, name, prefix, lobes) | (((lobes) & LOBE_PARAMS2) != 0u ? KIND_BIT(id) : 0u)
+#define MATERIAL_PARAMS_YZW_COMPILED ((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_READS_PARAMS_YZW))) != 0u)
+#define MATERIAL_PARAMS2_COMPILED ((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_READS_PARAMS2))) != 0u)
 
 #endif  // WP_KINDS_GLSL

@@ -10,6 +10,10 @@
 // Lobes a BSDF holds at most: a blend tree flattens to at most this many
 // leaves (the loaders refuse more), so bsdf_at's loops are bounded.
 #define BSDF_MAX_LOBES 4
+// The narrowest GGX lobe (alpha, roughness squared) the microfacet
+// materials take: below it a conductor or dielectric is a smooth delta lobe,
+// and glTF's metal-rough (which has no delta lobe) is widened to it.
+#define GGX_MIN_ALPHA 1e-3f
 // Checker textures nest at most this deep (texture_eval follows the picks).
 #define TEXTURE_MAX_NESTING 8
 // Most next-event-estimation samples per path vertex (CS184's -l).

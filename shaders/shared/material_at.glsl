@@ -19,11 +19,19 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
 }
 
 // The lobe a non-blend material contributes, with its colour and weight.
-void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w) {
+// Parameters are the material's, except metal-rough's, which its
+// metallic-roughness texture scales (glTF: roughness in G, metallic in B).
+void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, SurfaceHit s) {
   b.lobeType[k] = m.info.x;
   b.lobeColor[k] = color;
-  b.lobeParam[k] = m.params.x;
   b.lobeWeight[k] = w;
+  vec4 params = m.params;
+  if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && m.info.x == MAT_METAL_ROUGH) {
+    vec3 mr = m.info.w != WP_INVALID ? texture_eval(m.info.w, s.uv, s.p) : vec3(1.0f);
+    float roughness = clamp(m.params.x * mr.y, 0.0f, 1.0f);
+    params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), m.params.z, 0.0f);
+  }
+  bsdf_set_params(b, k, params, m.params2);
 }
 
 // Whether a material's step of bsdf_at looks up no texture: the dielectric
@@ -47,14 +55,14 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     b.lobeType[i] = MAT_LAMBERTIAN;
     b.lobeColor[i] = vec3(0.0f);
-    b.lobeParam[i] = 0.0f;
+    bsdf_set_params(b, i, vec4(0.0f), vec4(0.0f));
     b.lobeWeight[i] = 0.0f;
   }
   Material m = load_material(s.material);
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter (never compiled out: one comparison)
   if (!MATERIAL_COMPILED(MAT_BLEND)) {  // one lobe
     vec3 color = material_needs_no_texture(m) ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
-    bsdf_set_lobe(b, 0u, m, color, 1.0f);
+    bsdf_set_lobe(b, 0u, m, color, 1.0f, s);
     b.lobeCount = 1u;
     return b;
   }
@@ -91,7 +99,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
       continue;
     }
     if (m.info.x == MAT_LIGHT || w <= 0.0f || b.lobeCount >= BSDF_MAX_LOBES) continue;
-    bsdf_set_lobe(b, b.lobeCount, m, color, w);
+    bsdf_set_lobe(b, b.lobeCount, m, color, w, s);
     b.lobeCount += 1u;
     total += w;
   }

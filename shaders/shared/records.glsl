@@ -98,6 +98,7 @@ Material load_material(uint i) {
   m.info = texelFetch(materialTexels, at);
   m.children = texelFetch(materialTexels, at + 1);
   m.params = texel_vec4(texelFetch(materialTexels, at + 2));
+  m.params2 = MATERIAL_PARAMS2_COMPILED ? texel_vec4(texelFetch(materialTexels, at + 3)) : vec4(0.0f);
   return m;
 }
 

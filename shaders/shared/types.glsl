@@ -130,7 +130,7 @@ struct WideNode {
 #define TRIANGLE_TEXELS 3
 #define TRIANGLE_SHADING_TEXELS 4
 #define SPHERE_TEXELS 7
-#define MATERIAL_TEXELS 3
+#define MATERIAL_TEXELS 4
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 2
 #define EMITTER_TEXELS 1
@@ -184,9 +184,11 @@ struct Sphere {
 // A material. Colours are textures (a constant colour is a constant texture),
 // so every colour parameter may vary over the surface.
 struct Material {
-  uvec4 info;      // x: MAT_* type, y: albedo texture, z: emission texture (WP_INVALID: none), w: blend amount texture
+  uvec4 info;      // x: MAT_* type, y: albedo texture, z: emission texture (WP_INVALID: none),
+                   // w: blend amount texture / metal-rough metallic-roughness texture (WP_INVALID: none)
   uvec4 children;  // blend: x material a, y material b; w: its sort key, shade class + 1 (SORT_KEYS; compile_scene)
-  vec4 params;     // x: Phong exponent / metal roughness / dielectric ior
+  vec4 params;     // the kind's parameters, as kinds.glsl lists them
+  vec4 params2;
 };
 
 // A texture; checker textures refer to two other textures. 96 bytes.

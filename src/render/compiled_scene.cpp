@@ -301,7 +301,8 @@ static shader::Material pack_material(const SceneMaterial& in) {
   shader::Material m{};
   m.info = glm::uvec4(in.kind, in.albedo, in.emission, in.amount);
   m.children = glm::uvec4(in.a, in.b, WP_INVALID, WP_INVALID);  // w: the sort key (shade_classes)
-  m.params = glm::vec4(in.param, 0.0f, 0.0f, 0.0f);
+  m.params = in.params;
+  m.params2 = in.params2;
   return m;
 }
 

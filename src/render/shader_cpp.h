@@ -105,7 +105,8 @@ static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && o
 static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof(Triangle, shading) == 44);
 static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, hasNormals) == 44 && offsetof(TriangleShading, uv12) == 48);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
-static_assert(sizeof(Material) == 48 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32);
+static_assert(sizeof(Material) == 64 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
+              offsetof(Material, params2) == 48);
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);

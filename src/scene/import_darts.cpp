@@ -244,6 +244,25 @@ class DartsImporter {
     return tex;
   }
 
+  // The tint of a microfacet conductor or dielectric: an albedo, white unless given.
+  uint32_t tint_param(const JsonCursor& j) {
+    return j.has("albedo") ? albedo_param(j, "albedo") : add_texture(constant_texture(glm::vec3(1.0f)));
+  }
+
+  // A number in [0, 1] (glTF's roughness and metallic).
+  static float unit_number(const JsonCursor& j, const char* key, float fallback) {
+    const float v = j.number_or(key, fallback);
+    if (!(v >= 0.0f && v <= 1.0f)) j[key].fail(std::string(key) + " must lie in [0, 1]");
+    return v;
+  }
+
+  // GGX's alpha from a perceptual `roughness` (alpha = roughness^2, as glTF
+  // defines it; default 0.3); 0, a smooth delta lobe, below GGX_MIN_ALPHA.
+  static float smooth_or_ggx_alpha(const JsonCursor& j) {
+    const float r = unit_number(j, "roughness", 0.3f);
+    return r * r >= GGX_MIN_ALPHA ? r * r : 0.0f;
+  }
+
   uint32_t add_material(const JsonCursor& j, const std::string& name) {
     std::string type = j["type"].string();
     SceneMaterial m;
@@ -260,17 +279,41 @@ class DartsImporter {
       m.kind = MAT_METAL;
       m.albedo = albedo_param(j, "albedo");
       // Clamped to [0, 1], as darts clamps it (metal.cpp).
-      m.param = std::clamp(j.number_or("roughness", 0.0f), 0.0f, 1.0f);
+      m.params.x = std::clamp(j.number_or("roughness", 0.0f), 0.0f, 1.0f);
     } else if (type == "dielectric") {
       j.allow_only({"type", "name", "ior"});
       m.kind = MAT_DIELECTRIC;
-      m.param = j.has("ior") ? j["ior"].positive_number() : 1.5f;
+      m.params.x = j.has("ior") ? j["ior"].positive_number() : 1.5f;
     } else if (type == "phong" || type == "blinn-phong") {
       j.allow_only({"type", "name", "albedo", "exponent"});
       m.kind = type == "phong" ? MAT_PHONG : MAT_BLINN_PHONG;
       m.albedo = albedo_param(j, "albedo");
-      m.param = j.number_or("exponent", 20.0f);
-      if (!(m.param >= 0.0f && m.param <= 1e6f)) j["exponent"].fail("exponent must lie in [0, 1e6]");
+      m.params.x = j.number_or("exponent", 20.0f);
+      if (!(m.params.x >= 0.0f && m.params.x <= 1e6f)) j["exponent"].fail("exponent must lie in [0, 1e6]");
+    } else if (type == "rough_conductor") {
+      j.allow_only({"type", "name", "albedo", "eta", "k", "roughness"});
+      m.kind = MAT_ROUGH_CONDUCTOR;
+      m.albedo = tint_param(j);
+      const glm::vec3 eta = j["eta"].vec3(), k = j["k"].vec3();
+      if (!(glm::all(glm::greaterThan(eta, glm::vec3(0.0f))) && glm::all(glm::lessThan(eta, glm::vec3(1e3f)))))
+        j["eta"].fail("eta must lie between 0 and 1000 in every channel");
+      if (!(glm::all(glm::greaterThanEqual(k, glm::vec3(0.0f))) && glm::all(glm::lessThan(k, glm::vec3(1e3f)))))
+        j["k"].fail("k must lie from 0 to 1000 in every channel");
+      m.params = glm::vec4(smooth_or_ggx_alpha(j), eta);
+      m.params2 = glm::vec4(k, 0.0f);
+    } else if (type == "rough_dielectric") {
+      j.allow_only({"type", "name", "albedo", "ior", "roughness"});
+      m.kind = MAT_ROUGH_DIELECTRIC;
+      m.albedo = tint_param(j);
+      m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, smooth_or_ggx_alpha(j), 0.0f, 0.0f);
+    } else if (type == "metal_rough") {
+      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior"});
+      m.kind = MAT_METAL_ROUGH;
+      // As glTF's metallicRoughnessTexture: green scales roughness, blue metallic.
+      if (j.has("metallic_roughness")) m.amount = texture_param(j["metallic_roughness"]);
+      m.albedo = j.has("base_color") ? albedo_param(j, "base_color") : add_texture(constant_texture(glm::vec3(1.0f)));
+      m.params = glm::vec4(unit_number(j, "roughness", 1.0f), unit_number(j, "metallic", 1.0f),
+                           j.has("ior") ? j["ior"].positive_number() : 1.5f, 0.0f);
     } else if (type == "blend") {
       j.allow_only({"type", "name", "amount", "a", "b"});
       m.kind = MAT_BLEND;

@@ -105,8 +105,10 @@ struct SceneMaterial {
   std::string name;                // for messages
   uint32_t albedo = WP_INVALID;    // lambertian, metal, phong, blinn-phong
   uint32_t emission = WP_INVALID;  // emitted radiance (any kind may emit; diffuse_light only emits)
-  float param = 0.0f;              // metal: roughness; dielectric: ior; phong, blinn-phong: exponent
-  uint32_t amount = WP_INVALID;    // blend: the weight of b (a texture's mean, or a fresnel texture)
+  glm::vec4 params{0.0f};          // the kind's parameters, as kinds.glsl lists them (Material.params)
+  glm::vec4 params2{0.0f};
+  uint32_t amount = WP_INVALID;    // blend: the weight of b (a texture's mean, or a fresnel texture);
+                                   // metal-rough: its metallic-roughness texture (WP_INVALID: none)
   uint32_t a = WP_INVALID;         // blend: its two materials
   uint32_t b = WP_INVALID;
 };

@@ -1,15 +1,15 @@
-// dielectric.glsl — smooth glass of index `ior` (param): Fresnel reflection
+// dielectric.glsl — smooth glass of index `ior` (params.x): Fresnel reflection
 // and refraction, both delta. Lobe functions as no_lobe.glsl describes them.
 #ifndef WP_DIELECTRIC_GLSL
 #define WP_DIELECTRIC_GLSL
 
-bool dielectric_is_delta(float ior) {
+bool dielectric_is_delta(Lobe l) {
   return true;
 }
 
 // Reflects with probability F (uPick < F), else refracts.
-vec3 dielectric_sample_delta(float ior, vec3 color, bool front, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
-  float eta = front ? ior : 1.0f / ior;
+vec3 dielectric_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+  float eta = l.front ? l.params.x : 1.0f / l.params.x;
   float cosI = dot(wo, ns);
   float f = fresnel_dielectric(cosI, eta);
   if (uPick < f) {
@@ -23,7 +23,7 @@ vec3 dielectric_sample_delta(float ior, vec3 color, bool front, vec3 ns, vec3 ng
   }
   // Choosing reflection with probability F cancels F: white either way
   // (radiance is not scaled by eta^2, as in darts).
-  return color;
+  return l.color;
 }
 
 WP_NO_SMOOTH_LOBE(dielectric)

@@ -3,15 +3,15 @@
 #ifndef WP_LAMBERTIAN_GLSL
 #define WP_LAMBERTIAN_GLSL
 
-float lambertian_pdf(float param, vec3 ns, vec3 wo, vec3 wi) {
+float lambertian_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return max(dot(ns, wi), 0.0f) * WP_INV_PI;
 }
 
-vec3 lambertian_eval(float param, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
-  return color * (max(dot(ns, wi), 0.0f) * WP_INV_PI);
+vec3 lambertian_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  return l.color * (max(dot(ns, wi), 0.0f) * WP_INV_PI);
 }
 
-vec3 lambertian_sample(float param, vec3 ns, vec3 wo, vec3 u) {
+vec3 lambertian_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
   vec3 t;
   vec3 bt;
   make_frame(ns, t, bt);

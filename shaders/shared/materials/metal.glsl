@@ -1,4 +1,4 @@
-// metal.glsl — darts' metal: the mirror direction plus `roughness` (param)
+// metal.glsl — darts' metal: the mirror direction plus `roughness` (params.x)
 // times a uniform point of the unit sphere, normalised; a delta mirror when
 // roughness is 0. (The skeleton's comment speaks of random_in_unit_sphere,
 // but the course's reference histograms, metal*-sampled-ref.png, show the
@@ -10,27 +10,27 @@
 #ifndef WP_METAL_GLSL
 #define WP_METAL_GLSL
 
-bool metal_is_delta(float roughness) {
-  return roughness <= 0.0f;
+bool metal_is_delta(Lobe l) {
+  return l.params.x <= 0.0f;
 }
 
-float metal_pdf(float roughness, vec3 ns, vec3 wo, vec3 wi) {
-  return fuzzed_direction_pdf(wi, reflect_about(wo, ns), roughness);
+float metal_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  return fuzzed_direction_pdf(wi, reflect_about(wo, ns), l.params.x);
 }
 
-vec3 metal_eval(float roughness, vec3 color, vec3 ns, vec3 wo, vec3 wi) {
-  return color * metal_pdf(roughness, ns, wo, wi);
+vec3 metal_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  return l.color * metal_pdf(l, ns, wo, wi);
 }
 
-vec3 metal_sample(float roughness, vec3 ns, vec3 wo, vec3 u) {
-  vec3 d = reflect_about(wo, ns) + square_to_uniform_sphere(vec2(u.x, u.y)) * roughness;
+vec3 metal_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
+  vec3 d = reflect_about(wo, ns) + square_to_uniform_sphere(vec2(u.x, u.y)) * l.params.x;
   float len = length(d);
   return len > 0.0f ? d / len : vec3(0.0f);
 }
 
-vec3 metal_sample_delta(float roughness, vec3 color, bool front, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+vec3 metal_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   wi = reflect_about(wo, ns);
-  return dot(wi, ng) > 0.0f ? color : vec3(0.0f);
+  return dot(wi, ng) > 0.0f ? l.color : vec3(0.0f);
 }
 
 #endif  // WP_METAL_GLSL

@@ -1,0 +1,131 @@
+// microfacet.glsl — the isotropic GGX (Trowbridge-Reitz) microfacet model
+// that the rough conductor, the rough dielectric and glTF's metal-rough
+// material share: the normal distribution D, Smith's height-correlated
+// masking-shadowing G2, sampling of the normals visible from wo (Heitz,
+// "Sampling the GGX Distribution of Visible Normals", JCGT 2018) and the
+// Fresnel terms. Angles are given by their cosines to the shading normal;
+// alpha is GGX's width (glTF: roughness squared).
+#ifndef WP_MICROFACET_GLSL
+#define WP_MICROFACET_GLSL
+
+// D(h): microfacet normals per unit projected area, over the solid angle of
+// h. The sine comes from the cross product: 1 - cos^2 in float would lose
+// the lobe's shape for alpha near GGX_MIN_ALPHA, where sin^2 is about alpha^2.
+float ggx_d(vec3 h, vec3 n, float alpha) {
+  float c = dot(h, n);
+  if (c <= 0.0f) return 0.0f;
+  vec3 s = cross(h, n);
+  float a2 = alpha * alpha;
+  float t = dot(s, s) + c * c * a2;
+  return a2 / (WP_PI * t * t);
+}
+
+// Smith's Lambda for a direction at cosine c: the masked fraction's measure.
+float ggx_lambda(float c, float alpha) {
+  float c2 = max(c * c, 1e-12f);
+  float tan2 = max(1.0f - c2, 0.0f) / c2;
+  return 0.5f * (sqrt(1.0f + alpha * alpha * tan2) - 1.0f);
+}
+
+// G1: the fraction of microfacets facing w that w sees.
+float ggx_g1(float c, float alpha) {
+  return 1.0f / (1.0f + ggx_lambda(c, alpha));
+}
+
+// G2, height-correlated: the fraction visible from both directions.
+float ggx_g2(float cosO, float cosI, float alpha) {
+  return 1.0f / (1.0f + ggx_lambda(cosO, alpha) + ggx_lambda(cosI, alpha));
+}
+
+// A microfacet normal h with density ggx_visible_pdf: the normals visible
+// from wo, each in proportion to its projected area seen from wo. wo and the
+// result are in the shading frame (the normal is +z, wo.z > 0). Heitz's
+// construction: stretch wo to the configuration where the GGX surface is a
+// hemisphere of radius 1, sample the visible half disk of that hemisphere
+// (a uniform disk whose lower half is squeezed by the projection), lift the
+// point onto the hemisphere and unstretch its normal.
+vec3 ggx_sample_visible(vec3 wo, float alpha, vec2 u) {
+  vec3 v = normalize(vec3(alpha * wo.x, alpha * wo.y, wo.z));
+  float lenSq = v.x * v.x + v.y * v.y;
+  vec3 t1 = lenSq > 0.0f ? vec3(-v.y, v.x, 0.0f) * (1.0f / sqrt(lenSq)) : vec3(1.0f, 0.0f, 0.0f);
+  vec3 t2 = cross(v, t1);
+  float r = sqrt(u.x);
+  float phi = 2.0f * WP_PI * u.y;
+  float p1 = r * cos(phi);
+  float p2 = r * sin(phi);
+  float s = 0.5f * (1.0f + v.z);
+  p2 = (1.0f - s) * sqrt(max(1.0f - p1 * p1, 0.0f)) + s * p2;
+  vec3 n = t1 * p1 + t2 * p2 + v * sqrt(max(1.0f - p1 * p1 - p2 * p2, 0.0f));
+  return normalize(vec3(alpha * n.x, alpha * n.y, max(n.z, 0.0f)));
+}
+
+// Density (solid angle of h) of ggx_sample_visible: G1(wo) max(0, wo.h) D(h) / cos(wo).
+float ggx_visible_pdf(vec3 wo, vec3 h, vec3 n, float alpha) {
+  float cosO = dot(wo, n);
+  float woH = dot(wo, h);
+  if (cosO <= 0.0f || woH <= 0.0f) return 0.0f;
+  return ggx_g1(cosO, alpha) * woH * ggx_d(h, n, alpha) / cosO;
+}
+
+// A visible normal in world space around shading normal ns, or a zero vector
+// when wo lies below the shading surface.
+vec3 ggx_visible_normal(float alpha, vec3 ns, vec3 wo, vec2 u) {
+  vec3 t;
+  vec3 bt;
+  make_frame(ns, t, bt);
+  vec3 woLocal = vec3(dot(wo, t), dot(wo, bt), dot(wo, ns));
+  if (woLocal.z <= 0.0f) return vec3(0.0f);
+  return frame_to_world(ggx_sample_visible(woLocal, alpha, u), t, bt, ns);
+}
+
+// The mirror of wo about a visible normal (zero when it points below the surface).
+vec3 ggx_reflection_sample(float alpha, vec3 ns, vec3 wo, vec2 u) {
+  vec3 h = ggx_visible_normal(alpha, ns, wo, u);
+  vec3 wi = reflect_about(wo, h);
+  return dot(h, ns) > 0.0f && dot(wi, ns) > 0.0f ? wi : vec3(0.0f);
+}
+
+// Density of ggx_reflection_sample's directions: the visible normals' over
+// the Jacobian of reflection, 4 wo.h.
+float ggx_reflection_pdf(float alpha, vec3 ns, vec3 wo, vec3 wi) {
+  if (dot(wo, ns) <= 0.0f || dot(wi, ns) <= 0.0f) return 0.0f;
+  vec3 h = normalize(wo + wi);
+  return ggx_visible_pdf(wo, h, ns, alpha) / (4.0f * dot(wo, h));
+}
+
+// The specular term without its Fresnel factor, times cos(wi): D G2 / (4 cos_o).
+float ggx_reflection_eval(float alpha, vec3 ns, vec3 wo, vec3 wi) {
+  float cosO = dot(wo, ns);
+  float cosI = dot(wi, ns);
+  if (cosO <= 0.0f || cosI <= 0.0f) return 0.0f;
+  return ggx_d(normalize(wo + wi), ns, alpha) * ggx_g2(cosO, cosI, alpha) / (4.0f * cosO);
+}
+
+// Unpolarised Fresnel reflectance of a conductor of complex index eta + i k
+// (per channel, relative to the outside medium) at incident cosine cosI.
+vec3 fresnel_conductor(float cosI, vec3 eta, vec3 k) {
+  float c = clamp(cosI, 0.0f, 1.0f);
+  float c2 = c * c;
+  float s2 = 1.0f - c2;
+  vec3 eta2 = eta * eta;
+  vec3 k2 = k * k;
+  vec3 t0 = eta2 - k2 - vec3(s2);
+  vec3 a2b2 = sqrt(t0 * t0 + eta2 * k2 * 4.0f);  // a^2 + b^2
+  vec3 a = sqrt(max((a2b2 + t0) * 0.5f, vec3(0.0f)));
+  vec3 t1 = a2b2 + vec3(c2);
+  vec3 t2 = a * (2.0f * c);
+  vec3 rs = (t1 - t2) / max(t1 + t2, vec3(1e-12f));
+  vec3 t3 = a2b2 * c2 + vec3(s2 * s2);
+  vec3 t4 = t2 * s2;
+  vec3 rp = rs * (t3 - t4) / max(t3 + t4, vec3(1e-12f));
+  return (rs + rp) * 0.5f;
+}
+
+// Schlick's weight (1 - cos)^5, which glTF's Fresnel terms use.
+float schlick_weight(float c) {
+  float m = clamp(1.0f - c, 0.0f, 1.0f);
+  float m2 = m * m;
+  return m2 * m2 * m;
+}
+
+#endif  // WP_MICROFACET_GLSL
