@@ -102,6 +102,25 @@ else
     [ "$(wc -l <"$work/stderr")" -eq 1 ] && grep -q "reports no kernel statistics" "$work/stderr"; echo $?)
 fi
 
+# glTF: a model that reaches outside its folder, a truncated binary file, a
+# camera it does not have; the generator of the test models writes what the
+# repository holds; a model renders through the camera asked for.
+mkdir -p "$work/model"
+sed 's/"scene.bin"/"..\/secret.bin"/' "$data/gltf/external/scene.gltf" >"$work/model/scene.gltf"
+cp "$data/gltf/external/scene.bin" "$work/secret.bin"
+expect_error "glTF URI outside the model's folder" 2 "model/scene.gltf|secret.bin|inside its own folder" -- "$wavepath" render "$work/model/scene.gltf" -o "$out"
+head -c 1000 "$data/gltf/textured.glb" >"$work/truncated.glb"
+expect_error "truncated glb" 2 "truncated.glb|cannot read glTF" -- "$wavepath" render "$work/truncated.glb" -o "$out"
+expect_error "unknown glTF camera" 2 "--camera side|textured.glb|1 \"persp\"" -- "$wavepath" render "$data/gltf/textured.glb" --camera side -o "$out"
+expect_error "orthographic glTF camera" 2 "textured.glb|perspective cameras only" -- "$wavepath" render "$data/gltf/textured.glb" --camera ortho -o "$out"
+"$wavepath" render "$data/gltf/textured.glb" --camera persp -r 24 18 --spp 2 -q -o "$work/glb.png"
+check "a .glb renders through --camera persp at the size asked" $([ -f "$work/glb.png" ] && [ "$(od -An -tu1 -j16 -N8 "$work/glb.png" | tr -s ' ')" = " 0 0 0 24 0 0 0 18" ]; echo $?)
+generator="$(cd "$(dirname "$0")/.." && pwd)/scripts/make-gltf-test-assets.py"
+models="$(cd "$data/gltf" && pwd)"
+(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb external/scene.gltf \
+  external/scene.bin external/checker.png; do cmp -s "tests/data/gltf/$f" "$models/$f" || exit 1; done)
+check "make-gltf-test-assets.py writes the models the repository holds" $?
+
 # The scaling scenes' generator: usage without arguments, scenes that load.
 scale="$(dirname "$0")/../scripts/make-scale-scenes.py"
 "$scale" >/dev/null 2>&1

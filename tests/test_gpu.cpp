@@ -599,6 +599,16 @@ TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
   }
 }
 
+// glTF models (tests/data/gltf/, scripts/make-gltf-test-assets.py): a node
+// tree of metal-rough boxes, an emissive panel and a point light; a binary
+// model with base colour and metallic-roughness textures under the white sky.
+TEST_F(Gpu, GltfModelsAgreeWithTheCpuReference) {
+  for (const char* model : {"box-room.gltf", "textured.glb"}) {
+    CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/gltf/") + model), 40, 128, 1.0f);
+    EXPECT_TRUE(r.passed()) << model << ": " << r.summary();
+  }
+}
+
 // Every kind of every table in kinds.glsl is used by a feature case, and
 // its code is needed: with the kind's bit cleared from the scene's masks (as
 // a forgotten bit would), the kernels render an image the CPU reference

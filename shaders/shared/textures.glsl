@@ -60,7 +60,7 @@ vec3 texture_eval(uint index, vec2 uv, vec3 p) {
   }
   if (TEXTURE_COMPILED(TEX_IMAGE) && type == TEX_IMAGE) {
     Texture t = load_texture(index);
-    return image_lookup(t, texture_point(t, uv, p));
+    return image_lookup(t, texture_point(t, uv, p)) * vec3(t.color0.x, t.color0.y, t.color0.z);
   }
   vec4 c = load_texture(index).color0;
   return vec3(c.x, c.y, c.z);

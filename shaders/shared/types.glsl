@@ -194,7 +194,7 @@ struct Material {
 // A texture; checker textures refer to two other textures. 96 bytes.
 struct Texture {
   uvec4 info;   // x: TEX_* type | TEX_SOLID; checker: y even, z odd; image: y first texel, z width, w height
-  vec4 color0;  // constant colour; marble base; fresnel: x ior. w: scale (checker, marble)
+  vec4 color0;  // constant colour; marble base; image factor; fresnel: x ior. w: scale (checker, marble)
   vec4 color1;  // marble veins
   vec4 map0;    // 3x4 mapping transform (rows), applied to the lookup point
   vec4 map1;

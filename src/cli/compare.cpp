@@ -79,7 +79,7 @@ Command add_compare(CLI::App& app) {
   CLI::App* compare = app.add_subcommand(
       "compare", "render a scene twice with independent seeds (default: GPU against the CPU reference), or read two EXR "
                  "renders, and decide statistically whether they estimate the same image. Exit 0: agree, 1: differ");
-  compare->add_option("scene", cmp->render.scene, "scene file (darts JSON)");
+  compare->add_option("scene", cmp->render.scene, "scene file (darts JSON, glTF 2.0)");
   compare->add_option("--images", cmp->images, "compare two stored renders (EXR written by wavepath render) instead")->expected(2);
   compare->add_option("--a", cmp->a, "renderer of image A: cpu or a kernel variant such as gpu, gpu-mega (default gpu)");
   compare->add_option("--b", cmp->b, "renderer of image B: cpu or a kernel variant (default cpu)");

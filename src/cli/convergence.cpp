@@ -65,7 +65,7 @@ Command add_convergence(CLI::App& app) {
   auto conv = std::make_shared<ConvergenceArgs>();
   CLI::App* convergence = app.add_subcommand(
       "convergence", "RMSE against a high-sample reference at 1, 2, 4, ... spp, independent vs cmj sampler (CPU reference)");
-  convergence->add_option("scene", conv->render.scene, "scene file (darts JSON)")->required();
+  convergence->add_option("scene", conv->render.scene, "scene file (darts JSON, glTF 2.0)")->required();
   convergence->add_option("--max-spp", conv->maxSpp, "largest sample count (default 256)")->check(CLI::Range(1, 1 << 16));
   convergence->add_option("--reference-spp", conv->referenceSpp, "samples of the reference (default 4096)")->check(CLI::Range(1, 1 << 20));
   convergence->add_option("--integrator", conv->render.integrator, "integrator, overriding the scene's (darts name)");

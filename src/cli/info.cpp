@@ -77,7 +77,7 @@ Command add_info(CLI::App& app) {
   };
   auto a = std::make_shared<InfoArgs>();
   CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
-  info->add_option("scene", a->scene, "scene file (darts JSON)")->required();
+  info->add_option("scene", a->scene, "scene file (darts JSON, glTF 2.0)")->required();
   info->add_option("--max-leaf-size", a->maxLeafSize, "override the scene's BVH leaf size")->check(CLI::Range(1, BVH_MAX_LEAF_SIZE));
   info->add_option("--variant", a->variant, "the kernel variant (or cpu) whose BVH layout to build; default gpu");
   CLI::Option* infoKernels = info->add_flag("--kernels", "also compile the variant's kernels and show the driver's statistics of each (registers, spills, ...)");

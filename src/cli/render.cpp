@@ -313,7 +313,7 @@ Command add_render(CLI::App& app) {
   auto r = std::make_shared<RenderArgs>();
   auto hemisphere = std::make_shared<bool>(false);
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG (and a linear EXR with statistics)");
-  render->add_option("scene", r->scene, "scene file (darts JSON)")->required();
+  render->add_option("scene", r->scene, "scene file (darts JSON, glTF 2.0)")->required();
   // Short options in parentheses are the CS184 pathtracer's, for its students.
   render->add_option("-o,-f,--output", r->output,
                      std::string("image to write: ") + image_format_names() +
@@ -351,6 +351,7 @@ Command add_render(CLI::App& app) {
                      "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
       ->expected(2);
   render->add_option("-e,--env", r->environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e)");
+  render->add_option("--camera", r->camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
   render->add_option("--seed", r->seed, "random seed; renders with equal seeds are identical");
   render->add_option("--device", r->device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   render->add_option("--devices", r->devices,

@@ -44,6 +44,7 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
 
 Scene load_scene_with_overrides(const RenderArgs& a) {
   Scene scene = load_scene(a.scene);
+  if (!a.camera.empty()) choose_camera(scene, a.camera);
   if (!a.resolution.empty()) {
     scene.camera.width = a.resolution[0];
     scene.camera.height = a.resolution[1];

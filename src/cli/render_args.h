@@ -36,6 +36,7 @@ struct RenderArgs {
   float aperture = -1.0f;  // lens radius, overriding the scene's (CS184 -b)
   float focusDistance = -1.0f;  // (CS184 -d)
   std::string environment;      // environment map replacing the background (CS184 -e)
+  std::string camera;           // a glTF camera by name or index (default: the first)
   std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
   int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
   std::vector<std::string> aovs;  // AOV layers (layers.glsl names)

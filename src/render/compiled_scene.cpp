@@ -217,7 +217,7 @@ glm::vec3 texture_mean(const std::vector<shader::Texture>& textures, const std::
       glm::dvec3 sum(0.0);
       size_t n = size_t(t.info.z) * t.info.w;
       for (size_t i = 0; i < n; ++i) sum += glm::dvec3(texel_rgb(texels[t.info.y + i]));
-      return glm::vec3(sum / double(std::max<size_t>(n, 1)));
+      return glm::vec3(sum / double(std::max<size_t>(n, 1))) * glm::vec3(t.color0);
     }
     default:
       return glm::vec3(t.color0);
@@ -287,6 +287,7 @@ static PackedTextures pack_textures(const Scene& scene) {
         t.info.y = firstTexel[in.image];
         t.info.z = uint32_t(img.width);
         t.info.w = uint32_t(img.height);
+        t.color0 = glm::vec4(in.color, 0.0f);
         break;
       }
       case TEX_FRESNEL: t.color0.x = in.ior; break;
@@ -500,6 +501,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (out.environmentCdf.empty()) out.environmentCdf.push_back(0.0f);
 
   const Camera& cam = scene.camera;
+  out.cameraName = cam.name;
   out.width = cam.width;
   out.height = cam.height;
   out.spp = options.spp > 0 ? options.spp : scene.samplesPerPixel;

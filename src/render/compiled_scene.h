@@ -57,6 +57,7 @@ struct CompiledScene {
   std::vector<shader::TriangleShading> triangleShading;
   std::vector<shader::PointLight> pointLights;
   std::vector<float> environmentCdf;
+  std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)
   int width = 0;
   int height = 0;
   int spp = 0;  // samples per pixel (with adaptive sampling: at most)

@@ -100,6 +100,7 @@ std::string render_settings(const CompiledScene& cs) {
     << "; max_bounces=" << p.image.z << "; rr_depth=" << p.image.w << "; sampler=" << (p.mode.y == SAMPLER_CMJ ? "cmj" : "independent")
     << "; mis_power=" << p.mis.x << "; light_samples=" << p.mode.w << "; seed=" << p.counts.y << "; lens=" << lens << "; adaptive=" << adaptive
     << "; aovs=" << (aovs.empty() ? "none" : aovs);
+  if (!cs.cameraName.empty()) s << "; camera=" << cs.cameraName;
   return s.str();
 }
 

@@ -307,8 +307,9 @@ class DartsImporter {
       m.albedo = tint_param(j);
       m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, smooth_or_ggx_alpha(j), 0.0f, 0.0f);
     } else if (type == "metal_rough") {
-      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior"});
+      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "emit"});
       m.kind = MAT_METAL_ROUGH;
+      if (j.has("emit")) m.emission = texture_param(j["emit"]);  // as glTF's emissive materials, which also scatter
       // As glTF's metallicRoughnessTexture: green scales roughness, blue metallic.
       if (j.has("metallic_roughness")) m.amount = texture_param(j["metallic_roughness"]);
       m.albedo = j.has("base_color") ? albedo_param(j, "base_color") : add_texture(constant_texture(glm::vec3(1.0f)));

@@ -14,4 +14,7 @@ namespace wp {
 // Dartmouth CS 87 "darts" JSON scenes, with OBJ meshes (docs/scene-format.md).
 Scene import_darts(const std::string& path);
 
+// glTF 2.0, .gltf or .glb (docs/scene-format.md, "glTF 2.0").
+Scene import_gltf(const std::string& path);
+
 }  // namespace wp

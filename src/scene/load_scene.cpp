@@ -13,13 +13,15 @@ namespace wp {
 namespace fs = std::filesystem;
 
 SceneFormat scene_format(const std::string& path, const std::string& head) {
-  // Content first: a file whose first non-blank byte opens a JSON object is
-  // a darts scene whatever its name says.
-  auto first = std::find_if(head.begin(), head.end(), [](unsigned char c) { return !std::isspace(c); });
-  if (first != head.end() && *first == '{') return SceneFormat::Darts;
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".json") return SceneFormat::Darts;  // its importer reports what is wrong with it
+  // Content first: binary glTF by its magic; a JSON object is a darts scene
+  // whatever its name says, unless the name says glTF (which is JSON too).
+  if (head.compare(0, 4, "glTF") == 0) return SceneFormat::Gltf;
+  if (ext == ".gltf" || ext == ".glb") return SceneFormat::Gltf;  // its importer reports what is wrong with it
+  auto first = std::find_if(head.begin(), head.end(), [](unsigned char c) { return !std::isspace(c); });
+  if (first != head.end() && *first == '{') return SceneFormat::Darts;
+  if (ext == ".json") return SceneFormat::Darts;
   return SceneFormat::Unknown;
 }
 
@@ -32,6 +34,7 @@ Scene load_scene(const std::string& path) {
   Scene scene;
   switch (scene_format(path, head)) {
     case SceneFormat::Darts: scene = import_darts(path); break;
+    case SceneFormat::Gltf: scene = import_gltf(path); break;
     case SceneFormat::Unknown:
       throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json)");
   }

@@ -1,5 +1,10 @@
 #include "scene/scene.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
 #include "scene/texture_image.h"
 #include "scene/transform.h"
 #include "util/error.h"
@@ -57,6 +62,7 @@ SceneTexture image_texture(Scene& scene, const std::string& path, const std::str
   }
   SceneTexture t;
   t.kind = TEX_IMAGE;
+  t.color = glm::vec3(1.0f);  // the image's factor
   t.image = uint32_t(scene.images.size());
   scene.images.push_back(std::move(img));
   scene.inputFiles.push_back(path);
@@ -65,6 +71,49 @@ SceneTexture image_texture(Scene& scene, const std::string& path, const std::str
 
 uint32_t add_image_texture(Scene& scene, const std::string& path, const std::string& where) {
   return add_texture(scene, image_texture(scene, path, where));
+}
+
+Camera framing_camera(const Scene& scene) {
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const SceneTriangle& t : scene.triangles)
+    for (const glm::vec3& v : t.v) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  for (const SceneSphere& s : scene.spheres) {
+    const glm::vec3 c(s.toWorld[3]);
+    const float r = std::max({glm::length(glm::vec3(s.toWorld[0])), glm::length(glm::vec3(s.toWorld[1])), glm::length(glm::vec3(s.toWorld[2]))});
+    lo = glm::min(lo, c - glm::vec3(r));
+    hi = glm::max(hi, c + glm::vec3(r));
+  }
+  Camera c;
+  c.width = 800;
+  c.height = 600;
+  c.vfovDegrees = 40.0f;
+  if (!(lo.x <= hi.x)) return c;  // nothing to frame
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  const float halfFov = 0.5f * glm::radians(c.vfovDegrees);  // the vertical side is the narrower one
+  const float distance = radius / std::sin(halfFov);
+  const glm::vec3 back = glm::normalize(glm::vec3(0.0f, 0.35f, 1.0f));
+  const glm::vec3 eye = centre + back * distance;
+  c.toWorld = glm::inverse(glm::lookAt(eye, centre, glm::vec3(0.0f, 1.0f, 0.0f)));
+  c.focusDistance = distance;
+  return c;
+}
+
+void choose_camera(Scene& scene, const std::string& which) {
+  const NamedCamera* found = nullptr;
+  for (const NamedCamera& c : scene.cameras)
+    if (c.name == which || std::to_string(c.index) == which) found = found ? found : &c;
+  if (!found) {
+    std::string names;
+    for (const NamedCamera& c : scene.cameras) names += (names.empty() ? "" : ", ") + std::to_string(c.index) + " \"" + c.name + "\"";
+    throw InputError("--camera " + which + ": " + scene.sourcePath + " has no such camera" +
+                     (names.empty() ? " (it has none)" : " (it has " + names + ")"));
+  }
+  if (!found->problem.empty()) throw InputError(scene.sourcePath + ": " + found->problem);
+  scene.camera = found->camera;
 }
 
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,

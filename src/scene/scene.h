@@ -22,6 +22,7 @@
 namespace wp {
 
 struct Camera {
+  std::string name;         // a glTF camera's (--camera picks it; empty: the scene's only camera)
   glm::mat4 toWorld{1.0f};  // camera looks down its -Z axis
   float vfovDegrees = 90.0f;
   int width = 512;
@@ -87,7 +88,7 @@ struct SceneSphere {
 // A colour (or scalar) over a surface, of a texture kind (TEX_*).
 struct SceneTexture {
   uint32_t kind = TEX_CONSTANT;
-  glm::vec3 color{0.0f};     // constant: the colour; marble: the base colour
+  glm::vec3 color{0.0f};     // constant: the colour; marble: the base colour; image: a factor (glTF's)
   glm::vec3 veins{0.0f};     // marble: the veins' colour
   float scale = 1.0f;        // checker and marble: squares or pattern per unit
   float ior = 1.5f;          // fresnel: the index whose reflectance is the value
@@ -135,6 +136,19 @@ struct SceneMesh {
   size_t triangle_count() const { return materials.size(); }
 };
 
+// One of the cameras a scene file holds, which --camera may pick by name or
+// index; `problem` says why it cannot be used (an orthographic camera).
+struct NamedCamera {
+  std::string name;
+  int index = 0;
+  Camera camera;
+  std::string problem;
+};
+
+// Luminous efficacy (lm/W) of 555 nm light, by which photometric light
+// units (glTF's candela and lux) become radiometric ones.
+inline constexpr double kLumensPerWatt = 683.0;
+
 struct Scene {
   std::string sourcePath;
   // Every file the scene was read from, in the order read: the scene file,
@@ -142,6 +156,7 @@ struct Scene {
   // hashes their contents (render/partial.h).
   std::vector<std::string> inputFiles;
   Camera camera;
+  std::vector<NamedCamera> cameras;  // every camera of a glTF file, in the order of its node tree
   int samplesPerPixel = 1;
   SamplerKind sampler = SamplerKind::Independent;
   glm::vec3 background{0.0f};
@@ -176,6 +191,16 @@ inline constexpr const char* kPastFloatRange = "the transforms place it past the
 // passed to `fail` as "triangle N: ..." (N from 1); `fail` must throw.
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
               uint32_t unassigned, const std::function<void(const std::string&)>& fail);
+
+// A camera that frames the bounds of the scene's triangles and spheres:
+// looking down -Z and slightly down from in front of them, 40 degrees of
+// vertical field, their bounding sphere filling the narrower side, 800x600.
+Camera framing_camera(const Scene& scene);
+
+// Selects the camera named `which` (a name, or its index in the file) as
+// the scene's camera; throws InputError naming the cameras there are when
+// none is called that.
+void choose_camera(Scene& scene, const std::string& which);
 
 // A texture of one colour everywhere.
 SceneTexture constant_texture(glm::vec3 color);

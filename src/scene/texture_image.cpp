@@ -37,50 +37,54 @@ std::string lower_extension(const std::string& path) {
 // decoder's signature.
 enum class StbFormat { None, Ldr, Hdr };
 
-StbFormat stb_format(const std::string& path, const std::string& ext) {
-  unsigned char head[11] = {};
-  std::ifstream in(path, std::ios::binary);
-  in.read(reinterpret_cast<char*>(head), sizeof(head));
-  const size_t n = size_t(in.gcount());
-  auto starts = [&](const char* sig, size_t len) { return n >= len && std::memcmp(head, sig, len) == 0; };
+StbFormat stb_format(const std::vector<unsigned char>& bytes, const std::string& ext) {
+  auto starts = [&](const char* sig, size_t len) { return bytes.size() >= len && std::memcmp(bytes.data(), sig, len) == 0; };
   if (starts("#?RADIANCE\n", 11) || starts("#?RGBE\n", 7)) return StbFormat::Hdr;
   if (starts("\x89PNG\r\n\x1a\n", 8) || starts("\xff\xd8\xff", 3) || starts("BM", 2)) return StbFormat::Ldr;
   const bool otherDecoder = starts("GIF8", 4) || starts("8BPS", 4) || starts("\x53\x80\xf6\x34", 4) ||
-                            (n >= 2 && head[0] == 'P' && head[1] >= '1' && head[1] <= '7');
+                            (bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '7');
   return ext == ".tga" && !otherDecoder ? StbFormat::Ldr : StbFormat::None;
 }
 
-// The size an OpenEXR file's header declares, read before LoadEXR, which
+bool is_exr(const std::vector<unsigned char>& bytes) {
+  return bytes.size() >= 4 && std::memcmp(bytes.data(), "\x76\x2f\x31\x01", 4) == 0;
+}
+
+void check_size(const std::string& name, long long w, long long h) {
+  if (w <= 0 || h <= 0 || w * h > kMaxPixels)
+    throw InputError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
+}
+
+// The size an OpenEXR image's header declares, read before LoadEXR, which
 // allocates whatever the header asks for.
-void check_exr_size(const std::string& path) {
+void check_exr_size(const std::vector<unsigned char>& bytes, const std::string& name) {
   EXRVersion version;
-  if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) throw InputError(path + ": not an OpenEXR image");
+  if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) throw InputError(name + ": not an OpenEXR image");
   EXRHeader header;
   InitEXRHeader(&header);
   const char* err = nullptr;
-  if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
+  if (ParseEXRHeaderFromMemory(&header, &version, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS) {
     std::string reason = err ? err : "unknown error";
     if (err) FreeEXRErrorMessage(err);
     FreeEXRHeader(&header);
-    throw InputError(path + ": cannot read EXR image: " + reason);
+    throw InputError(name + ": cannot read EXR image: " + reason);
   }
   const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1;
   const long long h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
   FreeEXRHeader(&header);
-  if (w <= 0 || h <= 0 || w * h > kMaxPixels)
-    throw InputError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
+  check_size(name, w, h);
 }
 
-LinearImage load_exr(const std::string& path) {
-  check_exr_size(path);
+LinearImage decode_exr(const std::vector<unsigned char>& bytes, const std::string& name) {
+  check_exr_size(bytes, name);
   float* rgba = nullptr;
   int w = 0;
   int h = 0;
   const char* err = nullptr;
-  if (LoadEXR(&rgba, &w, &h, path.c_str(), &err) != TINYEXR_SUCCESS) {
+  if (LoadEXRFromMemory(&rgba, &w, &h, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS) {
     std::string reason = err ? err : "unknown error";
     if (err) FreeEXRErrorMessage(err);
-    throw InputError(path + ": cannot read EXR image: " + reason);
+    throw InputError(name + ": cannot read EXR image: " + reason);
   }
   LinearImage img;
   img.width = w;
@@ -91,62 +95,73 @@ LinearImage load_exr(const std::string& path) {
   return img;
 }
 
+LinearImage decode_stb(const std::vector<unsigned char>& bytes, const std::string& name, StbFormat format, ColorEncoding encoding) {
+  const stbi_uc* data8 = bytes.data();
+  const int size = int(std::min<size_t>(bytes.size(), size_t(INT32_MAX)));
+  int w = 0;
+  int h = 0;
+  int channels = 0;
+  if (!stbi_info_from_memory(data8, size, &w, &h, &channels)) {
+    throw InputError(name + ": cannot read image: " + std::string(stbi_failure_reason()));
+  }
+  check_size(name, w, h);
+  LinearImage img;
+  img.width = w;
+  img.height = h;
+  img.pixels.resize(size_t(w) * size_t(h));
+  // The decoder's size must be the one stbi_info read, which sized the pixels.
+  auto check_decoded = [&](void* data) {
+    if (!data) throw InputError(name + ": cannot decode image: " + std::string(stbi_failure_reason()));
+    if (w != img.width || h != img.height) {
+      stbi_image_free(data);
+      throw InputError(name + ": the image's header and its data disagree on its size");
+    }
+  };
+  if (format == StbFormat::Hdr) {
+    float* data = stbi_loadf_from_memory(data8, size, &w, &h, &channels, 3);
+    check_decoded(data);
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
+    stbi_image_free(data);
+  } else {
+    unsigned char* data = stbi_load_from_memory(data8, size, &w, &h, &channels, 3);
+    check_decoded(data);
+    float lut[256];
+    for (int i = 0; i < 256; ++i) lut[i] = encoding == ColorEncoding::Srgb ? srgb_to_linear(float(i) / 255.0f) : float(i) / 255.0f;
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(lut[data[3 * i]], lut[data[3 * i + 1]], lut[data[3 * i + 2]]);
+    stbi_image_free(data);
+  }
+  return img;
+}
+
 }  // namespace
+
+LinearImage decode_linear_image(const std::vector<unsigned char>& bytes, const std::string& name, const std::string& extension,
+                                ColorEncoding encoding) {
+  LinearImage img;
+  if (is_exr(bytes)) {
+    img = decode_exr(bytes, name);
+  } else {
+    const StbFormat format = stb_format(bytes, extension);
+    if (format == StbFormat::None) throw InputError(name + ": not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image");
+    img = decode_stb(bytes, name, format, encoding);
+  }
+  for (const glm::vec3& p : img.pixels) {
+    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) || p.x < 0.0f || p.y < 0.0f || p.z < 0.0f) {
+      throw InputError(name + ": image has negative or non-finite pixels");
+    }
+  }
+  return img;
+}
 
 LinearImage load_linear_image(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": cannot open image (no such file)");
+  std::ifstream in(path, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw InputError(path + ": cannot read image");
   std::string ext = lower_extension(path);
-  LinearImage img;
-  if (ext == ".exr") {
-    img = load_exr(path);
-  } else {
-    int w = 0;
-    int h = 0;
-    int channels = 0;
-    const StbFormat format = stb_format(path, ext);
-    if (format == StbFormat::None) throw InputError(path + ": not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image");
-    if (!stbi_info(path.c_str(), &w, &h, &channels)) {
-      throw InputError(path + ": cannot read image: " + std::string(stbi_failure_reason()));
-    }
-    if (w <= 0 || h <= 0 || (long long)w * h > kMaxPixels) {
-      throw InputError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
-    }
-    const bool hdr = format == StbFormat::Hdr;
-    img.width = w;
-    img.height = h;
-    img.pixels.resize(size_t(w) * size_t(h));
-    // The decoder's size must be the one stbi_info read, which sized the pixels.
-    auto check_size = [&](void* data) {
-      if (!data) throw InputError(path + ": cannot decode image: " + std::string(stbi_failure_reason()));
-      if (w != img.width || h != img.height) {
-        stbi_image_free(data);
-        throw InputError(path + ": the image's header and its data disagree on its size");
-      }
-    };
-    if (hdr) {
-      float* data = stbi_loadf(path.c_str(), &w, &h, &channels, 3);
-      check_size(data);
-      for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
-      stbi_image_free(data);
-    } else {
-      unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
-      check_size(data);
-      float lut[256];
-      for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(float(i) / 255.0f);
-      for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(lut[data[3 * i]], lut[data[3 * i + 1]], lut[data[3 * i + 2]]);
-      stbi_image_free(data);
-    }
-  }
-  if (img.width <= 0 || img.height <= 0 || (long long)img.width * img.height > kMaxPixels) {
-    throw InputError(path + ": image size " + std::to_string(img.width) + "x" + std::to_string(img.height) + " is not supported");
-  }
-  for (const glm::vec3& p : img.pixels) {
-    if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) || p.x < 0.0f || p.y < 0.0f || p.z < 0.0f) {
-      throw InputError(path + ": image has negative or non-finite pixels");
-    }
-  }
-  return img;
+  if (ext == ".exr" && !is_exr(bytes)) throw InputError(path + ": not an OpenEXR image");
+  return decode_linear_image(bytes, path, ext, ColorEncoding::Srgb);
 }
 
 }  // namespace wp

@@ -16,8 +16,17 @@ struct LinearImage {
   std::vector<glm::vec3> pixels;  // row by row, top row first
 };
 
+// What 8-bit values mean: sRGB-encoded colours (decoded to linear), or
+// linear data (glTF's metallic-roughness and normal textures).
+enum class ColorEncoding { Srgb, Linear };
+
 // Throws InputError naming the file and the decoder's reason.
 LinearImage load_linear_image(const std::string& path);
+
+// The same for an image in memory (one a glTF file embeds); `name` names it
+// in errors, `extension` (".tga") lets a TGA, which has no signature, decode.
+LinearImage decode_linear_image(const std::vector<unsigned char>& bytes, const std::string& name, const std::string& extension,
+                                ColorEncoding encoding);
 
 // sRGB transfer function, decoded (IEC 61966-2-1).
 float srgb_to_linear(float c);

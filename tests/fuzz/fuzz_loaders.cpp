@@ -48,6 +48,7 @@ FuzzedInput fuzzed_input_named(const std::string& name) {
   if (name == "obj") return FuzzedInput::Obj;
   if (name == "image") return FuzzedInput::Image;
   if (name == "partial") return FuzzedInput::Partial;
+  if (name == "gltf") return FuzzedInput::Gltf;
   throw std::invalid_argument("no fuzzed input kind named \"" + name + "\"");
 }
 
@@ -82,6 +83,15 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         path = write_input("part.exr", data, size);
         read_partial(path);
         break;
+      case FuzzedInput::Gltf: {
+        // Beside it, tex.png and mesh.obj: a fuzzed model may name them as URIs.
+        const char* names[2] = {"input.gltf", "input.glb"};
+        path = write_input(names[size > 0 ? data[0] % 2 : 0], size > 0 ? data + 1 : data, size > 0 ? size - 1 : 0);
+        RenderOptions options;
+        options.spp = 1;
+        compile_scene(load_scene(path), options);
+        break;
+      }
     }
   } catch (const InputError& e) {
     // The one line a user sees must say which file is wrong.

@@ -1,0 +1,335 @@
+#!/usr/bin/env python3
+"""Writes wavepath's glTF 2.0 test assets into tests/data/gltf/ with the
+standard library only, so that every byte of them is generated here (no
+third-party asset, no licence to track):
+
+  box-room.gltf   buffers embedded as a data: URI; a node tree (TRS and a
+                  matrix), metal-rough materials, an emissive panel, a point
+                  light (KHR_lights_punctual) and a camera.
+  box-room.json   the same objects as a darts scene: world-space triangles,
+                  the same materials, light and camera, so that the two
+                  formats can be rendered and compared.
+  textured.glb    binary glTF: a PNG base colour and a metallic-roughness
+                  texture in buffer views, unsigned byte indices, normalized
+                  unsigned short UVs, a sparse accessor, two cameras (one
+                  orthographic) and no light (the white sky).
+  external/       scene.gltf with its buffer (scene.bin) and image
+                  (checker.png) as separate files.
+
+Run it from the repository root: python3 scripts/make-gltf-test-assets.py
+"""
+import base64
+import json
+import math
+import os
+import struct
+import zlib
+
+OUT = os.path.join("tests", "data", "gltf")
+
+FLOAT, USHORT, UBYTE, UINT = 5126, 5123, 5121, 5125
+ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
+
+
+class Buffer:
+    """One glTF buffer, built up view by view (each 4-byte aligned)."""
+
+    def __init__(self):
+        self.data = bytearray()
+        self.views = []
+        self.accessors = []
+
+    def view(self, payload, target=None):
+        while len(self.data) % 4:
+            self.data += b"\0"
+        view = {"buffer": 0, "byteOffset": len(self.data), "byteLength": len(payload)}
+        if target:
+            view["target"] = target
+        self.data += payload
+        self.views.append(view)
+        return len(self.views) - 1
+
+    def accessor(self, fmt, component, kind, values, **extra):
+        flat = [x for v in values for x in (v if isinstance(v, (list, tuple)) else [v])]
+        target = ELEMENT_ARRAY_BUFFER if kind == "SCALAR" else ARRAY_BUFFER
+        acc = {"bufferView": self.view(struct.pack("<%d%s" % (len(flat), fmt), *flat), target),
+               "componentType": component, "count": len(values), "type": kind}
+        if kind == "VEC3" and component == FLOAT:
+            acc["min"] = [min(v[i] for v in values) for i in range(3)]
+            acc["max"] = [max(v[i] for v in values) for i in range(3)]
+        acc.update(extra)
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+
+# ---- small linear algebra (column-major 4x4, as glTF stores matrices) ----
+
+def mat_mul(a, b):
+    return [sum(a[k * 4 + r] * b[c * 4 + k] for k in range(4)) for c in range(4) for r in range(4)]
+
+
+def translate(t):
+    return [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, t[0], t[1], t[2], 1]
+
+
+def scale(s):
+    return [s[0], 0, 0, 0, 0, s[1], 0, 0, 0, 0, s[2], 0, 0, 0, 0, 1]
+
+
+def rotate_quat(q):
+    x, y, z, w = q
+    return [1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
+            2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
+            2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
+            0, 0, 0, 1]
+
+
+def apply(m, p):
+    return [m[0 + r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] for r in range(3)]
+
+
+def look_at_matrix(eye, at, up):
+    f = [at[i] - eye[i] for i in range(3)]
+    n = math.sqrt(sum(x * x for x in f))
+    z = [-x / n for x in f]  # the camera looks down -Z
+    x = [up[1] * z[2] - up[2] * z[1], up[2] * z[0] - up[0] * z[2], up[0] * z[1] - up[1] * z[0]]
+    n = math.sqrt(sum(v * v for v in x))
+    x = [v / n for v in x]
+    y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]
+    return x + [0] + y + [0] + z + [0] + list(eye) + [1]
+
+
+def axis_angle(axis, degrees):
+    h = math.radians(degrees) / 2
+    n = math.sqrt(sum(a * a for a in axis))
+    return [a / n * math.sin(h) for a in axis] + [math.cos(h)]
+
+
+# ---- meshes --------------------------------------------------------------
+
+def quad(size_x, size_z, y, facing_down=False):
+    """Two triangles of a quad in the y plane, centred on the origin."""
+    hx, hz = size_x / 2, size_z / 2
+    pos = [[-hx, y, -hz], [hx, y, -hz], [hx, y, hz], [-hx, y, hz]]
+    idx = [0, 2, 1, 0, 3, 2] if not facing_down else [0, 1, 2, 0, 2, 3]
+    normal = [0, -1, 0] if facing_down else [0, 1, 0]
+    return pos, [normal] * 4, [[0, 0], [1, 0], [1, 1], [0, 1]], idx
+
+
+def cube():
+    """A unit cube around the origin, 24 vertices (flat faces), 36 indices."""
+    pos, nrm, uv, idx = [], [], [], []
+    for axis in range(3):
+        for sign in (-1, 1):
+            n = [0, 0, 0]
+            n[axis] = sign
+            u = [0, 0, 0]
+            u[(axis + 1) % 3] = 1
+            v = [0, 0, 0]
+            v[(axis + 2) % 3] = 1
+            base = len(pos)
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                pos.append([0.5 * (n[i] + a * u[i] + b * v[i]) for i in range(3)])
+                nrm.append(n)
+                uv.append([(a + 1) / 2, (b + 1) / 2])
+            tri = [0, 1, 2, 0, 2, 3] if sign > 0 else [0, 2, 1, 0, 3, 2]
+            idx += [base + t for t in tri]
+    return pos, nrm, uv, idx
+
+
+def add_mesh(buf, mesh, material, name):
+    pos, nrm, uv, idx = mesh
+    prim = {"attributes": {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos),
+                           "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm),
+                           "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", uv)},
+            "indices": buf.accessor("H", USHORT, "SCALAR", idx), "material": material}
+    return {"name": name, "primitives": [prim]}
+
+
+def png(width, height, pixel):
+    """An 8-bit RGB PNG; pixel(x, y) gives (r, g, b) in 0..255."""
+    raw = b"".join(b"\0" + bytes(c for x in range(width) for c in pixel(x, y)) for y in range(height))
+
+    def chunk(tag, data):
+        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def checker(x, y):
+    return (230, 200, 60) if (x // 4 + y // 4) % 2 == 0 else (40, 60, 160)
+
+
+def write_json(path, doc):
+    with open(path, "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+
+
+# ---- box-room.gltf and its darts twin -------------------------------------
+
+MATERIALS = [
+    {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.6, 0.55, 1], "metallicFactor": 0.0, "roughnessFactor": 0.8}},
+    {"name": "gold", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.78, 0.35, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35}},
+    {"name": "red plastic", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.1, 0.08, 1], "metallicFactor": 0.0, "roughnessFactor": 0.45},
+     "extensions": {"KHR_materials_ior": {"ior": 1.45}}},
+    {"name": "panel", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0, "roughnessFactor": 1.0},
+     "emissiveFactor": [1.0, 0.9, 0.8], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}}},
+]
+LIGHT_POS = [1.5, 2.2, 1.2]
+LIGHT_CANDELA = 6 * 683  # 6 W/sr
+CAMERA = {"eye": [0.3, 1.6, 4.2], "at": [0, 0.5, 0], "yfov": 0.75, "aspect": 1.25}
+
+
+def box_room():
+    buf = Buffer()
+    floor, box, panel = quad(5, 5, 0), cube(), quad(1.2, 1.2, 0, facing_down=True)
+    meshes = [add_mesh(buf, floor, 0, "floor"), add_mesh(buf, box, 1, "gold box"),
+              add_mesh(buf, box, 2, "red box"), add_mesh(buf, panel, 3, "panel")]
+    # A group node (translated) holds the two boxes: one by TRS, one by a matrix.
+    gold_trs = {"translation": [-0.7, 0.45, 0], "rotation": axis_angle([0, 1, 0], 30), "scale": [0.9, 0.9, 0.9]}
+    red_matrix = mat_mul(translate([0.75, 0.35, 0.4]), mat_mul(rotate_quat(axis_angle([0, 1, 0], -20)), scale([0.7, 0.7, 0.7])))
+    group = [0.0, 0.0, -0.2]
+    cam = look_at_matrix(CAMERA["eye"], CAMERA["at"], [0, 1, 0])
+    nodes = [
+        {"name": "floor", "mesh": 0},
+        {"name": "boxes", "translation": group, "children": [2, 3]},
+        dict({"name": "gold box", "mesh": 1}, **gold_trs),
+        {"name": "red box", "mesh": 2, "matrix": red_matrix},
+        {"name": "panel", "mesh": 3, "translation": [0, 2.6, 0.3]},
+        {"name": "lamp", "translation": LIGHT_POS, "extensions": {"KHR_lights_punctual": {"light": 0}}},
+        {"name": "camera", "camera": 0, "matrix": cam},
+    ]
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior"],
+        "scene": 0, "scenes": [{"nodes": [0, 1, 4, 5, 6]}], "nodes": nodes, "meshes": meshes, "materials": MATERIALS,
+        "cameras": [{"name": "main", "type": "perspective",
+                     "perspective": {"yfov": CAMERA["yfov"], "aspectRatio": CAMERA["aspect"], "znear": 0.05}}],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"name": "lamp", "type": "point", "color": [1, 0.95, 0.9],
+                                                            "intensity": LIGHT_CANDELA}]}},
+        "accessors": buf.accessors, "bufferViews": buf.views,
+        "buffers": [{"byteLength": len(buf.data),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(buf.data)).decode()}],
+    }
+    write_json(os.path.join(OUT, "box-room.gltf"), doc)
+
+    # The darts twin: every triangle placed by the same transforms.
+    group_m = translate(group)
+    gold_m = mat_mul(group_m, mat_mul(translate(gold_trs["translation"]), mat_mul(rotate_quat(gold_trs["rotation"]), scale(gold_trs["scale"]))))
+    red_m = mat_mul(group_m, red_matrix)
+    placed = [(floor, translate([0, 0, 0]), "floor"), (box, gold_m, "gold"), (box, red_m, "red plastic"),
+              (panel, translate([0, 2.6, 0.3]), "panel")]
+    surfaces = []
+    for (pos, _, _, idx), m, material in placed:
+        for t in range(0, len(idx), 3):
+            surfaces.append({"type": "triangle", "material": material,
+                             "positions": [[round(c, 7) for c in apply(m, pos[idx[t + k]])] for k in range(3)]})
+    pbr = {mt["name"]: mt["pbrMetallicRoughness"] for mt in MATERIALS}
+
+    def darts_material(name, ior=1.5):
+        p = pbr[name]
+        return {"type": "metal_rough", "name": name, "base_color": p["baseColorFactor"][:3], "metallic": p["metallicFactor"],
+                "roughness": p["roughnessFactor"], "ior": ior}
+    materials = [darts_material("floor"), darts_material("gold"), darts_material("red plastic", 1.45),
+                 dict(darts_material("panel"), emit=[8.0 * c for c in MATERIALS[3]["emissiveFactor"]])]
+    darts = {
+        "camera": {"transform": {"from": CAMERA["eye"], "at": CAMERA["at"], "up": [0, 1, 0]},
+                   "vfov": math.degrees(CAMERA["yfov"]), "resolution": [50, 40]},
+        "sampler": {"samples": 64}, "background": 0,
+        "integrator": {"type": "path tracer mis", "max bounces": 16},
+        "materials": materials,
+        "surfaces": surfaces + [{"type": "point_light", "position": LIGHT_POS,
+                                 "intensity": [6 * c for c in (1, 0.95, 0.9)]}],
+    }
+    return darts
+
+
+# ---- textured.glb ---------------------------------------------------------
+
+def glb(doc, binary):
+    text = json.dumps(doc, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 4)
+    binary = bytes(binary) + b"\0" * (-len(binary) % 4)
+    body = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(binary), 0x004E4942) + binary
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body
+
+
+def roughness_map(x, y):
+    """Green: roughness from 0.2 (left) to 1 (right); blue: metallic in the top half."""
+    return (0, int(255 * (0.2 + 0.8 * x / 15)), 255 if y < 8 else 0)
+
+
+def textured():
+    buf = Buffer()
+    floor_pos, floor_nrm, _, floor_idx = quad(4, 4, 0)
+    uv = [[0, 0], [2, 0], [2, 2], [0, 2]]  # repeats twice
+    floor = {"attributes": {"POSITION": buf.accessor("f", FLOAT, "VEC3", floor_pos),
+                            "NORMAL": buf.accessor("f", FLOAT, "VEC3", floor_nrm),
+                            "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", uv)},
+             "indices": buf.accessor("B", UBYTE, "SCALAR", floor_idx), "material": 0}
+    pos, nrm, cuv, idx = cube()
+    positions = buf.accessor("f", FLOAT, "VEC3", pos)
+    # Sparse: the twelve vertices at the top of the cube lifted to y = 0.9.
+    top = [i for i, p in enumerate(pos) if p[1] > 0.4]
+    sparse_idx = buf.view(struct.pack("<%dB" % len(top), *top))
+    sparse_val = buf.view(struct.pack("<%df" % (3 * len(top)), *[c for i in top for c in (pos[i][0], 0.9, pos[i][2])]))
+    buf.accessors[positions]["sparse"] = {"count": len(top), "indices": {"bufferView": sparse_idx, "componentType": UBYTE},
+                                          "values": {"bufferView": sparse_val}}
+    buf.accessors[positions]["max"][1] = 0.9
+    box = {"attributes": {"POSITION": positions, "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm),
+                          "TEXCOORD_0": buf.accessor("H", USHORT, "VEC2", [[round(65535 * c) for c in t] for t in cuv], normalized=True)},
+           "indices": buf.accessor("B", UBYTE, "SCALAR", idx), "material": 1}
+    base_png = buf.view(png(16, 16, checker))
+    rough_png = buf.view(png(16, 16, roughness_map))
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1, "translation": [0, 0.5, 0]},
+                  {"name": "ortho camera", "camera": 0, "translation": [0, 1, 5]},
+                  {"name": "camera", "camera": 1, "matrix": look_at_matrix([2.5, 2.5, 3.5], [0, 0.6, 0], [0, 1, 0])}],
+        "meshes": [{"primitives": [floor]}, {"primitives": [box]}],
+        "materials": [{"name": "checker", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}},
+                      {"name": "patchy", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1],
+                                                                  "metallicRoughnessTexture": {"index": 1}}}],
+        "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}],
+        "samplers": [{"magFilter": 9729, "minFilter": 9729}],
+        "images": [{"bufferView": base_png, "mimeType": "image/png"}, {"bufferView": rough_png, "mimeType": "image/png"}],
+        "cameras": [{"name": "ortho", "type": "orthographic", "orthographic": {"xmag": 2, "ymag": 2, "znear": 0.1, "zfar": 100}},
+                    {"name": "persp", "type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "textured.glb"), "wb") as f:
+        f.write(glb(doc, buf.data))
+
+
+# ---- external/ --------------------------------------------------------------
+
+def external():
+    buf = Buffer()
+    pos, nrm, uv, idx = quad(2, 2, 0)
+    prim = {"attributes": {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", uv)},
+            "indices": buf.accessor("I", UINT, "SCALAR", idx), "material": 0}
+    doc = {
+        "asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "meshes": [{"primitives": [prim]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 1.0}}],
+        "textures": [{"source": 0}], "images": [{"uri": "checker.png"}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data), "uri": "scene.bin"}],
+    }
+    write_json(os.path.join(OUT, "external", "scene.gltf"), doc)
+    with open(os.path.join(OUT, "external", "scene.bin"), "wb") as f:
+        f.write(bytes(buf.data))
+    with open(os.path.join(OUT, "external", "checker.png"), "wb") as f:
+        f.write(png(16, 16, checker))
+
+
+def main():
+    os.makedirs(os.path.join(OUT, "external"), exist_ok=True)
+    darts = box_room()
+    write_json(os.path.join(OUT, "box-room.json"), darts)
+    textured()
+    external()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,476 @@
+// import_gltf.cpp — glTF 2.0 (.gltf with external or embedded buffers and
+// images, and .glb) through Debian's tinygltf: the default scene's node
+// tree, triangle meshes, metal-rough materials with their textures, cameras
+// and KHR_lights_punctual point lights (docs/scene-format.md, "glTF 2.0").
+//
+// tinygltf parses the JSON and the GLB container and resolves URIs; every
+// index, count, offset and value it hands over is checked here before it is
+// used, since tinygltf checks few of them. It reads files only through
+// callbacks that keep them inside the model's folder (it would follow
+// "../" and absolute URIs), and hands images over undecoded: the project's
+// own decoder (texture_image.h) decodes each with its checks, in the colour
+// space of the texture slot that uses it.
+#include <tiny_gltf.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "scene/gltf_accessors.h"
+#include "scene/importers.h"
+#include "util/error.h"
+
+namespace wp {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The files a model may read: those inside its folder.
+struct Sandbox {
+  fs::path root;  // canonical
+  std::vector<std::string> read;
+  std::string refused;  // the first path refused, for the error message
+
+  bool inside(const std::string& path) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(fs::path(path), ec);
+    if (ec) return false;
+    const fs::path rel = p.lexically_relative(root);
+    const bool ok = !rel.empty() && *rel.begin() != ".." && rel.is_relative();
+    if (!ok && refused.empty()) refused = path;
+    return ok;
+  }
+};
+
+bool sandbox_file_exists(const std::string& path, void* user) {
+  Sandbox* box = static_cast<Sandbox*>(user);
+  std::error_code ec;
+  return box->inside(path) && fs::is_regular_file(path, ec);
+}
+
+std::string sandbox_expand(const std::string& path, void*) {
+  return path;  // no "~" or environment variables: a path means what it says
+}
+
+bool sandbox_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  Sandbox* box = static_cast<Sandbox*>(user);
+  if (!box->inside(path)) {
+    if (err) *err += "refused " + path + ": it lies outside the model's folder\n";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    if (err) *err += "cannot open " + path + "\n";
+    return false;
+  }
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  box->read.push_back(path);
+  return true;
+}
+
+bool sandbox_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "wavepath does not write files while reading a model\n";
+  return false;
+}
+
+// Keeps an image's bytes as they are; the importer decodes them (above).
+// An image in a buffer view is left alone: tinygltf hands over its bytes
+// without checking that the view lies inside its buffer (the fuzzer found
+// it reading freed memory), so the importer reads them through its checks.
+bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size, void*) {
+  if (image->bufferView < 0) image->image.assign(bytes, bytes + size);
+  image->as_is = true;
+  return true;
+}
+
+// The extensions wavepath reads. Others are named once in a warning, or
+// refused when the file requires them.
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior"};
+
+// The most nodes a scene's tree may visit (a DAG can share subtrees, which
+// multiplies what a walk visits).
+constexpr size_t kMaxNodeVisits = 1u << 20;
+
+// Default image width; the height follows the camera's aspect ratio.
+constexpr int kDefaultWidth = 800;
+
+class GltfImporter {
+ public:
+  explicit GltfImporter(const std::string& path) : path_(path) {}
+
+  Scene run() {
+    scene_.sourcePath = path_;
+    load_model();
+    check_extensions();
+    scene_.integrator.maxBounces = 16;
+    scene_.samplesPerPixel = 64;
+    scene_.background = glm::vec3(0.0f);
+    const int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    if (!model_.scenes.empty()) {
+      if (sceneIndex >= int(model_.scenes.size())) fail("/scene", "names scene " + std::to_string(sceneIndex) + ", which does not exist");
+      const tinygltf::Scene& s = model_.scenes[size_t(sceneIndex)];
+      for (size_t i = 0; i < s.nodes.size(); ++i)
+        visit(s.nodes[i], glm::mat4(1.0f), "/scenes/" + std::to_string(sceneIndex) + "/nodes/" + std::to_string(i), {});
+    }
+    if (scene_.triangles.empty()) fail("/scenes", "the default scene holds no triangles");
+    choose_camera();
+    // A model without lights is lit by a white sky, as viewers light it.
+    if (scene_.pointLights.empty() && !has_emission()) scene_.background = glm::vec3(1.0f);
+    for (const std::string& f : sandbox_.read) scene_.inputFiles.push_back(f);
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw InputError(path_ + ": " + where + ": " + what);
+  }
+
+  void load_model() {
+    std::error_code ec;
+    sandbox_.root = fs::weakly_canonical(fs::absolute(fs::path(path_)).parent_path(), ec);
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) throw InputError(path_ + ": cannot open scene file");
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    tinygltf::TinyGLTF loader;
+    tinygltf::FsCallbacks fs{&sandbox_file_exists, &sandbox_expand, &sandbox_read, &sandbox_write, &sandbox_};
+    loader.SetFsCallbacks(fs);
+    loader.SetImageLoader(&keep_encoded, nullptr);
+    std::string err, warn;
+    const std::string base = sandbox_.root.string();
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    bool ok;
+    if (binary) {
+      ok = loader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(std::min<size_t>(bytes.size(), UINT32_MAX)), base);
+    } else {
+      std::string ext = fs::path(path_).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+      if (ext == ".glb") throw InputError(path_ + ": not a binary glTF file (it does not start with \"glTF\")");
+      ok = loader.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()), unsigned(bytes.size()), base);
+    }
+    if (!ok || !sandbox_.refused.empty()) {
+      if (!sandbox_.refused.empty()) throw InputError(path_ + ": refused " + sandbox_.refused + ": a model may only read files inside its own folder");
+      std::string reason = first_line(err.empty() ? warn : err);
+      throw InputError(path_ + ": cannot read glTF: " + (reason.empty() ? "unknown error" : reason));
+    }
+  }
+
+  static std::string first_line(const std::string& s) {
+    const size_t end = s.find('\n');
+    return end == std::string::npos ? s : s.substr(0, end);
+  }
+
+  void check_extensions() {
+    for (size_t i = 0; i < model_.extensionsRequired.size(); ++i) {
+      const std::string& e = model_.extensionsRequired[i];
+      if (!kSupportedExtensions.count(e))
+        fail("/extensionsRequired/" + std::to_string(i), "the model requires extension " + e + ", which wavepath does not support");
+    }
+    std::string ignored;
+    for (const std::string& e : model_.extensionsUsed)
+      if (!kSupportedExtensions.count(e)) ignored += (ignored.empty() ? "" : ", ") + e;
+    if (!ignored.empty()) std::fprintf(stderr, "wavepath: warning: %s: ignoring extensions it uses: %s\n", path_.c_str(), ignored.c_str());
+  }
+
+  // ---- nodes ---------------------------------------------------------------
+
+  glm::mat4 local_transform(const tinygltf::Node& n, const std::string& where) const {
+    if (!n.matrix.empty()) {
+      if (n.matrix.size() != 16) fail(where + "/matrix", "expected 16 numbers");
+      glm::mat4 m;
+      for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = float(n.matrix[size_t(i)]);  // column-major, as glTF stores it
+      return m;
+    }
+    glm::mat4 m(1.0f);
+    if (!n.translation.empty()) {
+      if (n.translation.size() != 3) fail(where + "/translation", "expected 3 numbers");
+      m = glm::translate(m, glm::vec3(float(n.translation[0]), float(n.translation[1]), float(n.translation[2])));
+    }
+    if (!n.rotation.empty()) {
+      if (n.rotation.size() != 4) fail(where + "/rotation", "expected a quaternion of 4 numbers");
+      glm::quat q(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));  // glTF: x, y, z, w
+      const float len = glm::length(q);
+      if (!(len > 0.0f) || !std::isfinite(len)) fail(where + "/rotation", "is not a rotation (its length is " + std::to_string(len) + ")");
+      m = m * glm::mat4_cast(q / len);
+    }
+    if (!n.scale.empty()) {
+      if (n.scale.size() != 3) fail(where + "/scale", "expected 3 numbers");
+      m = glm::scale(m, glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+    }
+    return m;
+  }
+
+  // Places node `index` and its subtree. `path` holds the nodes above it: a
+  // node met again on its own path is a cycle.
+  void visit(int index, const glm::mat4& parent, const std::string& where, std::vector<int> path) {
+    if (index < 0 || index >= int(model_.nodes.size())) fail(where, "names node " + std::to_string(index) + ", which does not exist");
+    if (std::find(path.begin(), path.end(), index) != path.end()) fail(where, "node " + std::to_string(index) + " is its own ancestor (a cycle)");
+    if (++visits_ > kMaxNodeVisits) fail(where, "the node tree visits more than " + std::to_string(kMaxNodeVisits) + " nodes");
+    const std::string at = "/nodes/" + std::to_string(index);
+    const tinygltf::Node& n = model_.nodes[size_t(index)];
+    const glm::mat4 toWorld = parent * local_transform(n, at);
+    if (n.mesh >= 0) add_mesh_instance(n.mesh, toWorld, at + "/mesh");
+    if (n.camera >= 0) add_camera(n.camera, toWorld, at + "/camera");
+    auto light = n.extensions.find("KHR_lights_punctual");
+    if (light != n.extensions.end()) add_light(light->second, toWorld, at + "/extensions/KHR_lights_punctual");
+    path.push_back(index);
+    for (size_t c = 0; c < n.children.size(); ++c) visit(n.children[c], toWorld, at + "/children/" + std::to_string(c), path);
+  }
+
+  // ---- meshes --------------------------------------------------------------
+
+  void add_mesh_instance(int meshIndex, const glm::mat4& toWorld, const std::string& where) {
+    if (meshIndex >= int(model_.meshes.size())) fail(where, "names mesh " + std::to_string(meshIndex) + ", which does not exist");
+    const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
+    const std::string at = "/meshes/" + std::to_string(meshIndex);
+    AccessorReader reader(model_, path_);
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      const tinygltf::Primitive& prim = mesh.primitives[p];
+      const std::string pat = at + "/primitives/" + std::to_string(p);
+      if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
+        static const char* const kModes[] = {"points", "lines", "line loops", "line strips", "triangles", "triangle strips", "triangle fans"};
+        const std::string mode = prim.mode >= 0 && prim.mode <= 6 ? kModes[prim.mode] : "mode " + std::to_string(prim.mode);
+        fail(pat + "/mode", "wavepath renders triangles only, not " + mode);
+      }
+      auto pos = prim.attributes.find("POSITION");
+      if (pos == prim.attributes.end()) fail(pat + "/attributes", "has no POSITION");
+      SceneMesh m;
+      for (const glm::vec4& v : reader.read(pos->second, {TINYGLTF_TYPE_VEC3}, pat + "/attributes/POSITION")) {
+        glm::vec3 q(v);
+        if (!is_finite(q)) fail(pat + "/attributes/POSITION", "holds a position that is not a finite number");
+        m.positions.push_back(q);
+      }
+      const size_t vertices = m.positions.size();
+      auto normal = prim.attributes.find("NORMAL");
+      if (normal != prim.attributes.end())
+        for (const glm::vec4& v : reader.read(normal->second, {TINYGLTF_TYPE_VEC3}, pat + "/attributes/NORMAL", vertices))
+          m.normals.push_back(glm::vec3(v));
+      const int uvSet = material_uv_set(prim.material);
+      auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(uvSet));
+      if (uv != prim.attributes.end())
+        for (const glm::vec4& v : reader.read(uv->second, {TINYGLTF_TYPE_VEC2}, pat + "/attributes/TEXCOORD_" + std::to_string(uvSet), vertices))
+          m.uvs.push_back(glm::vec2(v.x, 1.0f - v.y));  // glTF's v runs down the image; wavepath's up
+      std::vector<uint32_t> corners;
+      if (prim.indices >= 0) {
+        corners = reader.indices(prim.indices, pat + "/indices", vertices);
+      } else {
+        corners.resize(vertices);
+        for (size_t i = 0; i < vertices; ++i) corners[i] = uint32_t(i);
+      }
+      if (corners.size() % 3 != 0) fail(prim.indices >= 0 ? pat + "/indices" : pat + "/attributes/POSITION", "holds " + std::to_string(corners.size()) + " corners, not a whole number of triangles");
+      m.positionIndices = corners;
+      m.normalIndices = m.normals.empty() ? std::vector<uint32_t>(corners.size(), WP_INVALID) : corners;
+      m.uvIndices = m.uvs.empty() ? std::vector<uint32_t>(corners.size(), WP_INVALID) : corners;
+      m.materials.assign(corners.size() / 3, 0u);
+      const uint32_t material = material_for(prim.material, pat + "/material");
+      add_mesh(scene_, m, toWorld, {material}, WP_INVALID, [&](const std::string& problem) { fail(pat, problem); });
+    }
+  }
+
+  // The TEXCOORD set a material's base colour texture reads (0 without one).
+  int material_uv_set(int material) const {
+    if (material < 0 || material >= int(model_.materials.size())) return 0;
+    const tinygltf::Material& m = model_.materials[size_t(material)];
+    const int set = m.pbrMetallicRoughness.baseColorTexture.index >= 0 ? m.pbrMetallicRoughness.baseColorTexture.texCoord : 0;
+    return std::clamp(set, 0, 1);
+  }
+
+  // ---- materials -----------------------------------------------------------
+
+  uint32_t material_for(int index, const std::string& where) {
+    if (index < 0) {  // the specification's default material
+      if (defaultMaterial_ == WP_INVALID) {
+        SceneMaterial m;
+        m.kind = MAT_METAL_ROUGH;
+        m.name = "glTF default material";
+        m.albedo = add_texture(scene_, constant_texture(glm::vec3(1.0f)));
+        m.params = glm::vec4(1.0f, 1.0f, 1.5f, 0.0f);
+        scene_.materials.push_back(m);
+        defaultMaterial_ = uint32_t(scene_.materials.size() - 1);
+      }
+      return defaultMaterial_;
+    }
+    if (index >= int(model_.materials.size())) fail(where, "names material " + std::to_string(index) + ", which does not exist");
+    auto found = materials_.find(index);
+    if (found != materials_.end()) return found->second;
+    const tinygltf::Material& g = model_.materials[size_t(index)];
+    const std::string at = "/materials/" + std::to_string(index);
+    const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
+    SceneMaterial m;
+    m.kind = MAT_METAL_ROUGH;
+    m.name = g.name.empty() ? "material " + std::to_string(index) : g.name;
+    const glm::vec3 base = factor3(pbr.baseColorFactor, glm::vec3(1.0f), at + "/pbrMetallicRoughness/baseColorFactor");
+    m.albedo = texture_times(pbr.baseColorTexture.index, base, ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture");
+    const float metallic = unit(pbr.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor");
+    const float roughness = unit(pbr.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor");
+    if (pbr.metallicRoughnessTexture.index >= 0)
+      m.amount = texture_times(pbr.metallicRoughnessTexture.index, glm::vec3(1.0f), ColorEncoding::Linear,
+                               at + "/pbrMetallicRoughness/metallicRoughnessTexture");
+    float ior = 1.5f;
+    auto iorExt = g.extensions.find("KHR_materials_ior");
+    if (iorExt != g.extensions.end() && iorExt->second.Has("ior")) {
+      ior = float(iorExt->second.Get("ior").GetNumberAsDouble());
+      if (!(ior >= 1.0f && ior <= 10.0f)) fail(at + "/extensions/KHR_materials_ior/ior", "must lie in [1, 10]");
+    }
+    m.params = glm::vec4(roughness, metallic, ior, 0.0f);
+    float strength = 1.0f;
+    auto strengthExt = g.extensions.find("KHR_materials_emissive_strength");
+    if (strengthExt != g.extensions.end() && strengthExt->second.Has("emissiveStrength")) {
+      strength = float(strengthExt->second.Get("emissiveStrength").GetNumberAsDouble());
+      if (!(strength >= 0.0f && strength < 1e6f))
+        fail(at + "/extensions/KHR_materials_emissive_strength/emissiveStrength", "must be a number from 0 to 1e6");
+    }
+    const glm::vec3 emissive = factor3(g.emissiveFactor, glm::vec3(0.0f), at + "/emissiveFactor") * strength;
+    if (emissive != glm::vec3(0.0f))
+      m.emission = texture_times(g.emissiveTexture.index, emissive, ColorEncoding::Srgb, at + "/emissiveTexture");
+    scene_.materials.push_back(m);
+    const uint32_t id = uint32_t(scene_.materials.size() - 1);
+    materials_[index] = id;
+    return id;
+  }
+
+  // A colour factor (its first three numbers; a fourth, alpha, is not used).
+  glm::vec3 factor3(const std::vector<double>& v, glm::vec3 fallback, const std::string& where) const {
+    if (v.empty()) return fallback;
+    if (v.size() < 3) fail(where, "expected 3 or 4 numbers");
+    const glm::vec3 c{float(v[0]), float(v[1]), float(v[2])};
+    if (!(c.x >= 0.0f && c.y >= 0.0f && c.z >= 0.0f && c.x <= 1.0f && c.y <= 1.0f && c.z <= 1.0f)) fail(where, "must lie in [0, 1]");
+    return c;
+  }
+
+  float unit(double v, const std::string& where) const {
+    if (!(v >= 0.0 && v <= 1.0)) fail(where, "must lie in [0, 1]");
+    return float(v);
+  }
+
+  // A texture scaled by a constant factor, or the factor alone without one.
+  uint32_t texture_times(int textureIndex, glm::vec3 factor, ColorEncoding encoding, const std::string& where) {
+    if (textureIndex < 0) return add_texture(scene_, constant_texture(factor));
+    if (textureIndex >= int(model_.textures.size()))
+      fail(where + "/index", "names texture " + std::to_string(textureIndex) + ", which does not exist");
+    const tinygltf::Texture& t = model_.textures[size_t(textureIndex)];
+    const int image = t.source;
+    if (image < 0 || image >= int(model_.images.size()))
+      fail("/textures/" + std::to_string(textureIndex) + "/source", "names image " + std::to_string(image) + ", which does not exist");
+    SceneTexture tex;
+    tex.kind = TEX_IMAGE;
+    tex.image = decoded_image(image, encoding);
+    tex.color = factor;
+    return add_texture(scene_, tex);
+  }
+
+  uint32_t decoded_image(int index, ColorEncoding encoding) {
+    const auto key = std::make_pair(index, encoding);
+    auto found = images_.find(key);
+    if (found != images_.end()) return found->second;
+    const tinygltf::Image& img = model_.images[size_t(index)];
+    const std::string where = path_ + ": /images/" + std::to_string(index) + (img.uri.empty() || img.uri.rfind("data:", 0) == 0 ? "" : " (" + img.uri + ")");
+    std::vector<unsigned char> bytes = img.bufferView >= 0 ? AccessorReader(model_, path_).view_bytes(img.bufferView, "/images/" + std::to_string(index) + "/bufferView") : img.image;
+    if (bytes.empty()) throw InputError(where + ": holds no image data");
+    std::string ext = fs::path(img.uri.rfind("data:", 0) == 0 ? std::string() : img.uri).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    scene_.images.push_back(decode_linear_image(bytes, where, ext, encoding));
+    const uint32_t id = uint32_t(scene_.images.size() - 1);
+    images_[key] = id;
+    return id;
+  }
+
+  bool has_emission() const {
+    return std::any_of(scene_.materials.begin(), scene_.materials.end(), [](const SceneMaterial& m) { return m.emission != WP_INVALID; });
+  }
+
+  // ---- cameras and lights --------------------------------------------------
+
+  void add_camera(int index, const glm::mat4& toWorld, const std::string& where) {
+    if (index >= int(model_.cameras.size())) fail(where, "names camera " + std::to_string(index) + ", which does not exist");
+    const tinygltf::Camera& c = model_.cameras[size_t(index)];
+    const std::string at = "/cameras/" + std::to_string(index);
+    NamedCamera nc;
+    nc.name = c.name.empty() ? std::to_string(index) : c.name;
+    nc.index = index;
+    if (c.type != "perspective") {
+      nc.problem = at + "/type: wavepath renders perspective cameras only, not \"" + c.type + "\"";
+    } else {
+      const double yfov = c.perspective.yfov;
+      if (!(yfov > 0.0 && yfov < M_PI)) fail(at + "/perspective/yfov", "must lie between 0 and pi radians");
+      const double aspect = c.perspective.aspectRatio > 0.0 ? c.perspective.aspectRatio : 4.0 / 3.0;
+      if (!(aspect > 1e-3 && aspect < 1e3)) fail(at + "/perspective/aspectRatio", "must lie between 0.001 and 1000");
+      nc.camera.vfovDegrees = float(glm::degrees(yfov));
+      nc.camera.width = kDefaultWidth;
+      nc.camera.height = std::max(1, int(std::lround(kDefaultWidth / aspect)));
+      // The node's rotation and translation; a camera ignores scale.
+      glm::vec3 x = glm::normalize(glm::vec3(toWorld[0])), y = glm::vec3(toWorld[1]);
+      glm::vec3 z = glm::normalize(glm::cross(x, y));
+      y = glm::cross(z, x);
+      if (!is_finite(x) || !is_finite(z) || !is_finite(glm::vec3(toWorld[3])))
+        fail(where, "the node's transform does not place the camera (it is singular or not finite)");
+      nc.camera.toWorld = glm::mat4(glm::vec4(x, 0.0f), glm::vec4(y, 0.0f), glm::vec4(z, 0.0f), toWorld[3]);
+      nc.camera.focusDistance = 1.0f;
+    }
+    nc.camera.name = nc.name;
+    scene_.cameras.push_back(nc);
+  }
+
+  void add_light(const tinygltf::Value& ext, const glm::mat4& toWorld, const std::string& where) {
+    if (!ext.Has("light") || !ext.Get("light").IsInt()) fail(where, "names no light");
+    const int index = ext.Get("light").GetNumberAsInt();
+    if (index < 0 || index >= int(model_.lights.size())) fail(where + "/light", "names light " + std::to_string(index) + ", which does not exist");
+    const tinygltf::Light& l = model_.lights[size_t(index)];
+    const std::string at = "/extensions/KHR_lights_punctual/lights/" + std::to_string(index);
+    if (l.type != "point") {
+      ignoredLights_.insert(l.type);
+      return;
+    }
+    const glm::vec3 color = factor3(l.color, glm::vec3(1.0f), at + "/color");
+    if (!(l.intensity >= 0.0 && l.intensity < 1e9)) fail(at + "/intensity", "must be a number from 0 to 1e9");
+    ScenePointLight p;
+    p.position = glm::vec3(toWorld[3]);
+    if (!is_finite(p.position)) fail(where, kPastFloatRange);
+    // candela (lm/sr) to W/sr at the luminous efficacy of 555 nm light.
+    p.intensity = color * float(l.intensity / kLumensPerWatt);
+    scene_.pointLights.push_back(p);
+  }
+
+  // The camera the render uses: the first perspective camera of the tree,
+  // or one framing the scene's bounds (the command line may pick another).
+  void choose_camera() {
+    if (!ignoredLights_.empty()) {
+      std::string kinds;
+      for (const std::string& k : ignoredLights_) kinds += (kinds.empty() ? "" : ", ") + k;
+      std::fprintf(stderr, "wavepath: warning: %s: ignoring KHR_lights_punctual lights of type %s (not supported yet)\n", path_.c_str(),
+                   kinds.c_str());
+    }
+    for (const NamedCamera& c : scene_.cameras)
+      if (c.problem.empty()) {
+        scene_.camera = c.camera;
+        return;
+      }
+    scene_.camera = framing_camera(scene_);
+  }
+
+  std::string path_;
+  Sandbox sandbox_;
+  tinygltf::Model model_;
+  Scene scene_;
+  size_t visits_ = 0;
+  uint32_t defaultMaterial_ = WP_INVALID;
+  std::map<int, uint32_t> materials_;
+  std::map<std::pair<int, ColorEncoding>, uint32_t> images_;
+  std::set<std::string> ignoredLights_;
+};
+
+}  // namespace
+
+Scene import_gltf(const std::string& path) {
+  return GltfImporter(path).run();
+}
+
+}  // namespace wp

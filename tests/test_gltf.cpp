@@ -1,0 +1,245 @@
+// glTF 2.0 import (scene/import_gltf.cpp, scene/gltf_accessors.cpp) on the
+// assets scripts/make-gltf-test-assets.py writes: the node tree against the
+// same objects placed by hand in a darts file, the two formats' renders
+// against each other, binary files with textures, sparse and normalized
+// accessors, cameras, files kept inside the model's folder, and every kind
+// of bad input refused in one line that names the file and the place.
+#include <nlohmann/json.hpp>
+
+#include "stats/compare.h"
+#include "test_support.h"
+
+namespace wp::test {
+namespace {
+
+using json = nlohmann::json;
+
+std::string gltf_path(const std::string& name) {
+  return source_path("tests/data/gltf/" + name);
+}
+
+json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return json::parse(in);
+}
+
+// Triangles as sorted vertex lists, for comparing two scenes' geometry.
+std::vector<std::array<float, 9>> triangle_set(const Scene& s) {
+  std::vector<std::array<float, 9>> out;
+  for (const SceneTriangle& t : s.triangles) {
+    std::array<glm::vec3, 3> v = {t.v[0], t.v[1], t.v[2]};
+    std::sort(v.begin(), v.end(), [](glm::vec3 a, glm::vec3 b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); });
+    out.push_back({v[0].x, v[0].y, v[0].z, v[1].x, v[1].y, v[1].z, v[2].x, v[2].y, v[2].z});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Gltf, NodeTreePlacesMeshesAsTheDartsTwinDoes) {
+  const Scene g = load_scene(gltf_path("box-room.gltf"));
+  const Scene d = load_scene(gltf_path("box-room.json"));
+  const auto a = triangle_set(g), b = triangle_set(d);
+  ASSERT_EQ(a.size(), 28u);  // floor 2, two boxes 12 each, panel 2
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i)
+    for (int k = 0; k < 9; ++k) ASSERT_NEAR(a[i][k], b[i][k], 1e-5f) << "triangle " << i;
+  // Materials, emission, the light in W/sr (candela / 683) and the camera.
+  ASSERT_EQ(g.materials.size(), 4u);
+  EXPECT_EQ(g.materials[1].kind, MAT_METAL_ROUGH);
+  EXPECT_EQ(g.materials[1].params, glm::vec4(0.35f, 1.0f, 1.5f, 0.0f));
+  EXPECT_FLOAT_EQ(g.materials[2].params.z, 1.45f);  // KHR_materials_ior
+  ASSERT_NE(g.materials[3].emission, WP_INVALID);
+  const glm::vec3 emit = g.textures[g.materials[3].emission].color;
+  EXPECT_NEAR(emit.y, 0.9f * 8.0f, 1e-5f);  // KHR_materials_emissive_strength
+  ASSERT_EQ(g.pointLights.size(), 1u);
+  EXPECT_NEAR(g.pointLights[0].intensity.x, 6.0f, 1e-4f);
+  EXPECT_NEAR(g.pointLights[0].position.y, 2.2f, 1e-6f);
+  EXPECT_NEAR(g.camera.vfovDegrees, glm::degrees(0.75f), 1e-4f);
+  EXPECT_EQ(g.camera.width, 800);
+  EXPECT_EQ(g.camera.height, 640);  // aspect ratio 1.25
+  EXPECT_NEAR(glm::distance(glm::vec3(g.camera.toWorld[3]), glm::vec3(0.3f, 1.6f, 4.2f)), 0.0f, 1e-5f);
+  EXPECT_EQ(g.background, glm::vec3(0.0f)) << "a lit model gets no sky";
+}
+
+// The same objects in both formats estimate the same image.
+TEST(Gltf, RendersTheSameImageAsItsDartsTwin) {
+  auto render = [](const std::string& path, uint32_t seed) {
+    Scene s = load_scene(path);
+    s.camera.width = 40;
+    s.camera.height = 32;
+    RenderOptions o;
+    o.spp = 64;
+    o.seed = seed;
+    Progress quiet("", 0, false);
+    return render_cpu(compile_scene(s, reference_options(o)), 0, quiet);
+  };
+  ImageStats g = render(gltf_path("box-room.gltf"), 3);
+  ImageStats d = render(gltf_path("box-room.json"), 4);
+  CompareResult r = compare_images(g, d);
+  EXPECT_TRUE(r.passed()) << r.summary();
+  auto [mean, error] = image_mean(g);
+  EXPECT_GT(mean, 0.02) << "the scene is lit";
+}
+
+TEST(Gltf, BinaryModelWithTexturesSparseAndNormalizedAccessors) {
+  const Scene s = load_scene(gltf_path("textured.glb"));
+  ASSERT_EQ(s.triangles.size(), 2u + 12u);
+  float top = -1.0f;
+  for (const SceneTriangle& t : s.triangles)
+    for (const glm::vec3& v : t.v) top = std::max(top, v.y);
+  EXPECT_NEAR(top, 0.5f + 0.9f, 1e-6f) << "the sparse accessor lifts the top of the box";
+  // Normalized unsigned short UVs land in [0, 1]; the floor's repeat to 2 (v flipped: 1 - v).
+  float lowest = 1.0f, highest = 0.0f;
+  for (const SceneTriangleShading& sh : s.triangleShading)
+    for (const glm::vec2& uv : sh.uv) {
+      lowest = std::min({lowest, uv.x, uv.y});
+      highest = std::max({highest, uv.x, uv.y});
+    }
+  EXPECT_NEAR(lowest, -1.0f, 1e-6f);
+  EXPECT_NEAR(highest, 2.0f, 1e-6f);
+  // Base colour decoded as sRGB, the metallic-roughness map as linear data:
+  // its first column's green is 51 / 255 = 0.2 exactly.
+  ASSERT_EQ(s.images.size(), 2u);
+  const LinearImage& rough = s.images[s.textures[s.materials[1].amount].image];
+  EXPECT_NEAR(rough.pixels[0].y, 0.2f, 1e-6f);
+  EXPECT_NEAR(s.images[0].pixels[0].x, srgb_to_linear(230.0f / 255.0f), 1e-6f);
+  // Two cameras: the orthographic one is listed but not chosen.
+  ASSERT_EQ(s.cameras.size(), 2u);
+  EXPECT_EQ(s.camera.name, "persp");
+  EXPECT_EQ(s.camera.height, 600);  // no aspect ratio: 4:3
+  EXPECT_EQ(s.background, glm::vec3(1.0f)) << "a model without lights is lit by a white sky";
+  Scene copy = s;
+  try {
+    choose_camera(copy, "ortho");
+    ADD_FAILURE() << "an orthographic camera was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("perspective cameras only"), std::string::npos) << e.what();
+  }
+  try {
+    choose_camera(copy, "side");
+    ADD_FAILURE() << "a missing camera was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 \"persp\""), std::string::npos) << e.what();
+  }
+  choose_camera(copy, "1");
+  EXPECT_EQ(copy.camera.name, "persp");
+}
+
+// Loading `path` fails with one line that names it and holds every part.
+void expect_refused(const std::string& path, std::initializer_list<const char*> parts) {
+  try {
+    load_scene(path);
+    ADD_FAILURE() << path << " loaded";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
+    for (const char* p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' not in: " << msg;
+  }
+}
+
+TEST(Gltf, ExternalFilesAreReadOnlyInsideTheModelsFolder) {
+  const Scene s = load_scene(gltf_path("external/scene.gltf"));
+  EXPECT_EQ(s.triangles.size(), 2u);
+  auto read = [&](const char* name) {
+    return std::any_of(s.inputFiles.begin(), s.inputFiles.end(), [&](const std::string& f) { return f.find(name) != std::string::npos; });
+  };
+  EXPECT_TRUE(read("scene.bin"));
+  EXPECT_TRUE(read("scene.gltf"));
+  // The same model moved one folder down, its buffer left above it.
+  const std::filesystem::path dir = scratch_dir(*testing::UnitTest::GetInstance()->current_test_info());
+  std::filesystem::create_directories(dir / "model");
+  std::filesystem::copy_file(gltf_path("external/scene.bin"), dir / "secret.bin", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(gltf_path("external/checker.png"), dir / "model/checker.png", std::filesystem::copy_options::overwrite_existing);
+  json doc = read_json(gltf_path("external/scene.gltf"));
+  for (const std::string& uri : std::vector<std::string>{"../secret.bin", (dir / "secret.bin").string()}) {
+    doc["buffers"][0]["uri"] = uri;
+    const std::string path = (dir / "model/scene.gltf").string();
+    std::ofstream(path) << doc.dump();
+    expect_refused(path, {"secret.bin", "inside its own folder"});
+  }
+}
+
+// A base64 data URI of raw bytes.
+std::string data_uri(const std::vector<uint8_t>& bytes) {
+  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out = "data:application/octet-stream;base64,";
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t n = uint32_t(bytes[i]) << 16 | (i + 1 < bytes.size() ? uint32_t(bytes[i + 1]) << 8 : 0u) | (i + 2 < bytes.size() ? bytes[i + 2] : 0u);
+    out += kDigits[n >> 18 & 63];
+    out += kDigits[n >> 12 & 63];
+    out += i + 1 < bytes.size() ? kDigits[n >> 6 & 63] : '=';
+    out += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
+  }
+  return out;
+}
+
+// One triangle whose positions are `floats` (nine of them).
+json one_triangle(const std::vector<float>& floats) {
+  std::vector<uint8_t> bytes(floats.size() * 4);
+  std::memcpy(bytes.data(), floats.data(), bytes.size());
+  json doc = json::parse(R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}], "buffers": [{"byteLength": 36}]})");
+  doc["buffers"][0]["uri"] = data_uri(bytes);
+  return doc;
+}
+
+void expect_gltf_error(const std::string& name, const std::string& bytes, std::initializer_list<const char*> parts) {
+  const std::string path = scratch_path(name);
+  std::ofstream(path, std::ios::binary) << bytes;
+  expect_refused(path, parts);
+}
+
+TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
+  const json good = one_triangle({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  ASSERT_EQ(load_scene(write_scene("good.gltf", good.dump())).triangles.size(), 1u);
+  auto with = [&](const json& patch) {
+    json doc = good;
+    doc.merge_patch(patch);
+    return doc.dump();
+  };
+  expect_gltf_error("syntax.gltf", "{\"asset\": ", {"cannot read glTF"});
+  expect_gltf_error("nan.gltf", one_triangle({0, 0, 0, NAN, 0, 0, 0, 1, 0}).dump(), {"/attributes/POSITION", "finite"});
+  expect_gltf_error("count.gltf", with({{"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}}}}}),
+                    {"/accessors/0", "past the end of buffer view 0"});
+  expect_gltf_error("view.gltf", with({{"bufferViews", {{{"buffer", 0}, {"byteLength", 48}}}}}), {"/bufferViews/0", "past the end of buffer 0"});
+  expect_gltf_error("type.gltf", with({{"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}}}}}),
+                    {"/accessors/0/type", "VEC3"});
+  json indexed = good;
+  indexed["meshes"][0]["primitives"][0]["indices"] = 1;
+  // The indices are the bytes of the positions 1, 0, 0: 1.0f as an unsigned int is 1065353216.
+  indexed["accessors"].push_back({{"bufferView", 0}, {"byteOffset", 12}, {"componentType", 5125}, {"count", 3}, {"type", "SCALAR"}});
+  expect_gltf_error("indices.gltf", indexed.dump(), {"/accessors/1", "names no vertex"});
+  json points = good;
+  points["meshes"][0]["primitives"][0]["mode"] = 0;
+  expect_gltf_error("points.gltf", points.dump(), {"/meshes/0/primitives/0/mode", "triangles only, not points"});
+  json cycle = good;
+  cycle["nodes"] = json::parse(R"([{"mesh": 0, "children": [1]}, {"children": [0]}])");
+  expect_gltf_error("cycle.gltf", cycle.dump(), {"/nodes/1/children/0", "its own ancestor"});
+  expect_gltf_error("node.gltf", with({{"scenes", {{{"nodes", {7}}}}}}), {"/scenes/0/nodes/0", "node 7"});
+  expect_gltf_error("required.gltf", with({{"extensionsRequired", {"KHR_draco_mesh_compression"}}}),
+                    {"/extensionsRequired/0", "KHR_draco_mesh_compression"});
+  json material = good;
+  material["meshes"][0]["primitives"][0]["material"] = 3;
+  expect_gltf_error("material.gltf", material.dump(), {"/meshes/0/primitives/0/material", "material 3"});
+  json image = good;
+  image["meshes"][0]["primitives"][0]["material"] = 0;
+  image["materials"] = json::parse(R"([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])");
+  image["textures"] = json::parse(R"([{"source": 0}])");
+  image["images"] = json::array({{{"uri", data_uri({'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'a', 'g', 'e'})}}});
+  expect_gltf_error("image.gltf", image.dump(), {"/images/0", "not a PNG"});
+  // Binary containers: a wrong magic, a truncated file, a chunk longer than the file.
+  std::ifstream in(gltf_path("textured.glb"), std::ios::binary);
+  const std::string glb((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  expect_gltf_error("magic.glb", "glTX" + glb.substr(4), {"not a binary glTF file"});
+  expect_gltf_error("truncated.glb", glb.substr(0, glb.size() / 2), {"cannot read glTF"});
+  std::string longChunk = glb;
+  longChunk[12] = char(0xff);
+  longChunk[13] = char(0xff);
+  expect_gltf_error("chunk.glb", longChunk, {"cannot read glTF"});
+}
+
+}  // namespace
+}  // namespace wp::test
