@@ -99,6 +99,19 @@ def look_at_matrix(eye, at, up):
     return x + [0] + y + [0] + z + [0] + list(eye) + [1]
 
 
+def quat_from_matrix(m):
+    """The unit quaternion (x, y, z, w) of a column-major rotation matrix."""
+    r = lambda row, col: m[col * 4 + row]
+    w = math.sqrt(max(0.0, 1 + r(0, 0) + r(1, 1) + r(2, 2))) / 2
+    x = math.copysign(math.sqrt(max(0.0, 1 + r(0, 0) - r(1, 1) - r(2, 2))) / 2, r(2, 1) - r(1, 2))
+    y = math.copysign(math.sqrt(max(0.0, 1 - r(0, 0) + r(1, 1) - r(2, 2))) / 2, r(0, 2) - r(2, 0))
+    z = math.copysign(math.sqrt(max(0.0, 1 - r(0, 0) - r(1, 1) + r(2, 2))) / 2, r(1, 0) - r(0, 1))
+    return [x, y, z, w]
+
+
+SUN_DIRECTION = [0.7, -0.6, -0.35]
+
+
 def axis_angle(axis, degrees):
     h = math.radians(degrees) / 2
     n = math.sqrt(sum(a * a for a in axis))
@@ -177,11 +190,20 @@ MATERIALS = [
      "emissiveFactor": [1.0, 0.9, 0.8], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8.0}}},
 ]
 LIGHT_POS = [1.5, 2.2, 1.2]
+# A spot above the gold box, shining down its local -Z (turned to point down
+# and a little forward), and a low sun from the left.
+SPOT_POS = [-0.9, 2.4, 0.6]
+SPOT_MATRIX = look_at_matrix(SPOT_POS, [-0.7, 0.0, 0.0], [0, 0, -1])
+SPOT_CANDELA = 10 * 683
+SPOT_CONES = [0.25, 0.45]
+SUN_LUX = 1.5 * 683
 LIGHT_CANDELA = 6 * 683  # 6 W/sr
 CAMERA = {"eye": [0.3, 1.6, 4.2], "at": [0, 0.5, 0], "yfov": 0.75, "aspect": 1.25}
 
 
 def box_room():
+    # The sun's node: its -Z turned to the way the sunlight travels.
+    sun_rotation = quat_from_matrix(look_at_matrix([0, 0, 0], SUN_DIRECTION, [0, 1, 0]))
     buf = Buffer()
     floor, box, panel = quad(5, 5, 0), cube(), quad(1.2, 1.2, 0, facing_down=True)
     meshes = [add_mesh(buf, floor, 0, "floor"), add_mesh(buf, box, 1, "gold box"),
@@ -198,16 +220,21 @@ def box_room():
         {"name": "red box", "mesh": 2, "matrix": red_matrix},
         {"name": "panel", "mesh": 3, "translation": [0, 2.6, 0.3]},
         {"name": "lamp", "translation": LIGHT_POS, "extensions": {"KHR_lights_punctual": {"light": 0}}},
+        {"name": "spot", "matrix": SPOT_MATRIX, "extensions": {"KHR_lights_punctual": {"light": 1}}},
+        {"name": "sun", "rotation": sun_rotation, "extensions": {"KHR_lights_punctual": {"light": 2}}},
         {"name": "camera", "camera": 0, "matrix": cam},
     ]
     doc = {
         "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior"],
-        "scene": 0, "scenes": [{"nodes": [0, 1, 4, 5, 6]}], "nodes": nodes, "meshes": meshes, "materials": MATERIALS,
+        "scene": 0, "scenes": [{"nodes": [0, 1, 4, 5, 6, 7, 8]}], "nodes": nodes, "meshes": meshes, "materials": MATERIALS,
         "cameras": [{"name": "main", "type": "perspective",
                      "perspective": {"yfov": CAMERA["yfov"], "aspectRatio": CAMERA["aspect"], "znear": 0.05}}],
-        "extensions": {"KHR_lights_punctual": {"lights": [{"name": "lamp", "type": "point", "color": [1, 0.95, 0.9],
-                                                            "intensity": LIGHT_CANDELA}]}},
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"name": "lamp", "type": "point", "color": [1, 0.95, 0.9], "intensity": LIGHT_CANDELA},
+            {"name": "spot", "type": "spot", "color": [0.8, 0.9, 1], "intensity": SPOT_CANDELA,
+             "spot": {"innerConeAngle": SPOT_CONES[0], "outerConeAngle": SPOT_CONES[1]}},
+            {"name": "sun", "type": "directional", "color": [1, 0.9, 0.7], "intensity": SUN_LUX}]}},
         "accessors": buf.accessors, "bufferViews": buf.views,
         "buffers": [{"byteLength": len(buf.data),
                      "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(buf.data)).decode()}],
@@ -239,8 +266,12 @@ def box_room():
         "sampler": {"samples": 64}, "background": 0,
         "integrator": {"type": "path tracer mis", "max bounces": 16},
         "materials": materials,
-        "surfaces": surfaces + [{"type": "point_light", "position": LIGHT_POS,
-                                 "intensity": [6 * c for c in (1, 0.95, 0.9)]}],
+        "surfaces": surfaces + [
+            {"type": "point_light", "position": LIGHT_POS, "intensity": [6 * c for c in (1, 0.95, 0.9)]},
+            {"type": "spot_light", "position": SPOT_POS, "direction": [-0.7 - SPOT_POS[0], -SPOT_POS[1], -SPOT_POS[2]],
+             "intensity": [10 * c for c in (0.8, 0.9, 1)], "inner_angle": math.degrees(SPOT_CONES[0]),
+             "outer_angle": math.degrees(SPOT_CONES[1])},
+            {"type": "directional_light", "direction": SUN_DIRECTION, "irradiance": [1.5 * c for c in (1, 0.9, 0.7)]}],
     }
     return darts
 
@@ -289,7 +320,10 @@ def textured():
                   {"name": "ortho camera", "camera": 0, "translation": [0, 1, 5]},
                   {"name": "camera", "camera": 1, "matrix": look_at_matrix([2.5, 2.5, 3.5], [0, 0.6, 0], [0, 1, 0])}],
         "meshes": [{"primitives": [floor]}, {"primitives": [box]}],
-        "materials": [{"name": "checker", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}},
+        "extensionsUsed": ["KHR_texture_transform"],
+        "materials": [{"name": "checker", "pbrMetallicRoughness": {"baseColorTexture": {
+                          "index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": math.pi / 2, "scale": [2, 3]}}},
+                                                                 "metallicFactor": 0.0}},
                       {"name": "patchy", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1],
                                                                   "metallicRoughnessTexture": {"index": 1}}}],
         "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}],

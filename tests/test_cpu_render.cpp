@@ -270,5 +270,45 @@ TEST(CpuRender, SeveralLightSamplesPerVertexAgreeWithOne) {
   EXPECT_THROW(compile_scene(scene, bad), InputError);
 }
 
+// Punctual lights against their closed forms: a Lambertian floor of albedo
+// 0.5 seen straight down through a narrow field, lit by one light, shows
+// L = 0.5 / pi * E, E the irradiance there: a directional light's E cos;
+// a spot's I / d^2 at the centre of its cone, I times the square of glTF's
+// ramp between its cones, and nothing outside them.
+TEST(CpuRender, PunctualLightsGiveTheirClosedFormRadiance) {
+  struct Case {
+    const char* what;
+    const char* light;
+    glm::vec2 at;      // the floor point the camera looks at
+    double expected;   // the floor's radiance there
+  };
+  const double a = 0.5 / M_PI;
+  const double c25 = std::cos(glm::radians(25.0)), c20 = std::cos(glm::radians(20.0)), c30 = std::cos(glm::radians(30.0));
+  const double ramp = (c25 - c30) / (c20 - c30);
+  const double d25 = 2.0 / c25;  // distance from a spot 2 above the floor to a point 25 degrees off its axis
+  const Case cases[] = {
+      {"directional at 45 degrees", R"({"type": "directional_light", "direction": [0, -1, -1], "irradiance": 2})", {0, 0},
+       a * 2.0 * std::sqrt(0.5)},
+      {"spot, on its axis", R"({"type": "spot_light", "position": [0, 2, 0], "direction": [0, -1, 0], "intensity": 4, "inner_angle": 20, "outer_angle": 30})",
+       {0, 0}, a * 4.0 / 4.0},
+      {"spot, between its cones", R"({"type": "spot_light", "position": [0, 2, 0], "direction": [0, -1, 0], "intensity": 4, "inner_angle": 20, "outer_angle": 30})",
+       {float(2.0 * std::tan(glm::radians(25.0))), 0}, a * 4.0 * ramp * ramp * c25 / (d25 * d25)},
+      {"spot, outside its cones", R"({"type": "spot_light", "position": [0, 2, 0], "direction": [0, -1, 0], "intensity": 4, "inner_angle": 20, "outer_angle": 30})",
+       {float(2.0 * std::tan(glm::radians(35.0))), 0}, 0.0},
+  };
+  for (const Case& c : cases) {
+    const std::string x = std::to_string(c.at.x), z = std::to_string(c.at.y);
+    const std::string scene = write_scene("punctual.json", std::string(R"({
+      "camera": {"transform": {"from": [)") + x + ", 50, " + z + "], \"at\": [" + x + ", 0, " + z + R"(], "up": [0, 0, -1]},
+                 "vfov": 0.001, "resolution": [2, 2]},
+      "sampler": {"samples": 16}, "background": 0, "integrator": {"type": "path tracer mis", "max bounces": 1},
+      "surfaces": [{"type": "quad", "size": 100, "transform": {"rotate": [-90, 1, 0, 0]}, "material": {"type": "lambertian", "albedo": 0.5}},
+                   )" + c.light + "]}");
+    ImageStats img = render_reference(scene, RenderOptions{});
+    auto [mean, error] = image_mean(img);
+    EXPECT_NEAR(mean, c.expected, 1e-4 + 1e-4 * c.expected) << c.what;
+  }
+}
+
 }  // namespace
 }  // namespace wp::test

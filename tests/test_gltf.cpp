@@ -51,9 +51,22 @@ TEST(Gltf, NodeTreePlacesMeshesAsTheDartsTwinDoes) {
   ASSERT_NE(g.materials[3].emission, WP_INVALID);
   const glm::vec3 emit = g.textures[g.materials[3].emission].color;
   EXPECT_NEAR(emit.y, 0.9f * 8.0f, 1e-5f);  // KHR_materials_emissive_strength
-  ASSERT_EQ(g.pointLights.size(), 1u);
+  // Point, spot and directional lights (candela and lux / 683), placed and
+  // turned by their nodes as the twin places them by hand.
+  ASSERT_EQ(g.pointLights.size(), 3u);
+  ASSERT_EQ(d.pointLights.size(), 3u);
   EXPECT_NEAR(g.pointLights[0].intensity.x, 6.0f, 1e-4f);
-  EXPECT_NEAR(g.pointLights[0].position.y, 2.2f, 1e-6f);
+  for (size_t i = 0; i < 3; ++i) {
+    const ScenePointLight &a = g.pointLights[i], &b = d.pointLights[i];
+    EXPECT_EQ(a.kind, b.kind) << "light " << i;
+    EXPECT_LT(glm::distance(a.intensity, b.intensity), 1e-4f) << "light " << i;
+    EXPECT_LT(glm::distance(a.direction, b.direction), 1e-5f) << "light " << i;
+    if (a.kind != ScenePointLight::Kind::Directional) EXPECT_LT(glm::distance(a.position, b.position), 1e-5f) << "light " << i;
+    EXPECT_NEAR(a.cosInner, b.cosInner, 1e-6f);
+    EXPECT_NEAR(a.cosOuter, b.cosOuter, 1e-6f);
+  }
+  EXPECT_EQ(g.pointLights[1].kind, ScenePointLight::Kind::Spot);
+  EXPECT_EQ(g.pointLights[2].kind, ScenePointLight::Kind::Directional);
   EXPECT_NEAR(g.camera.vfovDegrees, glm::degrees(0.75f), 1e-4f);
   EXPECT_EQ(g.camera.width, 800);
   EXPECT_EQ(g.camera.height, 640);  // aspect ratio 1.25
@@ -103,6 +116,14 @@ TEST(Gltf, BinaryModelWithTexturesSparseAndNormalizedAccessors) {
   const LinearImage& rough = s.images[s.textures[s.materials[1].amount].image];
   EXPECT_NEAR(rough.pixels[0].y, 0.2f, 1e-6f);
   EXPECT_NEAR(s.images[0].pixels[0].x, srgb_to_linear(230.0f / 255.0f), 1e-6f);
+  // KHR_texture_transform (offset 0.5, 0.25; rotation pi / 2; scale 2, 3) on
+  // the floor: glTF's (0.3, 0.2) scales to (0.6, 0.6), turns to (0.6, -0.6)
+  // (u' = cos u + sin v, v' = -sin u + cos v) and moves to (1.1, -0.35); in
+  // wavepath's UVs (v flipped) (0.3, 0.8) maps to (1.1, 1.35).
+  const glm::mat4& mapping = s.textures[s.materials[0].albedo].mapping;
+  const glm::vec4 mapped = mapping * glm::vec4(0.3f, 0.8f, 0.0f, 1.0f);
+  EXPECT_NEAR(mapped.x, 1.1f, 1e-5f);
+  EXPECT_NEAR(mapped.y, 1.35f, 1e-5f);
   // Two cameras: the orthographic one is listed but not chosen.
   ASSERT_EQ(s.cameras.size(), 2u);
   EXPECT_EQ(s.camera.name, "persp");

@@ -589,6 +589,7 @@ const FeatureCase kFeatureCases[] = {
      "GGX: rough conductor and its smooth limit, rough and tinted dielectrics, metal-rough with a metallic-roughness "
      "texture, a blend with a transmissive lobe (mis)"},
     {"microfacet.json", IntegratorKind::PathMixture, "the GGX materials, path tracer mixture"},
+    {"punctual.json", IntegratorKind::PathMis, "a spot light between its cones and a directional light (mis)"},
     {"microfacet.json", IntegratorKind::PathMats, "the GGX materials, path tracer mats"},
 };
 

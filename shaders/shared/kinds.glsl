@@ -75,10 +75,13 @@
 // Light kinds: what next-event estimation samples. Columns: id, name.
 #define LIGHT_AREA 0u         // emissive triangles, sampled by area
 #define LIGHT_SPHERE 1u       // emissive spheres, sampled by solid angle
-#define LIGHT_POINT 2u        // CS184-style point lights
+#define LIGHT_POINT 2u        // point lights: CS184's, glTF's
 #define LIGHT_ENVIRONMENT 3u  // an environment map (also where it only replaces the background)
+#define LIGHT_SPOT 4u         // spot lights (glTF's KHR_lights_punctual)
+#define LIGHT_DIRECTIONAL 5u  // directional lights (glTF's KHR_lights_punctual)
 #define WP_LIGHT_KINDS(X) \
-  X(LIGHT_AREA, "area lights") X(LIGHT_SPHERE, "sphere lights") X(LIGHT_POINT, "point lights") X(LIGHT_ENVIRONMENT, "environment map")
+  X(LIGHT_AREA, "area lights") X(LIGHT_SPHERE, "sphere lights") X(LIGHT_POINT, "point lights") X(LIGHT_ENVIRONMENT, "environment map") \
+  X(LIGHT_SPOT, "spot lights") X(LIGHT_DIRECTIONAL, "directional lights")
 
 // Other features a scene may use. Columns: id, name.
 #define FEATURE_SPHERES 0u
@@ -98,6 +101,10 @@
 #define TEXTURE_COMPILED(id) ((TEXTURE_KINDS_OF_SCENE & KIND_BIT(id)) != 0u)
 #define LIGHT_COMPILED(id) ((LIGHT_KINDS_OF_SCENE & KIND_BIT(id)) != 0u)
 #define FEATURE_COMPILED(id) ((FEATURES_OF_SCENE & KIND_BIT(id)) != 0u)
+// Whether any of several light kinds is compiled, as one mask test: Mesa
+// 22.3's SPIR-V reader refuses a logical or of specialization constants.
+#define ANY_LIGHT_COMPILED(bits) ((LIGHT_KINDS_OF_SCENE & (bits)) != 0u)
+#define PUNCTUAL_LIGHT_BITS (KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL))
 #define ALL_KINDS 0xffffffffu
 
 // Whether a compiled material kind reads params.yzw or params2: kernels

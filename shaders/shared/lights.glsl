@@ -211,17 +211,32 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     ls.n = -ls.wi;
     return true;
   }
-  if (LIGHT_COMPILED(LIGHT_POINT) && (e.prim & EMITTER_POINT_BIT) != 0u) {
+  if (ANY_LIGHT_COMPILED(PUNCTUAL_LIGHT_BITS) && (e.prim & EMITTER_POINT_BIT) != 0u) {
     PointLight l = load_point_light(e.prim & ~EMITTER_POINT_BIT);
+    vec3 shine = vec3(l.direction.x, l.direction.y, l.direction.z);
+    vec3 power = vec3(l.intensity.x, l.intensity.y, l.intensity.z);
+    ls.pdf = pmf;
+    ls.isDelta = 1u;
+    if (LIGHT_COMPILED(LIGHT_DIRECTIONAL) && l.position.w == 0.0f) {
+      ls.wi = -shine;
+      ls.dist = WP_INF;  // at infinity: the shadow ray is unbounded
+      ls.radiance = power;
+      return true;
+    }
+    bool spot = LIGHT_COMPILED(LIGHT_SPOT) && l.direction.w > -2.0f;
+    if (!spot && !LIGHT_COMPILED(LIGHT_POINT)) return false;  // each kind's code is its own, as kinds.glsl requires
     vec3 d = vec3(l.position.x, l.position.y, l.position.z) - ref;
     float dist2 = dot(d, d);
     if (dist2 <= 0.0f) return false;
     ls.dist = sqrt(dist2);
     ls.wi = d / ls.dist;
     ls.p = vec3(l.position.x, l.position.y, l.position.z);
-    ls.radiance = vec3(l.intensity.x, l.intensity.y, l.intensity.z) / dist2;
-    ls.pdf = pmf;
-    ls.isDelta = 1u;
+    ls.radiance = power / dist2;
+    if (spot) {
+      // glTF's falloff: the square of a linear ramp in the cosine between the cones.
+      float ramp = clamp((dot(shine, -ls.wi) - l.direction.w) / max(l.intensity.w - l.direction.w, 1e-3f), 0.0f, 1.0f);
+      ls.radiance *= ramp * ramp;
+    }
     return true;
   }
   SurfaceHit s;

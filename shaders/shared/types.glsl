@@ -132,7 +132,7 @@ struct WideNode {
 #define SPHERE_TEXELS 7
 #define MATERIAL_TEXELS 4
 #define TEXTURE_TEXELS 6
-#define POINT_LIGHT_TEXELS 2
+#define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
 // Work-buffer records the kernels read through texel views (kernel.glsl).
 #define PATH_STATE_TEXELS 4
@@ -201,10 +201,15 @@ struct Texture {
   vec4 map2;
 };
 
-// A CS184-style point light: radiant intensity in every direction. 32 bytes.
+// A punctual light (a CS184 point light, glTF's KHR_lights_punctual): a
+// point that radiates its intensity in every direction, a spot that radiates
+// it within a cone (full up to the inner cone, falling off to zero at the
+// outer one, as the glTF extension defines), or a direction from which
+// parallel light of an irradiance arrives. 48 bytes.
 struct PointLight {
-  vec4 position;
-  vec4 intensity;  // rgb W/sr
+  vec4 position;   // xyz: where it is (point, spot); w: 1, or 0 for a directional light
+  vec4 intensity;  // rgb: W/sr (point, spot) or W/m^2 across the direction (directional); w: cos of a spot's inner cone
+  vec4 direction;  // xyz: the unit direction it shines in (spot, directional); w: cos of a spot's outer cone, -2 for a point light
 };
 
 // One entry of the emitter alias table (Vose). Picking: i = floor(u * N);

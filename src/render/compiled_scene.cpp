@@ -60,7 +60,10 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (uint32_t prim : emitters) {
     if (prim == EMITTER_ENVIRONMENT) k.z |= KIND_BIT(LIGHT_ENVIRONMENT);
-    else if (prim & EMITTER_POINT_BIT) k.z |= KIND_BIT(LIGHT_POINT);
+    else if (prim & EMITTER_POINT_BIT) {
+      const shader::PointLight& l = cs.pointLights[prim & ~EMITTER_POINT_BIT];
+      k.z |= KIND_BIT(l.position.w == 0.0f ? LIGHT_DIRECTIONAL : l.direction.w > -2.0f ? LIGHT_SPOT : LIGHT_POINT);
+    }
     else if (prim & HIT_SPHERE_BIT) k.z |= KIND_BIT(LIGHT_SPHERE);
     else k.z |= KIND_BIT(LIGHT_AREA);
   }
@@ -437,7 +440,15 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   for (const SceneMaterial& m : scene.materials) out.materials.push_back(pack_material(m));
   out.textures = std::move(packed.textures);
   out.texels = std::move(packed.texels);
-  for (const ScenePointLight& l : scene.pointLights) out.pointLights.push_back(shader::PointLight{glm::vec4(l.position, 1.0f), glm::vec4(l.intensity, 0.0f)});
+  for (const ScenePointLight& l : scene.pointLights) {
+    shader::PointLight p{glm::vec4(l.position, 1.0f), glm::vec4(l.intensity, 0.0f), glm::vec4(l.direction, -2.0f)};
+    if (l.kind == ScenePointLight::Kind::Directional) p.position.w = 0.0f;
+    if (l.kind == ScenePointLight::Kind::Spot) {
+      p.intensity.w = l.cosInner;
+      p.direction.w = l.cosOuter;
+    }
+    out.pointLights.push_back(p);
+  }
 
   // Emitters: every primitive whose material emits, and every point light,
   // picked in proportion to power (luminance of the mean emitted radiance
@@ -479,8 +490,15 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       power.push_back(p);
     }
   }
+  // Punctual lights' power steers the choice too: a spot's is that of its
+  // cones' mean solid angle; a directional light's, its irradiance over a
+  // disc the size of the scene.
   for (size_t i = 0; i < out.pointLights.size(); ++i) {
-    double p = luminance(glm::vec3(out.pointLights[i].intensity)) * 4.0 * WP_PI;
+    const shader::PointLight& l = out.pointLights[i];
+    double solidAngle = 4.0 * WP_PI;
+    if (l.direction.w > -2.0f) solidAngle = 2.0 * WP_PI * (1.0 - 0.5 * (double(l.intensity.w) + double(l.direction.w)));
+    double radius = sceneBounds.empty() ? 0.0 : 0.5 * double(glm::length(sceneBounds.hi - sceneBounds.lo));
+    double p = luminance(glm::vec3(l.intensity)) * (l.position.w == 0.0f ? WP_PI * radius * radius : solidAngle);
     if (p <= 0.0) continue;
     prims.push_back(uint32_t(i) | EMITTER_POINT_BIT);
     power.push_back(p);

@@ -108,7 +108,7 @@ static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offse
 static_assert(sizeof(Material) == 64 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
               offsetof(Material, params2) == 48);
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
-static_assert(sizeof(PointLight) == 32 && offsetof(PointLight, intensity) == 16);
+static_assert(sizeof(PointLight) == 48 && offsetof(PointLight, intensity) == 16 && offsetof(PointLight, direction) == 32);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
 static_assert(sizeof(SceneParams) == 192 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
               offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160 && offsetof(SceneParams, mis) == 176);

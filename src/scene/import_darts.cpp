@@ -459,14 +459,37 @@ class DartsImporter {
       if (!is_finite(l.position)) j.fail(std::string("point light: ") + kPastFloatRange);
       l.intensity = non_negative(j["intensity"]);
       scene_.pointLights.push_back(l);
+    } else if (type == "spot_light" || type == "directional_light") {
+      // wavepath extensions (glTF's KHR_lights_punctual): a spot's intensity
+      // in W/sr within its cone, a directional light's irradiance in W/m^2.
+      const bool spot = type == "spot_light";
+      if (spot) j.allow_only({"type", "name", "position", "direction", "intensity", "inner_angle", "outer_angle", "transform"});
+      else j.allow_only({"type", "name", "direction", "irradiance", "transform"});
+      ScenePointLight l;
+      l.kind = spot ? ScenePointLight::Kind::Spot : ScenePointLight::Kind::Directional;
+      l.position = glm::vec3(xform * glm::vec4(j.vec3_or("position", glm::vec3(0.0f)), 1.0f));
+      const glm::vec3 d = glm::vec3(xform * glm::vec4(j["direction"].vec3(), 0.0f));
+      if (!(glm::length(d) > 0.0f) || !is_finite(d)) j["direction"].fail("the direction must be a nonzero vector");
+      l.direction = glm::normalize(d);
+      if (!is_finite(l.position)) j.fail(std::string("light: ") + kPastFloatRange);
+      l.intensity = non_negative(j[spot ? "intensity" : "irradiance"]);
+      if (spot) {
+        const float inner = j.number_or("inner_angle", 0.0f), outer = j.number_or("outer_angle", 45.0f);
+        if (!(inner >= 0.0f && inner < outer && outer <= 90.0f))
+          j.fail("a spot light needs 0 <= inner_angle < outer_angle <= 90 (degrees)");
+        l.cosInner = std::cos(glm::radians(inner));
+        l.cosOuter = std::cos(glm::radians(outer));
+      }
+      scene_.pointLights.push_back(l);
     } else if (type == "group") {
       j.allow_only({"type", "name", "children", "transform"});
       JsonCursor children = j["children"].expect_array();
       for (size_t i = 0; i < children.size(); ++i) parse_surface(children[i], xform);
     } else {
-      const std::vector<std::string> kinds = {"sphere", "quad", "triangle", "mesh", "group", "point_light"};
+      const std::vector<std::string> kinds = {"sphere", "quad", "triangle", "mesh", "group", "point_light", "spot_light", "directional_light"};
       std::string hint = did_you_mean(type, kinds);
-      j["type"].fail("unknown surface type \"" + type + "\"" + (hint.empty() ? " (expected sphere, quad, triangle, mesh, group or point_light)" : hint));
+      j["type"].fail("unknown surface type \"" + type + "\"" +
+                     (hint.empty() ? " (expected sphere, quad, triangle, mesh, group, point_light, spot_light or directional_light)" : hint));
     }
   }
 

@@ -1,7 +1,7 @@
 // import_gltf.cpp — glTF 2.0 (.gltf with external or embedded buffers and
 // images, and .glb) through Debian's tinygltf: the default scene's node
 // tree, triangle meshes, metal-rough materials with their textures, cameras
-// and KHR_lights_punctual point lights (docs/scene-format.md, "glTF 2.0").
+// and KHR_lights_punctual lights (docs/scene-format.md, "glTF 2.0").
 //
 // tinygltf parses the JSON and the GLB container and resolves URIs; every
 // index, count, offset and value it hands over is checked here before it is
@@ -94,7 +94,8 @@ bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*,
 
 // The extensions wavepath reads. Others are named once in a warning, or
 // refused when the file requires them.
-const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior"};
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
+                                                    "KHR_texture_transform"};
 
 // The most nodes a scene's tree may visit (a DAG can share subtrees, which
 // multiplies what a walk visits).
@@ -123,6 +124,11 @@ class GltfImporter {
     }
     if (scene_.triangles.empty()) fail("/scenes", "the default scene holds no triangles");
     choose_camera();
+    if (!unread_.empty()) {
+      std::string list;
+      for (const std::string& u : unread_) list += (list.empty() ? "" : ", ") + u;
+      std::fprintf(stderr, "wavepath: warning: %s: not read yet, rendered without: %s\n", path_.c_str(), list.c_str());
+    }
     // A model without lights is lit by a white sky, as viewers light it.
     if (scene_.pointLights.empty() && !has_emission()) scene_.background = glm::vec3(1.0f);
     for (const std::string& f : sandbox_.read) scene_.inputFiles.push_back(f);
@@ -217,6 +223,7 @@ class GltfImporter {
     const std::string at = "/nodes/" + std::to_string(index);
     const tinygltf::Node& n = model_.nodes[size_t(index)];
     const glm::mat4 toWorld = parent * local_transform(n, at);
+    if (n.skin >= 0) unread_.insert("skins (meshes in their bind pose)");
     if (n.mesh >= 0) add_mesh_instance(n.mesh, toWorld, at + "/mesh");
     if (n.camera >= 0) add_camera(n.camera, toWorld, at + "/camera");
     auto light = n.extensions.find("KHR_lights_punctual");
@@ -240,6 +247,8 @@ class GltfImporter {
         const std::string mode = prim.mode >= 0 && prim.mode <= 6 ? kModes[prim.mode] : "mode " + std::to_string(prim.mode);
         fail(pat + "/mode", "wavepath renders triangles only, not " + mode);
       }
+      if (prim.attributes.count("COLOR_0")) unread_.insert("vertex colours (COLOR_0)");
+      if (!prim.targets.empty()) unread_.insert("morph targets");
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(pat + "/attributes", "has no POSITION");
       SceneMesh m;
@@ -304,15 +313,18 @@ class GltfImporter {
     const tinygltf::Material& g = model_.materials[size_t(index)];
     const std::string at = "/materials/" + std::to_string(index);
     const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
+    if (g.normalTexture.index >= 0) unread_.insert("normal maps");
+    if (g.occlusionTexture.index >= 0) unread_.insert("occlusion maps (a path tracer computes occlusion)");
+    if (g.alphaMode == "MASK" || g.alphaMode == "BLEND") unread_.insert("alphaMode " + g.alphaMode + " (surfaces are opaque)");
     SceneMaterial m;
     m.kind = MAT_METAL_ROUGH;
     m.name = g.name.empty() ? "material " + std::to_string(index) : g.name;
     const glm::vec3 base = factor3(pbr.baseColorFactor, glm::vec3(1.0f), at + "/pbrMetallicRoughness/baseColorFactor");
-    m.albedo = texture_times(pbr.baseColorTexture.index, base, ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture");
+    m.albedo = texture_times(pbr.baseColorTexture, base, ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture");
     const float metallic = unit(pbr.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor");
     const float roughness = unit(pbr.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor");
     if (pbr.metallicRoughnessTexture.index >= 0)
-      m.amount = texture_times(pbr.metallicRoughnessTexture.index, glm::vec3(1.0f), ColorEncoding::Linear,
+      m.amount = texture_times(pbr.metallicRoughnessTexture, glm::vec3(1.0f), ColorEncoding::Linear,
                                at + "/pbrMetallicRoughness/metallicRoughnessTexture");
     float ior = 1.5f;
     auto iorExt = g.extensions.find("KHR_materials_ior");
@@ -330,7 +342,7 @@ class GltfImporter {
     }
     const glm::vec3 emissive = factor3(g.emissiveFactor, glm::vec3(0.0f), at + "/emissiveFactor") * strength;
     if (emissive != glm::vec3(0.0f))
-      m.emission = texture_times(g.emissiveTexture.index, emissive, ColorEncoding::Srgb, at + "/emissiveTexture");
+      m.emission = texture_times(g.emissiveTexture, emissive, ColorEncoding::Srgb, at + "/emissiveTexture");
     scene_.materials.push_back(m);
     const uint32_t id = uint32_t(scene_.materials.size() - 1);
     materials_[index] = id;
@@ -352,7 +364,8 @@ class GltfImporter {
   }
 
   // A texture scaled by a constant factor, or the factor alone without one.
-  uint32_t texture_times(int textureIndex, glm::vec3 factor, ColorEncoding encoding, const std::string& where) {
+  uint32_t texture_times(const tinygltf::TextureInfo& info, glm::vec3 factor, ColorEncoding encoding, const std::string& where) {
+    const int textureIndex = info.index;
     if (textureIndex < 0) return add_texture(scene_, constant_texture(factor));
     if (textureIndex >= int(model_.textures.size()))
       fail(where + "/index", "names texture " + std::to_string(textureIndex) + ", which does not exist");
@@ -364,7 +377,36 @@ class GltfImporter {
     tex.kind = TEX_IMAGE;
     tex.image = decoded_image(image, encoding);
     tex.color = factor;
+    auto transform = info.extensions.find("KHR_texture_transform");
+    if (transform != info.extensions.end()) tex.mapping = uv_transform(transform->second, where + "/extensions/KHR_texture_transform");
     return add_texture(scene_, tex);
+  }
+
+  // KHR_texture_transform's offset x rotation x scale of glTF's UVs, as a
+  // mapping of wavepath's (whose v is glTF's 1 - v): flip, transform, flip back.
+  glm::mat4 uv_transform(const tinygltf::Value& t, const std::string& where) const {
+    auto pair = [&](const char* key, glm::vec2 fallback) {
+      if (!t.Has(key)) return fallback;
+      const tinygltf::Value& v = t.Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber()) fail(where + "/" + key, "expected 2 numbers");
+      const glm::vec2 r(float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()));
+      if (!std::isfinite(r.x) || !std::isfinite(r.y)) fail(where + "/" + key, "expected finite numbers");
+      return r;
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
+    float rotation = 0.0f;
+    if (t.Has("rotation")) {
+      if (!t.Get("rotation").IsNumber() || !std::isfinite(t.Get("rotation").GetNumberAsDouble())) fail(where + "/rotation", "expected a number");
+      rotation = float(t.Get("rotation").GetNumberAsDouble());
+    }
+    if (t.Has("texCoord")) fail(where + "/texCoord", "a texture transform's own TEXCOORD set is not supported");
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    glm::mat4 m(1.0f);  // the specification's matrix: (u, v) -> (c u + s v + ox, -s u + c v + oy) after scaling
+    m[0] = glm::vec4(c * scale.x, -s * scale.x, 0.0f, 0.0f);
+    m[1] = glm::vec4(s * scale.y, c * scale.y, 0.0f, 0.0f);
+    m[3] = glm::vec4(offset.x, offset.y, 0.0f, 1.0f);
+    const glm::mat4 flip = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.0f, 0.0f)) * glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, -1.0f, 1.0f));
+    return flip * m * flip;
   }
 
   uint32_t decoded_image(int index, ColorEncoding encoding) {
@@ -425,29 +467,33 @@ class GltfImporter {
     if (index < 0 || index >= int(model_.lights.size())) fail(where + "/light", "names light " + std::to_string(index) + ", which does not exist");
     const tinygltf::Light& l = model_.lights[size_t(index)];
     const std::string at = "/extensions/KHR_lights_punctual/lights/" + std::to_string(index);
-    if (l.type != "point") {
-      ignoredLights_.insert(l.type);
-      return;
-    }
+    ScenePointLight p;
+    if (l.type == "spot") p.kind = ScenePointLight::Kind::Spot;
+    else if (l.type == "directional") p.kind = ScenePointLight::Kind::Directional;
+    else if (l.type != "point") fail(at + "/type", "unknown light type \"" + l.type + "\" (expected point, spot or directional)");
     const glm::vec3 color = factor3(l.color, glm::vec3(1.0f), at + "/color");
     if (!(l.intensity >= 0.0 && l.intensity < 1e9)) fail(at + "/intensity", "must be a number from 0 to 1e9");
-    ScenePointLight p;
-    p.position = glm::vec3(toWorld[3]);
-    if (!is_finite(p.position)) fail(where, kPastFloatRange);
-    // candela (lm/sr) to W/sr at the luminous efficacy of 555 nm light.
+    // Candela (lm/sr) to W/sr, lux (lm/m^2) to W/m^2, at the luminous
+    // efficacy of 555 nm light.
     p.intensity = color * float(l.intensity / kLumensPerWatt);
+    p.position = glm::vec3(toWorld[3]);
+    // Spot and directional lights shine down their node's -Z axis.
+    p.direction = glm::normalize(glm::vec3(toWorld * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    if (!is_finite(p.position) || !is_finite(p.direction)) fail(where, "the node's transform does not place the light (it is singular or not finite)");
+    if (p.kind == ScenePointLight::Kind::Spot) {
+      const double inner = l.spot.innerConeAngle, outer = l.spot.outerConeAngle;
+      if (!(inner >= 0.0 && inner < outer && outer <= M_PI / 2))
+        fail(at + "/spot", "needs 0 <= innerConeAngle < outerConeAngle <= pi / 2 (it has " + std::to_string(inner) + " and " +
+                               std::to_string(outer) + ")");
+      p.cosInner = float(std::cos(inner));
+      p.cosOuter = float(std::cos(outer));
+    }
     scene_.pointLights.push_back(p);
   }
 
   // The camera the render uses: the first perspective camera of the tree,
   // or one framing the scene's bounds (the command line may pick another).
   void choose_camera() {
-    if (!ignoredLights_.empty()) {
-      std::string kinds;
-      for (const std::string& k : ignoredLights_) kinds += (kinds.empty() ? "" : ", ") + k;
-      std::fprintf(stderr, "wavepath: warning: %s: ignoring KHR_lights_punctual lights of type %s (not supported yet)\n", path_.c_str(),
-                   kinds.c_str());
-    }
     for (const NamedCamera& c : scene_.cameras)
       if (c.problem.empty()) {
         scene_.camera = c.camera;
@@ -464,7 +510,7 @@ class GltfImporter {
   uint32_t defaultMaterial_ = WP_INVALID;
   std::map<int, uint32_t> materials_;
   std::map<std::pair<int, ColorEncoding>, uint32_t> images_;
-  std::set<std::string> ignoredLights_;
+  std::set<std::string> unread_;  // features of the model wavepath renders without, for one warning
 };
 
 }  // namespace

@@ -114,10 +114,19 @@ struct SceneMaterial {
   uint32_t b = WP_INVALID;
 };
 
-// A CS184-style point light: radiant intensity (W/sr) in every direction.
+// A punctual light (PointLight in types.glsl): a point light's radiant
+// intensity (W/sr) in every direction (CS184's, glTF's); a spot light's
+// within its cone, falling off between the inner and the outer cone's
+// half-angles; or a directional light's irradiance (W/m^2) arriving across
+// `direction`, the way its light travels.
 struct ScenePointLight {
+  enum class Kind { Point, Spot, Directional };
+  Kind kind = Kind::Point;
   glm::vec3 position{0.0f};
-  glm::vec3 intensity{0.0f};
+  glm::vec3 intensity{0.0f};        // W/sr; directional: W/m^2
+  glm::vec3 direction{0, 0, -1};    // spot, directional: unit, the way the light goes
+  float cosInner = 1.0f;            // spot: cosines of the cones' half-angles (inner >= outer)
+  float cosOuter = 0.70710678f;
 };
 
 // A triangle mesh as importers read it (OBJ today, the formats to come), in
