@@ -61,7 +61,9 @@ TEST(Gltf, NodeTreePlacesMeshesAsTheDartsTwinDoes) {
     EXPECT_EQ(a.kind, b.kind) << "light " << i;
     EXPECT_LT(glm::distance(a.intensity, b.intensity), 1e-4f) << "light " << i;
     EXPECT_LT(glm::distance(a.direction, b.direction), 1e-5f) << "light " << i;
-    if (a.kind != ScenePointLight::Kind::Directional) EXPECT_LT(glm::distance(a.position, b.position), 1e-5f) << "light " << i;
+    if (a.kind != ScenePointLight::Kind::Directional) {
+      EXPECT_LT(glm::distance(a.position, b.position), 1e-5f) << "light " << i;
+    }
     EXPECT_NEAR(a.cosInner, b.cosInner, 1e-6f);
     EXPECT_NEAR(a.cosOuter, b.cosOuter, 1e-6f);
   }

@@ -46,6 +46,11 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
   return glm::vec3(rg.x, rg.y, glm::unpackHalf2x16(packed.y).x);
 }
 
+// The light kind of a punctual light record (types.glsl's PointLight).
+uint32_t punctual_light_kind(const shader::PointLight& l) {
+  return l.position.w == 0.0f ? LIGHT_DIRECTIONAL : l.direction.w > -2.0f ? LIGHT_SPOT : LIGHT_POINT;
+}
+
 // The kinds a compiled scene uses (SceneParams.kinds; kinds.glsl), before its
 // empty arrays get their placeholder element: every material's and texture's
 // kind, the light kinds of the emitter table's prims (`emitters`), and the
@@ -60,10 +65,7 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (uint32_t prim : emitters) {
     if (prim == EMITTER_ENVIRONMENT) k.z |= KIND_BIT(LIGHT_ENVIRONMENT);
-    else if (prim & EMITTER_POINT_BIT) {
-      const shader::PointLight& l = cs.pointLights[prim & ~EMITTER_POINT_BIT];
-      k.z |= KIND_BIT(l.position.w == 0.0f ? LIGHT_DIRECTIONAL : l.direction.w > -2.0f ? LIGHT_SPOT : LIGHT_POINT);
-    }
+    else if (prim & EMITTER_POINT_BIT) k.z |= KIND_BIT(punctual_light_kind(cs.pointLights[prim & ~EMITTER_POINT_BIT]));
     else if (prim & HIT_SPHERE_BIT) k.z |= KIND_BIT(LIGHT_SPHERE);
     else k.z |= KIND_BIT(LIGHT_AREA);
   }
@@ -478,12 +480,12 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
   // The environment map: power of its mean radiance falling on a disc the
   // size of the scene (only steers the choice among emitters).
+  const double sceneRadius = sceneBounds.empty() ? 0.0 : 0.5 * double(glm::length(sceneBounds.hi - sceneBounds.lo));
   uint32_t environmentEmitter = WP_INVALID;
   if (scene.environment != WP_INVALID) {
     const shader::Texture& env = out.textures[scene.environment];
     out.environmentCdf = environment_cdf(env, out.texels);
-    double radius = sceneBounds.empty() ? 0.0 : 0.5 * double(glm::length(sceneBounds.hi - sceneBounds.lo));
-    double p = luminance(texture_mean(out.textures, out.texels, scene.environment)) * WP_PI * WP_PI * radius * radius * 4.0;
+    double p = luminance(texture_mean(out.textures, out.texels, scene.environment)) * WP_PI * WP_PI * sceneRadius * sceneRadius * 4.0;
     if (p > 0.0) {
       environmentEmitter = uint32_t(prims.size());
       prims.push_back(EMITTER_ENVIRONMENT);
@@ -495,10 +497,11 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // disc the size of the scene.
   for (size_t i = 0; i < out.pointLights.size(); ++i) {
     const shader::PointLight& l = out.pointLights[i];
-    double solidAngle = 4.0 * WP_PI;
-    if (l.direction.w > -2.0f) solidAngle = 2.0 * WP_PI * (1.0 - 0.5 * (double(l.intensity.w) + double(l.direction.w)));
-    double radius = sceneBounds.empty() ? 0.0 : 0.5 * double(glm::length(sceneBounds.hi - sceneBounds.lo));
-    double p = luminance(glm::vec3(l.intensity)) * (l.position.w == 0.0f ? WP_PI * radius * radius : solidAngle);
+    const uint32_t kind = punctual_light_kind(l);
+    double spread = 4.0 * WP_PI;  // a point light's solid angle
+    if (kind == LIGHT_SPOT) spread = 2.0 * WP_PI * (1.0 - 0.5 * (double(l.intensity.w) + double(l.direction.w)));
+    if (kind == LIGHT_DIRECTIONAL) spread = WP_PI * sceneRadius * sceneRadius;  // the area its light falls on
+    double p = luminance(glm::vec3(l.intensity)) * spread;
     if (p <= 0.0) continue;
     prims.push_back(uint32_t(i) | EMITTER_POINT_BIT);
     power.push_back(p);

@@ -14,7 +14,6 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +26,7 @@
 #include "scene/gltf_accessors.h"
 #include "scene/importers.h"
 #include "util/error.h"
+#include "util/files.h"
 
 namespace wp {
 
@@ -67,12 +67,12 @@ bool sandbox_read(std::vector<unsigned char>* out, std::string* err, const std::
     if (err) *err += "refused " + path + ": it lies outside the model's folder\n";
     return false;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (err) *err += "cannot open " + path + "\n";
+  std::optional<std::vector<unsigned char>> bytes = read_file_bytes(path);
+  if (!bytes) {
+    if (err) *err += "cannot read " + path + "\n";
     return false;
   }
-  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  *out = std::move(*bytes);
   box->read.push_back(path);
   return true;
 }
@@ -90,6 +90,12 @@ bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*,
   if (image->bufferView < 0) image->image.assign(bytes, bytes + size);
   image->as_is = true;
   return true;
+}
+
+std::string joined(const std::set<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
 }
 
 // The extensions wavepath reads. Others are named once in a warning, or
@@ -119,16 +125,14 @@ class GltfImporter {
     if (!model_.scenes.empty()) {
       if (sceneIndex >= int(model_.scenes.size())) fail("/scene", "names scene " + std::to_string(sceneIndex) + ", which does not exist");
       const tinygltf::Scene& s = model_.scenes[size_t(sceneIndex)];
+      std::vector<int> ancestors;
       for (size_t i = 0; i < s.nodes.size(); ++i)
-        visit(s.nodes[i], glm::mat4(1.0f), "/scenes/" + std::to_string(sceneIndex) + "/nodes/" + std::to_string(i), {});
+        visit(s.nodes[i], glm::mat4(1.0f), "/scenes/" + std::to_string(sceneIndex) + "/nodes/" + std::to_string(i), ancestors);
     }
     if (scene_.triangles.empty()) fail("/scenes", "the default scene holds no triangles");
-    choose_camera();
-    if (!unread_.empty()) {
-      std::string list;
-      for (const std::string& u : unread_) list += (list.empty() ? "" : ", ") + u;
-      std::fprintf(stderr, "wavepath: warning: %s: not read yet, rendered without: %s\n", path_.c_str(), list.c_str());
-    }
+    default_camera();
+    if (!unread_.empty())
+      std::fprintf(stderr, "wavepath: warning: %s: not read yet, rendered without: %s\n", path_.c_str(), joined(unread_).c_str());
     // A model without lights is lit by a white sky, as viewers light it.
     if (scene_.pointLights.empty() && !has_emission()) scene_.background = glm::vec3(1.0f);
     for (const std::string& f : sandbox_.read) scene_.inputFiles.push_back(f);
@@ -143,9 +147,9 @@ class GltfImporter {
   void load_model() {
     std::error_code ec;
     sandbox_.root = fs::weakly_canonical(fs::absolute(fs::path(path_)).parent_path(), ec);
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw InputError(path_ + ": cannot open scene file");
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::optional<std::vector<unsigned char>> file = read_file_bytes(path_);
+    if (!file) throw InputError(path_ + ": cannot read scene file");
+    const std::vector<unsigned char>& bytes = *file;
     tinygltf::TinyGLTF loader;
     tinygltf::FsCallbacks fs{&sandbox_file_exists, &sandbox_expand, &sandbox_read, &sandbox_write, &sandbox_};
     loader.SetFsCallbacks(fs);
@@ -157,9 +161,7 @@ class GltfImporter {
     if (binary) {
       ok = loader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(std::min<size_t>(bytes.size(), UINT32_MAX)), base);
     } else {
-      std::string ext = fs::path(path_).extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-      if (ext == ".glb") throw InputError(path_ + ": not a binary glTF file (it does not start with \"glTF\")");
+      if (lower_extension(path_) == ".glb") throw InputError(path_ + ": not a binary glTF file (it does not start with \"glTF\")");
       ok = loader.LoadASCIIFromString(&model_, &err, &warn, reinterpret_cast<const char*>(bytes.data()), unsigned(bytes.size()), base);
     }
     if (!ok || !sandbox_.refused.empty()) {
@@ -180,10 +182,10 @@ class GltfImporter {
       if (!kSupportedExtensions.count(e))
         fail("/extensionsRequired/" + std::to_string(i), "the model requires extension " + e + ", which wavepath does not support");
     }
-    std::string ignored;
+    std::set<std::string> ignored;
     for (const std::string& e : model_.extensionsUsed)
-      if (!kSupportedExtensions.count(e)) ignored += (ignored.empty() ? "" : ", ") + e;
-    if (!ignored.empty()) std::fprintf(stderr, "wavepath: warning: %s: ignoring extensions it uses: %s\n", path_.c_str(), ignored.c_str());
+      if (!kSupportedExtensions.count(e)) ignored.insert(e);
+    if (!ignored.empty()) std::fprintf(stderr, "wavepath: warning: %s: ignoring extensions it uses: %s\n", path_.c_str(), joined(ignored).c_str());
   }
 
   // ---- nodes ---------------------------------------------------------------
@@ -216,7 +218,7 @@ class GltfImporter {
 
   // Places node `index` and its subtree. `path` holds the nodes above it: a
   // node met again on its own path is a cycle.
-  void visit(int index, const glm::mat4& parent, const std::string& where, std::vector<int> path) {
+  void visit(int index, const glm::mat4& parent, const std::string& where, std::vector<int>& path) {
     if (index < 0 || index >= int(model_.nodes.size())) fail(where, "names node " + std::to_string(index) + ", which does not exist");
     if (std::find(path.begin(), path.end(), index) != path.end()) fail(where, "node " + std::to_string(index) + " is its own ancestor (a cycle)");
     if (++visits_ > kMaxNodeVisits) fail(where, "the node tree visits more than " + std::to_string(kMaxNodeVisits) + " nodes");
@@ -230,12 +232,28 @@ class GltfImporter {
     if (light != n.extensions.end()) add_light(light->second, toWorld, at + "/extensions/KHR_lights_punctual");
     path.push_back(index);
     for (size_t c = 0; c < n.children.size(); ++c) visit(n.children[c], toWorld, at + "/children/" + std::to_string(c), path);
+    path.pop_back();
   }
 
   // ---- meshes --------------------------------------------------------------
 
+  // A mesh's primitives, read once however many nodes place the mesh.
+  struct Primitive {
+    SceneMesh mesh;
+    uint32_t material;
+    std::string where;  // its JSON path
+  };
+
   void add_mesh_instance(int meshIndex, const glm::mat4& toWorld, const std::string& where) {
+    for (const Primitive& p : primitives_of(meshIndex, where))
+      add_mesh(scene_, p.mesh, toWorld, {p.material}, WP_INVALID, [&](const std::string& problem) { fail(p.where, problem); });
+  }
+
+  const std::vector<Primitive>& primitives_of(int meshIndex, const std::string& where) {
     if (meshIndex >= int(model_.meshes.size())) fail(where, "names mesh " + std::to_string(meshIndex) + ", which does not exist");
+    auto found = meshes_.find(meshIndex);
+    if (found != meshes_.end()) return found->second;
+    std::vector<Primitive>& out = meshes_[meshIndex];
     const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
     const std::string at = "/meshes/" + std::to_string(meshIndex);
     AccessorReader reader(model_, path_);
@@ -280,8 +298,9 @@ class GltfImporter {
       m.uvIndices = m.uvs.empty() ? std::vector<uint32_t>(corners.size(), WP_INVALID) : corners;
       m.materials.assign(corners.size() / 3, 0u);
       const uint32_t material = material_for(prim.material, pat + "/material");
-      add_mesh(scene_, m, toWorld, {material}, WP_INVALID, [&](const std::string& problem) { fail(pat, problem); });
+      out.push_back(Primitive{std::move(m), material, pat});
     }
+    return out;
   }
 
   // The TEXCOORD set a material's base colour texture reads (0 without one).
@@ -417,8 +436,7 @@ class GltfImporter {
     const std::string where = path_ + ": /images/" + std::to_string(index) + (img.uri.empty() || img.uri.rfind("data:", 0) == 0 ? "" : " (" + img.uri + ")");
     std::vector<unsigned char> bytes = img.bufferView >= 0 ? AccessorReader(model_, path_).view_bytes(img.bufferView, "/images/" + std::to_string(index) + "/bufferView") : img.image;
     if (bytes.empty()) throw InputError(where + ": holds no image data");
-    std::string ext = fs::path(img.uri.rfind("data:", 0) == 0 ? std::string() : img.uri).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = img.uri.rfind("data:", 0) == 0 ? std::string() : lower_extension(img.uri);
     scene_.images.push_back(decode_linear_image(bytes, where, ext, encoding));
     const uint32_t id = uint32_t(scene_.images.size() - 1);
     images_[key] = id;
@@ -493,7 +511,7 @@ class GltfImporter {
 
   // The camera the render uses: the first perspective camera of the tree,
   // or one framing the scene's bounds (the command line may pick another).
-  void choose_camera() {
+  void default_camera() {
     for (const NamedCamera& c : scene_.cameras)
       if (c.problem.empty()) {
         scene_.camera = c.camera;
@@ -509,6 +527,7 @@ class GltfImporter {
   size_t visits_ = 0;
   uint32_t defaultMaterial_ = WP_INVALID;
   std::map<int, uint32_t> materials_;
+  std::map<int, std::vector<Primitive>> meshes_;
   std::map<std::pair<int, ColorEncoding>, uint32_t> images_;
   std::set<std::string> unread_;  // features of the model wavepath renders without, for one warning
 };

@@ -7,14 +7,14 @@
 
 #include "scene/importers.h"
 #include "util/error.h"
+#include "util/files.h"
 
 namespace wp {
 
 namespace fs = std::filesystem;
 
 SceneFormat scene_format(const std::string& path, const std::string& head) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lower_extension(path);
   // Content first: binary glTF by its magic; a JSON object is a darts scene
   // whatever its name says, unless the name says glTF (which is JSON too).
   if (head.compare(0, 4, "glTF") == 0) return SceneFormat::Gltf;
@@ -36,7 +36,7 @@ Scene load_scene(const std::string& path) {
     case SceneFormat::Darts: scene = import_darts(path); break;
     case SceneFormat::Gltf: scene = import_gltf(path); break;
     case SceneFormat::Unknown:
-      throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json)");
+      throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json, or glTF 2.0, .gltf or .glb)");
   }
   scene.inputFiles.insert(scene.inputFiles.begin(), path);
   return scene;

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "util/error.h"
+#include "util/files.h"
 
 namespace wp {
 
@@ -22,12 +23,6 @@ namespace {
 // Images larger than this are refused before decoding: a texture this size
 // would not fit the GPU's per-binding limit anyway.
 constexpr long long kMaxPixels = 1LL << 25;
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
 
 // stb_image picks its decoder by the file's content, whatever its name, and
 // Debian 12's copy has open CVEs (2023-45661 to 45667), several of them in the
@@ -156,12 +151,11 @@ LinearImage decode_linear_image(const std::vector<unsigned char>& bytes, const s
 LinearImage load_linear_image(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": cannot open image (no such file)");
-  std::ifstream in(path, std::ios::binary);
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw InputError(path + ": cannot read image");
-  std::string ext = lower_extension(path);
-  if (ext == ".exr" && !is_exr(bytes)) throw InputError(path + ": not an OpenEXR image");
-  return decode_linear_image(bytes, path, ext, ColorEncoding::Srgb);
+  const std::optional<std::vector<unsigned char>> bytes = read_file_bytes(path);
+  if (!bytes) throw InputError(path + ": cannot read image");
+  const std::string ext = lower_extension(path);
+  if (ext == ".exr" && !is_exr(*bytes)) throw InputError(path + ": not an OpenEXR image");
+  return decode_linear_image(*bytes, path, ext, ColorEncoding::Srgb);
 }
 
 }  // namespace wp

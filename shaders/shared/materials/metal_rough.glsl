@@ -13,11 +13,16 @@
 #ifndef WP_METAL_ROUGH_GLSL
 #define WP_METAL_ROUGH_GLSL
 
+// The dielectric layer's reflectance at normal incidence, from its ior.
+float metal_rough_f0(Lobe l) {
+  float r = (l.params.z - 1.0f) / (l.params.z + 1.0f);
+  return r * r;
+}
+
 // Probability of sampling the specular layer rather than the diffuse base.
 float metal_rough_specular_probability(Lobe l, float cosO) {
   float metallic = l.params.y;
-  float f0 = (l.params.z - 1.0f) / (l.params.z + 1.0f);
-  f0 *= f0;
+  float f0 = metal_rough_f0(l);
   float fd = f0 + (1.0f - f0) * schlick_weight(cosO);
   float specular = (1.0f - metallic) * fd + metallic;
   float diffuse = (1.0f - metallic) * (1.0f - fd) * clamp((l.color.x + l.color.y + l.color.z) * (1.0f / 3.0f), 0.0f, 1.0f);
@@ -35,8 +40,7 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosI = dot(wi, ns);
   if (dot(wo, ns) <= 0.0f || cosI <= 0.0f) return vec3(0.0f);
   float metallic = l.params.y;
-  float f0 = (l.params.z - 1.0f) / (l.params.z + 1.0f);
-  f0 *= f0;
+  float f0 = metal_rough_f0(l);
   float w = schlick_weight(dot(wo, normalize(wo + wi)));
   float fd = f0 + (1.0f - f0) * w;
   vec3 fm = l.color + (vec3(1.0f) - l.color) * w;
