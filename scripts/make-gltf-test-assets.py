@@ -15,6 +15,12 @@ third-party asset, no licence to track):
                   orthographic) and no light (the white sky).
   external/       scene.gltf with its buffer (scene.bin) and image
                   (checker.png) as separate files.
+  surface.glb     what glTF puts on a surface: normal maps (with TANGENT
+                  and with tangents left to be derived), vertex colours
+                  (COLOR_0), a texture on TEXCOORD_1 with clamped and
+                  mirrored wrapping, alphaMode MASK (an RGBA PNG) and
+                  BLEND, a one-sided wall seen from behind, thin-walled
+                  transmission; a point light and a sun.
 
 Run it from the repository root: python3 scripts/make-gltf-test-assets.py
 """
@@ -159,13 +165,14 @@ def add_mesh(buf, mesh, material, name):
     return {"name": name, "primitives": [prim]}
 
 
-def png(width, height, pixel):
-    """An 8-bit RGB PNG; pixel(x, y) gives (r, g, b) in 0..255."""
+def png(width, height, pixel, alpha=False):
+    """An 8-bit RGB (or RGBA) PNG; pixel(x, y) gives (r, g, b[, a]) in 0..255."""
     raw = b"".join(b"\0" + bytes(c for x in range(width) for c in pixel(x, y)) for y in range(height))
 
     def chunk(tag, data):
         return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)) +
+    color_type = 6 if alpha else 2
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, color_type, 0, 0, 0)) +
             chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
@@ -357,12 +364,129 @@ def external():
         f.write(png(16, 16, checker))
 
 
+# ---- surface.glb ------------------------------------------------------------
+
+def ripples(x, y):
+    """A tangent-space normal map of ridges across u (x), strong enough to see."""
+    slope = 0.9 * math.cos(2 * math.pi * (x + 0.5) / 8)
+    n = [-slope, 0.0, 1.0]
+    length = math.sqrt(sum(c * c for c in n))
+    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
+
+
+def bumps(x, y):
+    """Dimples in both directions, so the bitangent's sign shows too."""
+    sx = 0.7 * math.sin(2 * math.pi * (x + 0.5) / 8)
+    sy = 0.7 * math.sin(2 * math.pi * (y + 0.5) / 8)
+    n = [sx, sy, 1.0]
+    length = math.sqrt(sum(c * c for c in n))
+    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
+
+
+def fence(x, y):
+    """RGBA: opaque white bars with fully transparent gaps between them."""
+    bar = x % 8 < 3 or y % 8 < 2
+    return (240, 240, 240, 255) if bar else (255, 0, 0, 0)
+
+
+def stripes(x, y):
+    """A gradient with a mark in one corner, so clamping and mirroring show."""
+    return (int(255 * x / 15), 60 if y < 8 else 200, 255 if x < 3 and y < 3 else 30)
+
+
+def surface():
+    buf = Buffer()
+
+    def prim(pos, idx, material, **attributes):
+        attrs = {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos)}
+        for name, (fmt, component, kind, values, extra) in attributes.items():
+            attrs[name] = buf.accessor(fmt, component, kind, values, **extra)
+        return {"attributes": attrs, "indices": buf.accessor("H", USHORT, "SCALAR", idx), "material": material}
+
+    def f(kind, values, **extra):
+        return ("f", FLOAT, kind, values, extra)
+
+    # The floor: the ripple normal map with its TANGENT given, vertex colours
+    # (normalized unsigned bytes, RGBA) that tint the base colour.
+    floor_pos, floor_nrm, _, floor_idx = quad(4, 4, 0)
+    floor_uv = [[0, 0], [3, 0], [3, 3], [0, 3]]
+    colors = [[255, 60, 60, 255], [60, 255, 60, 255], [60, 60, 255, 255], [255, 255, 255, 255]]
+    floor = prim(floor_pos, floor_idx, 0, NORMAL=f("VEC3", floor_nrm), TEXCOORD_0=f("VEC2", floor_uv),
+                 TANGENT=f("VEC4", [[1, 0, 0, 1]] * 4), COLOR_0=("B", UBYTE, "VEC4", colors, {"normalized": True}))
+    # A cube with the dimple map and no TANGENT: the renderer derives them.
+    pos, nrm, cuv, idx = cube()
+    box = prim(pos, idx, 1, NORMAL=f("VEC3", nrm), TEXCOORD_0=f("VEC2", cuv))
+    # A fence: MASK with an RGBA texture; double-sided.
+    fence_pos = [[-1, 0, 0], [1, 0, 0], [1, 1.2, 0], [-1, 1.2, 0]]
+    fence_idx = [0, 1, 2, 0, 2, 3]
+    fence_uv = [[0, 1], [2, 1], [2, 0], [0, 0]]
+    fence_prim = prim(fence_pos, fence_idx, 2, NORMAL=f("VEC3", [[0, 0, 1]] * 4), TEXCOORD_0=f("VEC2", fence_uv))
+    # A pane: BLEND at alpha 0.4 (stochastic transparency), one-sided, its
+    # base colour a gradient on the second UV set, clamped in u and
+    # mirrored in v beyond [0, 1].
+    pane_uv1 = [[-0.5, 1.5], [1.5, 1.5], [1.5, -0.5], [-0.5, -0.5]]
+    pane = prim(fence_pos, fence_idx, 3, NORMAL=f("VEC3", [[0, 0, 1]] * 4), TEXCOORD_0=f("VEC2", fence_uv),
+                TEXCOORD_1=f("VEC2", pane_uv1))
+    # A wall facing away from the camera: one-sided, so the camera sees
+    # through it; its colour would show if its back were there.
+    wall = prim([[-0.6, 0, 0], [-0.6, 1.0, 0], [0.6, 1.0, 0], [0.6, 0, 0]], [0, 1, 2, 0, 2, 3], 4)
+    # Thin-walled transmission on a second cube.
+    glass = prim(pos, idx, 5, NORMAL=f("VEC3", nrm))
+    normal_png = buf.view(png(16, 16, ripples))
+    bumps_png = buf.view(png(16, 16, bumps))
+    fence_png = buf.view(png(16, 16, fence, alpha=True))
+    stripes_png = buf.view(png(16, 16, stripes))
+    sun_rotation = quat_from_matrix(look_at_matrix([0, 0, 0], [0.4, -1.0, -0.5], [0, 1, 0]))
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3, 4, 5, 6, 7, 8]}],
+        "nodes": [{"mesh": 0},
+                  {"mesh": 1, "translation": [-1.0, 0.5, -0.6], "rotation": quat_from_matrix(look_at_matrix([0, 0, 0], [0.5, 0, -1], [0, 1, 0]))},
+                  {"mesh": 2, "translation": [0.2, 0, -1.5]},
+                  {"mesh": 3, "translation": [1.2, 0, 0.6], "scale": [0.5, 0.8, 1]},
+                  {"mesh": 4, "translation": [-0.3, 0, 1.6]},
+                  {"mesh": 5, "translation": [1.1, 0.35, -0.5], "scale": [0.7, 0.7, 0.7]},
+                  {"name": "camera", "camera": 0, "matrix": look_at_matrix([0.2, 1.7, 3.6], [0, 0.4, -0.4], [0, 1, 0])},
+                  {"name": "lamp", "translation": [1.0, 2.5, 1.5], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+                  {"name": "sun", "rotation": sun_rotation, "extensions": {"KHR_lights_punctual": {"light": 1}}}],
+        "meshes": [{"name": "floor", "primitives": [floor]}, {"name": "bumpy box", "primitives": [box]},
+                   {"name": "fence", "primitives": [fence_prim]}, {"name": "pane", "primitives": [pane]},
+                   {"name": "wall", "primitives": [wall]}, {"name": "glass box", "primitives": [glass]}],
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_transmission"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "color": [1, 0.95, 0.9], "intensity": 8 * 683},
+            {"type": "directional", "color": [1, 1, 1], "intensity": 1.2 * 683}]}},
+        "materials": [
+            {"name": "rippled floor", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1], "metallicFactor": 0.0, "roughnessFactor": 0.4},
+             "normalTexture": {"index": 0, "scale": 1.0}},
+            {"name": "dimpled metal", "pbrMetallicRoughness": {"baseColorFactor": [0.95, 0.7, 0.4, 1], "metallicFactor": 0.6, "roughnessFactor": 0.3},
+             "normalTexture": {"index": 1, "scale": 0.8}},
+            {"name": "fence", "pbrMetallicRoughness": {"baseColorTexture": {"index": 2}, "metallicFactor": 0.0},
+             "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True},
+            {"name": "pane", "pbrMetallicRoughness": {"baseColorTexture": {"index": 3, "texCoord": 1}, "baseColorFactor": [0.3, 0.6, 1.0, 0.4],
+                                                      "metallicFactor": 0.0, "roughnessFactor": 0.2},
+             "alphaMode": "BLEND"},
+            {"name": "wall (one-sided)", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.2, 0.1, 1], "metallicFactor": 0.0}},
+            {"name": "thin glass", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 1.0, 0.9, 1], "metallicFactor": 0.0, "roughnessFactor": 0.25},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.9, "transmissionTexture": {"index": 4}}}},
+        ],
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2, "sampler": 0}, {"source": 3, "sampler": 1}, {"source": 2}],
+        "samplers": [{"wrapS": 10497, "wrapT": 10497}, {"wrapS": 33071, "wrapT": 33648}],
+        "images": [{"bufferView": v, "mimeType": "image/png"} for v in (normal_png, bumps_png, fence_png, stripes_png)],
+        "cameras": [{"name": "view", "type": "perspective", "perspective": {"yfov": 0.8, "aspectRatio": 1.5, "znear": 0.1}}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "surface.glb"), "wb") as out:
+        out.write(glb(doc, buf.data))
+
+
 def main():
     os.makedirs(os.path.join(OUT, "external"), exist_ok=True)
     darts = box_room()
     write_json(os.path.join(OUT, "box-room.json"), darts)
     textured()
     external()
+    surface()
 
 
 if __name__ == "__main__":

@@ -117,9 +117,16 @@ expect_error "orthographic glTF camera" 2 "textured.glb|perspective cameras only
 check "a .glb renders through --camera persp at the size asked" $([ -f "$work/glb.png" ] && [ "$(od -An -tu1 -j16 -N8 "$work/glb.png" | tr -s ' ')" = " 0 0 0 24 0 0 0 18" ]; echo $?)
 generator="$(cd "$(dirname "$0")/.." && pwd)/scripts/make-gltf-test-assets.py"
 models="$(cd "$data/gltf" && pwd)"
-(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb external/scene.gltf \
-  external/scene.bin external/checker.png; do cmp -s "tests/data/gltf/$f" "$models/$f" || exit 1; done)
+(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb surface.glb \
+  external/scene.gltf external/scene.bin external/checker.png; do cmp -s "tests/data/gltf/$f" "$models/$f" || exit 1; done)
 check "make-gltf-test-assets.py writes the models the repository holds" $?
+# The README's glTF example: its generator writes what the repository holds, and it renders.
+repo="$(cd "$(dirname "$0")/.." && pwd)"
+(cd "$work" && rm -rf example && mkdir -p example/scenes/assets && cp "$repo/scenes/assets/spot.obj" example/scenes/assets/ && cd example &&
+  python3 "$repo/scripts/make-gltf-example.py" && cmp -s scenes/spot.glb "$repo/scenes/spot.glb")
+check "make-gltf-example.py writes the scenes/spot.glb the repository holds" $?
+"$wavepath" render "$repo/scenes/spot.glb" --env "$repo/scenes/assets/sky.hdr" -r 32 24 --spp 2 -q -o "$work/spot.png"
+check "scenes/spot.glb renders under an environment map" $([ -f "$work/spot.png" ]; echo $?)
 
 # The scaling scenes' generator: usage without arguments, scenes that load.
 scale="$(dirname "$0")/../scripts/make-scale-scenes.py"

@@ -72,6 +72,8 @@ const std::vector<Config>& smooth_configs() {
       {"metal-rough alpha 0.09 metallic 0", {{MAT_METAL_ROUGH, glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, 1.0f, {0.09f, 0.0f, 1.5f, 0}}}},
       {"metal-rough alpha 0.49 metallic 0.5", {{MAT_METAL_ROUGH, glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, 1.0f, {0.49f, 0.5f, 1.5f, 0}}}},
       {"metal-rough alpha 1 metallic 1", {{MAT_METAL_ROUGH, glm::vec3(1.0f), 0.0f, 1.0f, {1.0f, 1.0f, 1.5f, 0}}}},
+      {"metal-rough alpha 0.16 metallic 0.2 transmission 0.7",
+       {{MAT_METAL_ROUGH, glm::vec3(0.9f, 0.7f, 0.5f), 0.0f, 1.0f, {0.16f, 0.2f, 1.5f, 0.7f}}}},
   };
   return configs;
 }
@@ -108,7 +110,7 @@ const Geometry kGeometries[] = {
 };
 
 constexpr int kChi2Samples = 300000;
-const int kChi2Tests = int(std::size(kGeometries)) * 15;  // smooth_configs().size() configurations
+const int kChi2Tests = int(std::size(kGeometries)) * 16;  // smooth_configs().size() configurations
 const double kLevel = sidak(0.01, kChi2Tests);
 
 glm::vec3 unit(glm::vec3 v) { return glm::normalize(v); }

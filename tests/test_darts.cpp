@@ -110,7 +110,7 @@ TEST(DartsKeys, CheckerIsTheSignOfThreeSinesAtTheHitPoint) {
     glm::vec3 p(view.rng_next(state) * 4 - 2, view.rng_next(state) * 4 - 2, view.rng_next(state) * 4 - 2);
     double sines = std::sin(p.x / 0.1) * std::sin(p.y / 0.1) * std::sin(p.z / 0.1);
     if (std::fabs(sines) < 1e-3) continue;  // on a boundary, float and double may differ
-    glm::vec3 c = view.texture_eval(tex, glm::vec2(0.5f), p);  // the UV must not matter
+    glm::vec3 c = view.texture_eval(tex, glm::vec4(0.5f), p);  // the UV must not matter
     EXPECT_EQ(c.x, sines < 0.0 ? 0.75f : 0.25f) << "at " << p.x << ", " << p.y << ", " << p.z;
     ++checked;
   }

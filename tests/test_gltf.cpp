@@ -161,6 +161,129 @@ void expect_refused(const std::string& path, std::initializer_list<const char*> 
   }
 }
 
+// surface.glb: what glTF puts on a surface, read into the scene and seen by
+// the CPU view of the compiled scene (the kernels' code compiled as C++).
+TEST(Gltf, SurfaceDetailsNormalMapsVertexDataAlphaAndSides) {
+  const Scene s = load_scene(gltf_path("surface.glb"));
+  ASSERT_EQ(s.materials.size(), 6u);
+  const SceneMaterial &floor = s.materials[0], &metal = s.materials[1], &fence = s.materials[2], &pane = s.materials[3],
+                      &wall = s.materials[4], &glass = s.materials[5];
+  ASSERT_NE(floor.normalMap, WP_INVALID);
+  EXPECT_EQ(s.textures[floor.normalMap].kind, TEX_IMAGE);
+  EXPECT_EQ(s.textures[metal.normalMap].color, glm::vec3(0.8f, 0.8f, 1.0f));  // the normal texture's scale
+  EXPECT_EQ(fence.alphaCutoff, 0.5f);
+  EXPECT_TRUE(fence.doubleSided);
+  EXPECT_LT(pane.alphaCutoff, 0.0f);  // BLEND: stochastic
+  EXPECT_FALSE(pane.doubleSided || wall.doubleSided);
+  EXPECT_EQ(glass.params.w, 0.9f);  // KHR_materials_transmission, scaled by its texture
+  ASSERT_NE(glass.transmission, WP_INVALID);
+  EXPECT_EQ(s.textures[glass.transmission].kind, TEX_IMAGE);
+  const SceneTexture& gradient = s.textures[pane.albedo];
+  EXPECT_TRUE(gradient.secondUvSet);
+  EXPECT_EQ(gradient.wrapU, TEX_WRAP_CLAMP);
+  EXPECT_EQ(gradient.wrapV, TEX_WRAP_MIRROR);
+  EXPECT_FLOAT_EQ(gradient.alpha, 0.4f);
+  EXPECT_EQ(s.images[s.textures[fence.albedo].image].alpha.size(), 256u);  // the RGBA PNG's alpha
+  // The floor's vertex colours (normalized bytes) and given tangents.
+  int floorTriangles = 0;
+  for (const SceneTriangle& t : s.triangles) {
+    if (t.material != 0) continue;
+    const SceneTriangleShading& sh = s.triangleShading.at(t.shading);
+    ASSERT_TRUE(sh.hasVertexData);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(sh.tangent[c], glm::vec4(1, 0, 0, 1));
+      const float lo = 60 / 255.0f;
+      const glm::vec4 given[] = {{1, lo, lo, 1}, {lo, 1, lo, 1}, {lo, lo, 1, 1}, {1, 1, 1, 1}};
+      EXPECT_NE(std::find(std::begin(given), std::end(given), sh.color[c]), std::end(given)) << "corner " << c;
+    }
+    ++floorTriangles;
+  }
+  EXPECT_EQ(floorTriangles, 2);
+
+  RenderOptions o;
+  const CompiledScene cs = compile_scene(s, o);
+  const glm::uvec4 k = cs.params.kinds;
+  for (uint32_t f : {FEATURE_VERTEX_DATA, FEATURE_NORMAL_MAPS, FEATURE_ONE_SIDED, FEATURE_CUTOUTS}) EXPECT_TRUE(k.w & KIND_BIT(f)) << f;
+  shader::SceneView view = cs.view();
+  auto trace = [&](glm::vec3 o, glm::vec3 d) {
+    shader::Hit h;
+    EXPECT_EQ(view.trace_ray(o, d, WP_INF, false, h), TRACE_OK);
+    return h;
+  };
+  // The wall (at z = 1.6, facing -z) is not there from the camera's side, and is from behind.
+  EXPECT_FALSE(trace({-0.3f, 0.5f, 3.0f}, {0, 0, -1}).t < 1.5f);
+  EXPECT_NEAR(trace({-0.3f, 0.5f, 0.0f}, {0, 0, 1}).t, 1.6f, 1e-4f);
+  // The fence (z = -1.5) is cut out in its texture's gaps and there on its bars
+  // (texel centres: alpha is filtered between texels).
+  const float v = 5.5f / 16.0f, y = 1.2f * (1.0f - v);  // glTF's v down the image
+  EXPECT_EQ(trace({-0.8f + 6.5f / 16.0f, y, -1.3f}, {0, 0, -1}).prim, WP_INVALID) << "a gap";
+  EXPECT_NEAR(trace({-0.8f + 1.5f / 16.0f, y, -1.3f}, {0, 0, -1}).t, 0.2f, 1e-4f) << "a bar";
+  // The BLEND pane (alpha 0.4, at z = 0.6) lets through 60% of the rays that
+  // cross it, each ray deciding by its own hash.
+  uint32_t state = 5;
+  int passed = 0;
+  const int rays = 4000;
+  for (int i = 0; i < rays; ++i) {
+    const glm::vec3 o(1.25f + 0.4f * view.rng_next(state), 0.75f + 0.15f * view.rng_next(state), 2.0f);
+    const shader::Hit ph = trace(o, {0, 0, -1});
+    if (ph.prim == WP_INVALID) ++passed;
+    else EXPECT_NEAR(ph.t, 1.4f, 1e-4f);
+  }
+  EXPECT_NEAR(double(passed) / rays, 0.6, 4.0 * std::sqrt(0.24 / rays));
+  // The pane's gradient on the second UV set: clamped beyond u = 1, mirrored beyond v = 1.
+  const glm::vec3 p(0.0f);
+  auto at = [&](float u, float vv) { return view.texture_eval(s.materials[3].albedo, glm::vec4(0.0f, 0.0f, u, vv), p); };
+  EXPECT_EQ(at(1.3f, 0.4f), at(1.0f, 0.4f));
+  EXPECT_EQ(at(-0.2f, 0.4f), at(0.0f, 0.4f));
+  EXPECT_NEAR(glm::distance(at(0.5f, 1.25f), at(0.5f, 0.75f)), 0.0f, 1e-6f);
+  EXPECT_NE(at(0.5f, 1.25f), at(0.5f, 0.25f));
+  EXPECT_FLOAT_EQ(view.texture_alpha(s.materials[3].albedo, glm::vec4(0.5f), p), 0.4f);
+  // The floor's ripple map, at the centre of texel column 0: the shading
+  // normal is the decoded texel in the frame (tangent +x, bitangent
+  // cross(n, t) = -z, normal +y).
+  const float u = 0.5f / 16.0f, x = 4.0f * u / 3.0f - 2.0f;  // u = 3 (x + 2) / 4
+  const shader::Hit h = trace({x, 3.0f, 0.3f}, {0, -1, 0});
+  ASSERT_NEAR(h.t, 3.0f, 1e-4f);
+  const shader::SceneView::SurfaceHit hit = view.surface_at({x, 3.0f, 0.3f}, {0, -1, 0}, h);
+  const shader::SceneView::Bsdf b = view.bsdf_at(hit, glm::vec3(0, 1, 0));
+  const float slope = 0.9f * std::cos(2.0f * float(M_PI) * 0.5f / 8.0f);
+  const glm::vec3 n = glm::normalize(glm::vec3(-slope, 0.0f, 1.0f));
+  auto texel = [](float c) { return std::round(255.0f * (c * 0.5f + 0.5f)) / 255.0f * 2.0f - 1.0f; };
+  const glm::vec3 expected = glm::normalize(glm::vec3(texel(n.x), texel(n.z), -texel(n.y)));
+  EXPECT_NEAR(glm::distance(b.ns, expected), 0.0f, 2e-3f) << b.ns.x << " " << b.ns.y << " " << b.ns.z;
+  // Tangents derived from the floor's UVs are the ones the file gives.
+  const shader::Triangle& t = cs.triangles[h.prim];
+  const shader::TriangleShading sh = view.load_shading(t.shading);
+  const glm::vec4 derived = view.triangle_uv_tangent(t, {sh.u0, sh.v0}, {sh.uv12.x, sh.uv12.y}, {sh.uv12.z, sh.uv12.w}, hit.ng);
+  EXPECT_NEAR(glm::distance(glm::normalize(glm::vec3(derived)), glm::vec3(1, 0, 0)), 0.0f, 1e-5f);
+  EXPECT_EQ(derived.w, 1.0f);
+}
+
+// A normal-mapped mesh without TANGENT (the README's spot.glb) gets smooth
+// tangents: unit, orthogonal to each corner's normal, and turned as the
+// UVs run on the triangles around it.
+TEST(Gltf, NormalMappedMeshesWithoutTangentsGetSmoothOnes) {
+  const Scene s = load_scene(source_path("scenes/spot.glb"));
+  int corners = 0, along = 0;
+  for (const SceneTriangle& t : s.triangles) {
+    if (s.materials[t.material].normalMap == WP_INVALID) continue;
+    const SceneTriangleShading& sh = s.triangleShading.at(t.shading);
+    ASSERT_TRUE(sh.hasVertexData && sh.hasNormals && sh.hasUvs);
+    const glm::vec3 e1 = t.v[1] - t.v[0], e2 = t.v[2] - t.v[0];
+    const glm::vec2 d1 = sh.uv[1] - sh.uv[0], d2 = sh.uv[2] - sh.uv[0];
+    const glm::vec3 dpdu = (e1 * d2.y - e2 * d1.y) / (d1.x * d2.y - d2.x * d1.y);
+    for (int c = 0; c < 3; ++c) {
+      const glm::vec3 tangent(sh.tangent[c]);
+      ASSERT_NEAR(glm::length(tangent), 1.0f, 1e-4f);
+      EXPECT_NEAR(glm::dot(tangent, sh.n[c]), 0.0f, 1e-4f);
+      ++corners;
+      if (glm::dot(tangent, dpdu) > 0.0f) ++along;
+    }
+  }
+  EXPECT_GT(corners, 10000);
+  EXPECT_GT(along, 0.97 * corners) << along << " of " << corners;
+}
+
 TEST(Gltf, ExternalFilesAreReadOnlyInsideTheModelsFolder) {
   const Scene s = load_scene(gltf_path("external/scene.gltf"));
   EXPECT_EQ(s.triangles.size(), 2u);
@@ -253,6 +376,33 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
   image["textures"] = json::parse(R"([{"source": 0}])");
   image["images"] = json::array({{{"uri", data_uri({'n', 'o', 't', ' ', 'a', 'n', ' ', 'i', 'm', 'a', 'g', 'e'})}}});
   expect_gltf_error("image.gltf", image.dump(), {"/images/0", "not a PNG"});
+  // Material and attribute values outside what glTF allows.
+  auto with_material = [&](const char* material) {
+    json doc = good;
+    doc["meshes"][0]["primitives"][0]["material"] = 0;
+    doc["materials"] = json::array({json::parse(material)});
+    return doc.dump();
+  };
+  expect_gltf_error("alpha-mode.gltf", with_material(R"({"alphaMode": "CUTOUT"})"), {"/materials/0/alphaMode", "OPAQUE, MASK or BLEND"});
+  expect_gltf_error("cutoff.gltf", with_material(R"({"alphaMode": "MASK", "alphaCutoff": 1.5})"), {"/materials/0/alphaCutoff", "[0, 1]"});
+  expect_gltf_error("transmission.gltf", with_material(R"({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 2}}})"),
+                    {"/materials/0/extensions/KHR_materials_transmission/transmissionFactor", "[0, 1]"});
+  expect_gltf_error("alpha-factor.gltf", with_material(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, -1]}})"),
+                    {"/materials/0/pbrMetallicRoughness/baseColorFactor/3", "[0, 1]"});
+  json sampled = json::parse(with_material(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 2}}})"));
+  sampled["textures"] = json::parse(R"([{"source": 0, "sampler": 0}])");
+  sampled["images"] = image["images"];
+  sampled["samplers"] = json::parse(R"([{"wrapS": 10497}])");
+  expect_gltf_error("texcoord.gltf", sampled.dump(), {"/materials/0/pbrMetallicRoughness/baseColorTexture/texCoord", "not set 2"});
+  sampled["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 0;
+  sampled["samplers"][0]["wrapT"] = 1234;
+  expect_gltf_error("wrap.gltf", sampled.dump(), {"/samplers/0/wrapT", "not a wrap mode"});
+  sampled["textures"][0]["sampler"] = 4;
+  expect_gltf_error("sampler.gltf", sampled.dump(), {"/textures/0/sampler", "sampler 4"});
+  // COLOR_0 read from the positions' accessor, where a 2 is no colour.
+  json twice = one_triangle({0, 0, 0, 2, 0, 0, 0, 1, 0});
+  twice["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 0;
+  expect_gltf_error("color.gltf", twice.dump(), {"/attributes/COLOR_0", "outside [0, 1]"});
   // Binary containers: a wrong magic, a truncated file, a chunk longer than the file.
   std::ifstream in(gltf_path("textured.glb"), std::ios::binary);
   const std::string glb((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -565,9 +565,10 @@ TEST_F(Gpu, SameSeedSameImageOtherSeedOtherImage) {
 // set, each on a small scene that exercises it: the GPU agrees with the CPU
 // reference statistically (same shared code, independent seeds).
 struct FeatureCase {
-  const char* scene;
+  const char* scene;  // under tests/data/features/
   std::optional<IntegratorKind> integrator;
   const char* what;
+  int size = 0;  // rendered size x size, or 0: the scene's own
 };
 
 const FeatureCase kFeatureCases[] = {
@@ -591,11 +592,15 @@ const FeatureCase kFeatureCases[] = {
     {"microfacet.json", IntegratorKind::PathMixture, "the GGX materials, path tracer mixture"},
     {"punctual.json", IntegratorKind::PathMis, "a spot light between its cones and a directional light (mis)"},
     {"microfacet.json", IntegratorKind::PathMats, "the GGX materials, path tracer mats"},
+    {"../gltf/surface.glb", IntegratorKind::PathMis,
+     "glTF surfaces: normal maps (given and derived tangents), vertex colours, a second UV set with clamped and mirrored "
+     "wrapping, MASK and BLEND alpha, a one-sided wall, thin-walled transmission",
+     40},
 };
 
 TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
   for (const FeatureCase& c : kFeatureCases) {
-    CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/features/") + c.scene), 0, 64, 1.0f, c.integrator);
+    CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/features/") + c.scene), c.size, 64, 1.0f, c.integrator);
     EXPECT_TRUE(r.passed()) << c.what << ": " << r.summary();
   }
 }
@@ -643,7 +648,11 @@ TEST_F(Gpu, EveryKindIsUsedByAFeatureSceneAndCompilingItOutIsCaught) {
     o.integrator = kFeatureCases[c].integrator;
     return o;
   };
-  auto scene_of = [](size_t c) { return load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene)); };
+  auto scene_of = [](size_t c) {
+    Scene s = load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene));
+    if (kFeatureCases[c].size > 0) s.camera.width = s.camera.height = kFeatureCases[c].size;
+    return s;
+  };
   std::vector<CompiledScene> compiled;
   for (size_t c = 0; c < std::size(kFeatureCases); ++c) compiled.push_back(compile_scene(scene_of(c), options(c, 1)));
   std::map<size_t, ImageStats> cpu;
@@ -699,7 +708,7 @@ TEST_F(Gpu, TextureLookupsMatchTheCpuCode) {
   ASSERT_EQ(gpu.size(), queries.size());
   float worst[4] = {};  // by texture type: constant, checker, marble, image
   for (size_t i = 0; i < queries.size(); ++i) {
-    glm::vec3 cpu = view.texture_eval(queries[i].texture, queries[i].uv, queries[i].p);
+    glm::vec3 cpu = view.texture_eval(queries[i].texture, glm::vec4(queries[i].uv, queries[i].uv), queries[i].p);
     float err = glm::max(glm::abs(cpu.x - gpu[i].x), glm::max(glm::abs(cpu.y - gpu[i].y), glm::abs(cpu.z - gpu[i].z)));
     uint32_t type = cs.textures[queries[i].texture].info.x & TEX_TYPE_MASK;
     ASSERT_LT(type, 4u);

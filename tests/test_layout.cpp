@@ -140,6 +140,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   TwoRecords<WideNode> wide;
   TwoRecords<Triangle> tri;
   TwoRecords<TriangleShading> shading;
+  TwoRecords<TriangleVertexData> vertexData;
   TwoRecords<Sphere> sphere;
   TwoRecords<Material> material;
   TwoRecords<Texture> texture;
@@ -150,6 +151,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   view.wideNodeTexels = wide.texels();
   view.triangleTexels = tri.texels();
   view.shadingTexels = shading.texels();
+  view.vertexDataTexels = vertexData.texels();
   view.sphereTexels = sphere.texels();
   view.materialTexels = material.texels();
   view.textureTexels = texture.texels();
@@ -159,6 +161,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   expect_same_bytes(view.load_wide_node(1), wide.r[1], "WideNode");
   expect_same_bytes(view.load_triangle(1), tri.r[1], "Triangle");
   expect_same_bytes(view.load_shading(1), shading.r[1], "TriangleShading");
+  expect_same_bytes(view.load_vertex_data(1), vertexData.r[1], "TriangleVertexData");
   expect_same_bytes(view.load_sphere(1), sphere.r[1], "Sphere");
   expect_same_bytes(view.load_material(1), material.r[1], "Material");
   expect_same_bytes(view.load_texture(1), texture.r[1], "Texture");

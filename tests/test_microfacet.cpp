@@ -5,6 +5,7 @@
 // term, the dielectric's reciprocity, a white furnace against single-
 // scattering GGX computed independently, and a planted roughness error.
 // (Bsdf.* runs the wider GGX lobes through the tests every lobe takes.)
+#include <functional>
 #include "test_support.h"
 
 namespace wp::test {
@@ -135,6 +136,8 @@ TEST(MicrofacetLobes, PdfIntegratesToTheFractionOfSamplesKept) {
       {"dielectric alpha 0.4 entering", dielectric(0.4f, true)},
       {"dielectric alpha 0.4 leaving", dielectric(0.4f, false)},
       {"metal-rough alpha 1 metallic 0.5", metal_rough(1.0f, 0.5f, glm::vec3(0.5f))},
+      {"metal-rough alpha 0.3 transmission 0.9",
+       one_lobe(MAT_METAL_ROUGH, glm::vec3(0.8f), glm::vec4(0.3f, 0.0f, 1.5f, 0.9f))},
   };
   ShaderMath m;
   for (const Case& c : cases)
@@ -188,31 +191,48 @@ TEST(MicrofacetLobes, ConductorFresnelReducesToKnownCases) {
   EXPECT_LT(f0.z, 0.45f);
 }
 
+// Checks f(a, b) = ratio(b) f(b, a) for 2000 random pairs, a on the front
+// and b anywhere, each seen from its own side (ns and ng face it, `front`
+// says outside); bsdf(front) makes the BSDF seen from a side. Returns how
+// many pairs transmitted.
+int expect_reciprocal(const std::function<ShaderMath::Bsdf(bool)>& bsdf, float transmittedRatio, uint32_t seed) {
+  ShaderMath m;
+  uint32_t state = seed;
+  int transmissions = 0;
+  for (int i = 0; i < 2000; ++i) {
+    glm::vec3 a = m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state)));
+    glm::vec3 b = m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state)));
+    if (a.z < 0.0f) a = -a;
+    ShaderMath::Bsdf fromA = bsdf(true);
+    ShaderMath::Bsdf fromB = bsdf(b.z > 0.0f);
+    fromB.ns = fromB.ng = b.z > 0.0f ? kNormal : -kNormal;
+    glm::vec3 fab = m.bsdf_eval(fromA, a, b) / std::abs(b.z);
+    glm::vec3 fba = m.bsdf_eval(fromB, b, a) / std::abs(a.z);
+    float ratio = b.z > 0.0f ? 1.0f : transmittedRatio;
+    if (b.z < 0.0f && fab.x > 0.0f) ++transmissions;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(fab[c], ratio * fba[c], 1e-4f * std::max(1.0f, fab[c]))
+          << "a = (" << a.x << ", " << a.y << ", " << a.z << "), b = (" << b.x << ", " << b.y << ", " << b.z << ")";
+  }
+  return transmissions;
+}
+
 // Reflection is symmetric in wo and wi. Transmission, in the radiance
 // convention, obeys f(wo, wi) / eta_i^2 = f(wi, wo) / eta_o^2 (each side's
 // index); wavepath's dielectrics do not scale radiance by eta^2 on crossing
 // (as darts), which multiplies f(wo, wi) by (eta_i / eta_o)^2, so here
 // f(wo, wi) = (eta_i / eta_o)^2 f(wi, wo).
 TEST(MicrofacetLobes, RoughDielectricIsReciprocal) {
-  ShaderMath m;
-  uint32_t state = 31;
-  int transmissions = 0;
-  for (int i = 0; i < 2000; ++i) {
-    glm::vec3 a = m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state)));
-    glm::vec3 b = m.square_to_uniform_sphere(glm::vec2(m.rng_next(state), m.rng_next(state)));
-    if (a.z < 0.0f) a = -a;  // wo outside, on the front
-    // Seen from each direction's own side: ns and ng face it, front says outside.
-    ShaderMath::Bsdf fromA = dielectric(0.5f, true);
-    ShaderMath::Bsdf fromB = dielectric(0.5f, b.z > 0.0f);
-    fromB.ns = fromB.ng = b.z > 0.0f ? kNormal : -kNormal;
-    float fab = m.bsdf_eval(fromA, a, b).x / std::abs(b.z);
-    float fba = m.bsdf_eval(fromB, b, a).x / std::abs(a.z);
-    float ratio = b.z > 0.0f ? 1.0f : 1.5f * 1.5f;
-    if (b.z < 0.0f && fab > 0.0f) ++transmissions;
-    EXPECT_NEAR(fab, ratio * fba, 1e-4f * std::max(1.0f, fab)) << "a = (" << a.x << ", " << a.y << ", " << a.z
-                                                                << "), b = (" << b.x << ", " << b.y << ", " << b.z << ")";
-  }
-  EXPECT_GT(transmissions, 200);
+  EXPECT_GT(expect_reciprocal([](bool front) { return dielectric(0.5f, front); }, 1.5f * 1.5f, 31), 200);
+}
+
+// glTF's transmission without a volume is thin-walled: the GGX lobe mirrored
+// through the surface, which keeps the BSDF symmetric across it (no ratio of
+// indices: the light leaves into the medium it came from).
+TEST(MicrofacetLobes, ThinWalledTransmissionIsReciprocal) {
+  const glm::vec4 params(0.3f, 0.25f, 1.5f, 0.8f);  // alpha, metallic, ior, transmission
+  auto bsdf = [&](bool front) { return one_lobe(MAT_METAL_ROUGH, glm::vec3(0.9f, 0.6f, 0.4f), params, glm::vec4(0.0f), front); };
+  EXPECT_GT(expect_reciprocal(bsdf, 1.0f, 37), 200);
 }
 
 // Single-scattering GGX with F = 1, computed here without the shared code:

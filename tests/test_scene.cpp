@@ -82,12 +82,12 @@ TEST(Scene, PerVertexDataReachesItsTrianglesOnly) {
       ++plainRecords;
     } else if (t.v0.z == 0.0f) {
       const shader::TriangleShading& sh = cs.triangleShading.at(t.shading);
-      EXPECT_EQ(sh.hasNormals, 1u);
+      EXPECT_EQ(sh.flags, SHADING_NORMALS);
       EXPECT_NEAR(glm::distance(sh.n2, glm::normalize(glm::vec3(0, 1, 1))), 0.0f, 1e-6f);
       EXPECT_EQ(glm::vec2(sh.u0, sh.v0), glm::vec2(0.0f));  // no UVs: the barycentrics
       ++smoothRecords;
     } else {
-      EXPECT_EQ(cs.triangleShading.at(t.shading).hasNormals, 0u);
+      EXPECT_EQ(cs.triangleShading.at(t.shading).flags, 0u);
     }
   }
   EXPECT_EQ(smoothRecords, 1);

@@ -33,7 +33,8 @@
 // AOV layers: each path's first-hit record, and the per-pixel sums.
 #define BINDING_AOV_SAMPLES 25
 #define BINDING_AOV_ACCUM 26
-#define BINDING_COUNT 27
+#define BINDING_VERTEX_DATA 27
+#define BINDING_COUNT 28
 
 // Specialization constants of the kernels, by id: kernel.glsl declares them
 // (SPEC_ANY_HIT in raycast.comp, SPEC_SHADE_KEY in shade.comp), and the host
@@ -95,6 +96,7 @@ layout(set = 0, binding = BINDING_NODES) uniform usamplerBuffer nodeTexels;
 layout(set = 0, binding = BINDING_WIDE_NODES) uniform usamplerBuffer wideNodeTexels;
 layout(set = 0, binding = BINDING_TRIANGLES) uniform usamplerBuffer triangleTexels;
 layout(set = 0, binding = BINDING_TRIANGLE_SHADING) uniform usamplerBuffer shadingTexels;
+layout(set = 0, binding = BINDING_VERTEX_DATA) uniform usamplerBuffer vertexDataTexels;
 layout(set = 0, binding = BINDING_SPHERES) uniform usamplerBuffer sphereTexels;
 layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
 layout(set = 0, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;

@@ -114,7 +114,7 @@ struct ShadowRays {
 // The normals and ambient-occlusion integrators: one hit, no paths.
 void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) {
   if (INTEGRATOR_OF_SCENE == INTEGRATOR_NORMALS) {
-    p.radiance += (s.ns + vec3(1.0f)) * 0.5f;
+    p.radiance += ((b.front ? b.ns : -b.ns) + vec3(1.0f)) * 0.5f;  // the shading normal, a normal map's included
     return;
   }
   // Ambient occlusion: the cosine-weighted fraction of the hemisphere that is

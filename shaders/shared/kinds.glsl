@@ -58,7 +58,7 @@
   X(MAT_ROUGH_CONDUCTOR, "rough_conductor", rough_conductor, LOBE_GLOSSY | LOBE_DELTA | LOBE_PARAMS_YZW | LOBE_PARAMS2) \
   X(MAT_ROUGH_DIELECTRIC, "rough_dielectric", rough_dielectric,                                                         \
     LOBE_GLOSSY | LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW)                                                     \
-  X(MAT_METAL_ROUGH, "metal_rough", metal_rough, LOBE_DIFFUSE | LOBE_GLOSSY | LOBE_PARAMS_YZW)
+  X(MAT_METAL_ROUGH, "metal_rough", metal_rough, LOBE_DIFFUSE | LOBE_GLOSSY | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW)
 
 // Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
 // solid mapping. Columns: id, name.
@@ -71,6 +71,14 @@
   X(TEX_CONSTANT, "constant") X(TEX_CHECKER, "checker") X(TEX_MARBLE, "marble") X(TEX_IMAGE, "image") X(TEX_FRESNEL, "fresnel")
 #define TEX_TYPE_MASK 0xffu
 #define TEX_SOLID 0x100u  // look up at the mapped hit point, not at (u, v, 0)
+#define TEX_UV1 0x200u    // look up at the second UV set (glTF's TEXCOORD_1)
+// How an image texture wraps outside [0, 1] (glTF's sampler modes), u's in
+// bits 12-13 of Texture.info.x and v's in bits 14-15.
+#define TEX_WRAP_REPEAT 0u
+#define TEX_WRAP_CLAMP 1u
+#define TEX_WRAP_MIRROR 2u
+#define TEX_WRAP_U_SHIFT 12u
+#define TEX_WRAP_V_SHIFT 14u
 
 // Light kinds: what next-event estimation samples. Columns: id, name.
 #define LIGHT_AREA 0u         // emissive triangles, sampled by area
@@ -89,9 +97,15 @@
 #define FEATURE_CMJ 2u                  // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
 #define FEATURE_EMISSION_TEXTURES 3u    // an emitting material whose radiance is not one constant colour
 #define FEATURE_UNIFORM_HEMISPHERE 4u   // SCENE_FLAG_HEMISPHERE: directions uniform over the hemisphere (CS184 -H)
+#define FEATURE_VERTEX_DATA 5u          // triangles with tangents, vertex colours or a second UV set (TriangleVertexData)
+#define FEATURE_NORMAL_MAPS 6u          // a material with a normal map (Material.children.z)
+#define FEATURE_ONE_SIDED 7u            // triangles seen from behind are not there (TRIANGLE_ONE_SIDED)
+#define FEATURE_CUTOUTS 8u              // triangles cut out by their material's alpha (TRIANGLE_CUTOUT)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
-  X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling")
+  X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
+  X(FEATURE_VERTEX_DATA, "tangents, vertex colours or a second UV set") X(FEATURE_NORMAL_MAPS, "normal maps")    \
+  X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

@@ -28,7 +28,8 @@ vec2 environment_uv(vec3 d) {
 // the constant background.
 vec3 background_radiance(vec3 d) {
   if (!LIGHT_COMPILED(LIGHT_ENVIRONMENT) || scene.environment.x == WP_INVALID) return vec3(scene.background.x, scene.background.y, scene.background.z);
-  return texture_eval(scene.environment.x, environment_uv(d), d);
+  vec2 uv = environment_uv(d);
+  return texture_eval(scene.environment.x, vec4(uv.x, uv.y, uv.x, uv.y), d);
 }
 
 // The interval i in [0, count) of the CDF at `offset` with cdf[i] <= u < cdf[i + 1]

@@ -20,7 +20,8 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
 
 // The lobe a non-blend material contributes, with its colour and weight.
 // Parameters are the material's, except metal-rough's, which its
-// metallic-roughness texture scales (glTF: roughness in G, metallic in B).
+// metallic-roughness texture scales (glTF: roughness in G, metallic in B)
+// and its transmission texture (children.y; R) scales the transmission of.
 void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, SurfaceHit s) {
   b.lobeType[k] = m.info.x;
   b.lobeColor[k] = color;
@@ -29,9 +30,34 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, Surfa
   if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && m.info.x == MAT_METAL_ROUGH) {
     vec3 mr = m.info.w != WP_INVALID ? texture_eval(m.info.w, s.uv, s.p) : vec3(1.0f);
     float roughness = clamp(m.params.x * mr.y, 0.0f, 1.0f);
-    params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), m.params.z, 0.0f);
+    float transmission = m.children.y != WP_INVALID ? m.params.w * texture_eval(m.children.y, s.uv, s.p).x : m.params.w;
+    params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), m.params.z, clamp(transmission, 0.0f, 1.0f));
   }
   bsdf_set_params(b, k, params, m.params2);
+}
+
+// The least cosine between wo and a normal-mapped shading normal.
+#define NORMAL_MAP_MIN_COS 0.05f
+
+// The shading normal at s under normal map `tex` (glTF's convention): the
+// map's colour c is the tangent-space normal 2 c - 1, scaled by the
+// texture's factor (scale, scale, 1), in the frame of s's tangent, its
+// handedness and the interpolated normal. Where the frame degenerates or the
+// mapped normal turns away from the geometric one, the interpolated normal.
+vec3 normal_mapped(SurfaceHit s, uint tex) {
+  Texture t = load_texture(tex);
+  vec4 c = image_lookup(t, texture_point(t, s.uv, s.p));
+  vec3 tn = (vec3(c.x, c.y, c.z) * 2.0f - vec3(1.0f)) * vec3(t.color0.x, t.color0.y, t.color0.z);
+  vec3 tangent = vec3(s.tangent.x, s.tangent.y, s.tangent.z);
+  tangent -= s.ns * dot(s.ns, tangent);
+  float len = length(tangent);
+  if (!(len > 0.0f)) return s.ns;
+  tangent /= len;
+  vec3 bitangent = cross(s.ns, tangent) * s.tangent.w;
+  vec3 n = tangent * tn.x + bitangent * tn.y + s.ns * tn.z;
+  float nl = length(n);
+  if (!(nl > 0.0f) || dot(n, s.ng) <= 0.0f) return s.ns;
+  return n / nl;
 }
 
 // Whether a material's step of bsdf_at looks up no texture: the dielectric
@@ -48,9 +74,19 @@ bool material_needs_no_texture(Material m) {
 // BSDF_MAX_LOBES leaves per material).
 Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   Bsdf b;
+  Material m = load_material(s.material);
+  vec3 ns = s.ns;
   b.front = dot(s.ng, wo) >= 0.0f;
+  if (FEATURE_COMPILED(FEATURE_NORMAL_MAPS) && TEXTURE_COMPILED(TEX_IMAGE) && m.children.z != WP_INVALID) {
+    ns = normal_mapped(s, m.children.z);
+    // A mapped normal that turns away from wo would leave the surface black
+    // there: tilt it towards wo until wo is just above its horizon.
+    vec3 v = b.front ? wo : -wo;
+    float c = dot(v, ns);
+    if (c < NORMAL_MAP_MIN_COS) ns = normalize(ns + v * (NORMAL_MAP_MIN_COS - c));
+  }
   b.ng = b.front ? s.ng : -s.ng;
-  b.ns = b.front ? s.ns : -s.ns;
+  b.ns = b.front ? ns : -ns;
   b.lobeCount = 0u;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     b.lobeType[i] = MAT_LAMBERTIAN;
@@ -58,10 +94,11 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
     bsdf_set_params(b, i, vec4(0.0f), vec4(0.0f));
     b.lobeWeight[i] = 0.0f;
   }
-  Material m = load_material(s.material);
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter (never compiled out: one comparison)
+  // Vertex colours tint every lobe (glTF: they multiply the base colour).
+  vec3 tint = FEATURE_COMPILED(FEATURE_VERTEX_DATA) ? vec3(s.color.x, s.color.y, s.color.z) : vec3(1.0f);
   if (!MATERIAL_COMPILED(MAT_BLEND)) {  // one lobe
-    vec3 color = material_needs_no_texture(m) ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p);
+    vec3 color = tint * (material_needs_no_texture(m) ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p));
     bsdf_set_lobe(b, 0u, m, color, 1.0f, s);
     b.lobeCount = 1u;
     return b;
@@ -99,7 +136,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
       continue;
     }
     if (m.info.x == MAT_LIGHT || w <= 0.0f || b.lobeCount >= BSDF_MAX_LOBES) continue;
-    bsdf_set_lobe(b, b.lobeCount, m, color, w, s);
+    bsdf_set_lobe(b, b.lobeCount, m, tint * color, w, s);
     b.lobeCount += 1u;
     total += w;
   }

@@ -51,7 +51,9 @@ SurfaceHit probe_surface(uint material, vec3 normal) {
   s.emitter = WP_INVALID;
   s.ns = normal;
   s.pad = 0.0f;
-  s.uv = vec2(0.5f);
+  s.uv = vec4(0.5f);
+  s.tangent = vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  s.color = vec4(1.0f);
   return s;
 }
 
@@ -92,7 +94,7 @@ Hit run_probe(ShadowRay q) {
   if (kind == PROBE_SURFACE_PDF) {
     return probe_answer(vec3(emitters_pdf_direction(q.contribution, q.dir, true), 0.0f, 0.0f), 0u);
   }
-  if (kind == PROBE_TEXTURE) return probe_answer(texture_eval(index, vec2(q.dir.x, q.dir.y), q.origin), 0u);
+  if (kind == PROBE_TEXTURE) return probe_answer(texture_eval(index, vec4(q.dir.x, q.dir.y, q.dir.x, q.dir.y), q.origin), 0u);
   // PROBE_INTERSECT
   Hit h;
   h.t = q.tmax;

@@ -66,13 +66,27 @@ TriangleShading load_shading(uint i) {
   sh.n1 = texel_xyz(b);
   sh.v0 = uintBitsToFloat(b.w);
   sh.n2 = texel_xyz(c);
-  sh.hasNormals = c.w;
+  sh.flags = c.w;
   sh.uv12 = vec4(uintBitsToFloat(d.x), uintBitsToFloat(d.y), uintBitsToFloat(d.z), uintBitsToFloat(d.w));
   return sh;
 }
 
 vec4 texel_vec4(uvec4 t) {
   return vec4(uintBitsToFloat(t.x), uintBitsToFloat(t.y), uintBitsToFloat(t.z), uintBitsToFloat(t.w));
+}
+
+TriangleVertexData load_vertex_data(uint i) {
+  int at = int(i) * TRIANGLE_VERTEX_DATA_TEXELS;
+  TriangleVertexData vd;
+  vd.tangent0 = texel_vec4(texelFetch(vertexDataTexels, at));
+  vd.tangent1 = texel_vec4(texelFetch(vertexDataTexels, at + 1));
+  vd.tangent2 = texel_vec4(texelFetch(vertexDataTexels, at + 2));
+  vd.color0 = texel_vec4(texelFetch(vertexDataTexels, at + 3));
+  vd.color1 = texel_vec4(texelFetch(vertexDataTexels, at + 4));
+  vd.color2 = texel_vec4(texelFetch(vertexDataTexels, at + 5));
+  vd.uv1_01 = texel_vec4(texelFetch(vertexDataTexels, at + 6));
+  vd.uv1_2 = texel_vec4(texelFetch(vertexDataTexels, at + 7));
+  return vd;
 }
 
 Sphere load_sphere(uint i) {

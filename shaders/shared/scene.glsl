@@ -8,10 +8,10 @@
 #define WP_SCENE_GLSL
 
 #include "records.glsl"
-#include "traverse_binary.glsl"
-#include "traverse_wide.glsl"
 #include "surfaces.glsl"
 #include "textures.glsl"
+#include "traverse_binary.glsl"
+#include "traverse_wide.glsl"
 #include "material_at.glsl"
 #include "lights.glsl"
 

@@ -4,36 +4,52 @@
 #define WP_TEXTURES_GLSL
 
 // Where texture t is looked up: its mapping applied to the hit point (solid
-// textures) or to (u, v, 0).
-vec3 texture_point(Texture t, vec2 uv, vec3 p) {
-  vec3 q = (t.info.x & TEX_SOLID) != 0u ? p : vec3(uv.x, uv.y, 0.0f);
+// textures) or to the UV set it reads, (u, v, 0).
+vec3 texture_point(Texture t, vec4 uv, vec3 p) {
+  vec2 set = (t.info.x & TEX_UV1) != 0u ? vec2(uv.z, uv.w) : vec2(uv.x, uv.y);
+  vec3 q = (t.info.x & TEX_SOLID) != 0u ? p : vec3(set.x, set.y, 0.0f);
   return xform_point(t.map0, t.map1, t.map2, q);
 }
 
-vec3 texel_at(Texture t, uint x, uint y) {
+vec4 texel_at(Texture t, uint x, uint y) {
   uvec4 packed = texelFetch(imageTexels, int(t.info.y + y * t.info.z + x));
   vec2 rg = unpackHalf2x16(packed.x);
-  vec2 b = unpackHalf2x16(packed.y);
-  return vec3(rg.x, rg.y, b.x);
+  vec2 ba = unpackHalf2x16(packed.y);
+  return vec4(rg.x, rg.y, ba.x, ba.y);
 }
 
-// Bilinear lookup, repeating; v = 0 is the bottom row of the image.
-vec3 image_lookup(Texture t, vec3 q) {
-  uint w = t.info.z;
-  uint h = t.info.w;
-  float x = (q.x - floor(q.x)) * float(w) - 0.5f;
-  float y = (1.0f - (q.y - floor(q.y))) * float(h) - 0.5f;
+// The two texels (i0, i1) along one axis of `size` texels between which
+// coordinate c (0 to 1 across the image) falls, and the weight f of i1, as
+// wrap mode `mode` extends the image beyond [0, 1].
+void wrap_texels(float c, uint mode, uint size, OUT(uint) i0, OUT(uint) i1, OUT(float) f) {
+  float m = c - floor(c);  // repeat
+  if (mode == TEX_WRAP_CLAMP) m = clamp(c, 0.0f, 1.0f);
+  if (mode == TEX_WRAP_MIRROR) {
+    float r = c - 2.0f * floor(0.5f * c);  // [0, 2)
+    m = r <= 1.0f ? r : 2.0f - r;
+  }
+  float x = m * float(size) - 0.5f;
   float x0f = floor(x);
-  float y0f = floor(y);
-  float fx = x - x0f;
-  float fy = y - y0f;
-  // x0f lies in [-1, w - 1]: wrap without a (GLSL-undefined) negative modulo.
-  uint x0 = x0f < 0.0f ? w - 1u : min(uint(x0f), w - 1u);
-  uint y0 = y0f < 0.0f ? h - 1u : min(uint(y0f), h - 1u);
-  uint x1 = x0 + 1u >= w ? 0u : x0 + 1u;
-  uint y1 = y0 + 1u >= h ? 0u : y0 + 1u;
-  vec3 top = mix(texel_at(t, x0, y0), texel_at(t, x1, y0), fx);
-  vec3 bottom = mix(texel_at(t, x0, y1), texel_at(t, x1, y1), fx);
+  f = x - x0f;
+  // x0f lies in [-1, size - 1]: wrap without a (GLSL-undefined) negative modulo.
+  bool repeat = mode == TEX_WRAP_REPEAT;
+  i0 = x0f < 0.0f ? (repeat ? size - 1u : 0u) : min(uint(x0f), size - 1u);
+  i1 = i0 + 1u < size ? i0 + 1u : (repeat ? 0u : size - 1u);
+  if (x0f < 0.0f && !repeat) i1 = 0u;
+}
+
+// Bilinear lookup, RGBA; v = 0 is the bottom row of the image.
+vec4 image_lookup(Texture t, vec3 q) {
+  uint x0;
+  uint x1;
+  uint y0;
+  uint y1;
+  float fx;
+  float fy;
+  wrap_texels(q.x, (t.info.x >> TEX_WRAP_U_SHIFT) & 3u, t.info.z, x0, x1, fx);
+  wrap_texels(1.0f - q.y, (t.info.x >> TEX_WRAP_V_SHIFT) & 3u, t.info.w, y0, y1, fy);
+  vec4 top = mix(texel_at(t, x0, y0), texel_at(t, x1, y0), fx);
+  vec4 bottom = mix(texel_at(t, x0, y1), texel_at(t, x1, y1), fx);
   return mix(top, bottom, fy);
 }
 
@@ -42,7 +58,7 @@ vec3 image_lookup(Texture t, vec3 q) {
 // arithmetic around them, and most textures are constants. A constant is what
 // every lookup ends in, so it is never compiled out; a fresnel texture is a
 // blend's amount, which material_at.glsl computes, never looked up here.
-vec3 texture_eval(uint index, vec2 uv, vec3 p) {
+vec3 texture_eval(uint index, vec4 uv, vec3 p) {
   uvec4 info = load_texture(index).info;
   // A checker picks one of two textures; follow the picks (the loader bounds the nesting).
   for (uint depth = 0u; TEXTURE_COMPILED(TEX_CHECKER) && depth < TEXTURE_MAX_NESTING && (info.x & TEX_TYPE_MASK) == TEX_CHECKER; ++depth) {
@@ -60,10 +76,26 @@ vec3 texture_eval(uint index, vec2 uv, vec3 p) {
   }
   if (TEXTURE_COMPILED(TEX_IMAGE) && type == TEX_IMAGE) {
     Texture t = load_texture(index);
-    return image_lookup(t, texture_point(t, uv, p)) * vec3(t.color0.x, t.color0.y, t.color0.z);
+    vec4 c = image_lookup(t, texture_point(t, uv, p));
+    return vec3(c.x, c.y, c.z) * vec3(t.color0.x, t.color0.y, t.color0.z);
   }
   vec4 c = load_texture(index).color0;
   return vec3(c.x, c.y, c.z);
+}
+
+// Opacity of texture `index` at a surface point (glTF's alpha): a constant's
+// color0.w, an image's alpha times it; other kinds are opaque.
+float texture_alpha(uint index, vec4 uv, vec3 p) {
+  Texture t = load_texture(index);
+  uint type = t.info.x & TEX_TYPE_MASK;
+  if (TEXTURE_COMPILED(TEX_IMAGE) && type == TEX_IMAGE) return image_lookup(t, texture_point(t, uv, p)).w * t.color0.w;
+  return type == TEX_CONSTANT ? t.color0.w : 1.0f;
+}
+
+// The alpha below which a cut-out material (TRIANGLE_CUTOUT) is not there;
+// negative for stochastic transparency.
+float material_alpha_cutoff(Material m) {
+  return uintBitsToFloat(m.children.x);
 }
 
 #endif  // WP_TEXTURES_GLSL

@@ -15,6 +15,28 @@
 #define TRACE_OK 0u
 #define TRACE_TRUNCATED 1u
 
+// Whether the ray (o, d) that meets triangle record i, `tri`, at
+// barycentrics (b1, b2) takes the hit: a one-sided triangle is not there
+// from behind, and a cut-out not where its alpha (its material's albedo
+// texture's, times the vertex colour's) falls below its material's cutoff.
+// A negative cutoff is stochastic transparency: the cutoff is then a number
+// in [0, 1) hashed from the ray and the triangle, so that a ray passes with
+// probability 1 - alpha, and the same ray always decides the same way.
+bool triangle_is_there(uint i, Triangle tri, vec3 o, vec3 d, float b1, float b2) {
+  if (FEATURE_COMPILED(FEATURE_ONE_SIDED) && (tri.material & TRIANGLE_ONE_SIDED) != 0u &&
+      dot(cross(tri.v1 - tri.v0, tri.v2 - tri.v0), d) > 0.0f)
+    return false;
+  if (!FEATURE_COMPILED(FEATURE_CUTOUTS) || (tri.material & TRIANGLE_CUTOUT) == 0u) return true;
+  SurfaceHit s = triangle_surface_of(tri, b1, b2);
+  Material m = load_material(s.material);
+  float alpha = texture_alpha(m.info.y, s.uv, s.p) * s.color.w;
+  float cutoff = material_alpha_cutoff(m);
+  if (cutoff >= 0.0f) return alpha >= cutoff;
+  uint h = pcg_hash(i ^ pcg_hash(floatBitsToUint(d.x) ^ pcg_hash(floatBitsToUint(d.y) ^ pcg_hash(floatBitsToUint(d.z) ^
+           pcg_hash(floatBitsToUint(o.x) ^ pcg_hash(floatBitsToUint(o.y) ^ pcg_hash(floatBitsToUint(o.z))))))));
+  return alpha > float(h >> 8u) * (1.0f / 16777216.0f);
+}
+
 // Tests primitive record i (a triangle, or a sphere's placeholder), loaded as
 // tri, and keeps the nearer hit.
 void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
@@ -22,7 +44,7 @@ void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, IN
   if (tri.material != WP_INVALID) {
     float u;
     float v;
-    if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v)) {
+    if (intersect_triangle(o, sh, tri.v0, tri.v1, tri.v2, hit.t, t, u, v) && triangle_is_there(i, tri, o, d, u, v)) {
       hit.t = t;
       hit.prim = i;
       hit.u = u;

@@ -129,6 +129,7 @@ struct WideNode {
 #define WIDE_NODE_TEXELS 5
 #define TRIANGLE_TEXELS 3
 #define TRIANGLE_SHADING_TEXELS 4
+#define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
 #define MATERIAL_TEXELS 4
 #define TEXTURE_TEXELS 6
@@ -140,28 +141,53 @@ struct WideNode {
 #define HIT_TEXELS 1
 #define SHADOW_RAY_TEXELS 3
 
+// Triangle.material: the material's index in the low bits; above them, what
+// the traversal must know before it takes a hit.
+#define TRIANGLE_MATERIAL_MASK 0x3fffffffu
+#define TRIANGLE_ONE_SIDED 0x40000000u  // its back side is not there: rays pass through it (glTF's doubleSided false)
+#define TRIANGLE_CUTOUT 0x80000000u     // its material's alpha cuts it out where below the cutoff (glTF's alphaMode)
+
 // A primitive record in BVH leaf order, 48 bytes: a triangle in world space,
 // or a sphere's placeholder (material == WP_INVALID, `shading` = its index in
 // the sphere array), so leaves of both BVH layouts hold one kind of record.
 struct Triangle {
   vec3 v0;
-  uint material;  // WP_INVALID: this record stands for sphere `shading`
+  uint material;  // its material | TRIANGLE_* flags; WP_INVALID: this record stands for sphere `shading`
   vec3 v1;
   uint emitter;  // index into the emitter table, or WP_INVALID
   vec3 v2;
   uint shading;  // index into triangleShading, or WP_INVALID: flat normal, barycentric UVs
 };
 
+// TriangleShading.flags bits.
+#define SHADING_NORMALS 1u      // n0..n2 hold vertex normals (else the normal is flat)
+#define SHADING_VERTEX_DATA 2u  // the TriangleVertexData of the same index holds the triangle's
+
 // Per-vertex shading normals and UVs of a triangle that has them. 64 bytes;
 // only triangles with such data get one, so plain meshes pay nothing.
 struct TriangleShading {
-  vec3 n0;  // unit vertex normals in world space (when hasNormals != 0)
+  vec3 n0;  // unit vertex normals in world space (with SHADING_NORMALS)
   float u0;
   vec3 n1;
   float v0;
   vec3 n2;
-  uint hasNormals;
+  uint flags;  // SHADING_*
   vec4 uv12;  // (u1, v1, u2, v2)
+};
+
+// What glTF meshes carry beyond normals and UVs, per vertex: tangents for
+// normal maps, colours, a second UV set. 128 bytes, in an array parallel to
+// the TriangleShading records (the one of the same index), which only scenes
+// that have such data fill (FEATURE_VERTEX_DATA).
+struct TriangleVertexData {
+  vec4 tangent0;  // xyz: unit tangent along increasing u, world space (zero: derive it from the UVs); w: +-1, the bitangent's handedness
+  vec4 tangent1;
+  vec4 tangent2;
+  vec4 color0;  // linear RGBA
+  vec4 color1;
+  vec4 color2;
+  vec4 uv1_01;  // the second UV set: (u0, v0, u1, v1)
+  vec4 uv1_2;   // (u2, v2, 0, 0)
 };
 
 // A sphere: the unit sphere placed by an affine transform (so it may be an
@@ -186,15 +212,19 @@ struct Sphere {
 struct Material {
   uvec4 info;      // x: MAT_* type, y: albedo texture, z: emission texture (WP_INVALID: none),
                    // w: blend amount texture / metal-rough metallic-roughness texture (WP_INVALID: none)
-  uvec4 children;  // blend: x material a, y material b; w: its sort key, shade class + 1 (SORT_KEYS; compile_scene)
+  uvec4 children;  // blend: x material a, y material b; other kinds: x the alpha cutoff of a cut-out (float bits;
+                   // negative: stochastic), y metal-rough's transmission texture (WP_INVALID: none);
+                   // z: normal map (an image texture, WP_INVALID: none);
+                   // w: its sort key, shade class + 1 (SORT_KEYS; compile_scene)
   vec4 params;     // the kind's parameters, as kinds.glsl lists them
   vec4 params2;
 };
 
 // A texture; checker textures refer to two other textures. 96 bytes.
 struct Texture {
-  uvec4 info;   // x: TEX_* type | TEX_SOLID; checker: y even, z odd; image: y first texel, z width, w height
-  vec4 color0;  // constant colour; marble base; image factor; fresnel: x ior. w: scale (checker, marble)
+  uvec4 info;   // x: TEX_* type | TEX_SOLID | TEX_UV1 | wrap modes; checker: y even, z odd; image: y first texel, z width, w height
+  vec4 color0;  // constant colour; marble base; image factor (a normal map's: its scale, scale, 1); fresnel: x ior.
+                // w: scale (checker, marble), alpha (constant, image: times the image's)
   vec4 color1;  // marble veins
   vec4 map0;    // 3x4 mapping transform (rows), applied to the lookup point
   vec4 map1;

@@ -77,6 +77,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_WIDE_NODES:
     case BINDING_TRIANGLES:
     case BINDING_TRIANGLE_SHADING:
+    case BINDING_VERTEX_DATA:
     case BINDING_SPHERES:
     case BINDING_MATERIALS:
     case BINDING_EMITTERS:
@@ -121,6 +122,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
   add_texels(BINDING_TRIANGLES, scene.triangles, "primitives");
   add_texels(BINDING_TRIANGLE_SHADING, scene.triangleShading, "vertex normals and UVs");
+  add_texels(BINDING_VERTEX_DATA, scene.triangleVertexData, "tangents, vertex colours and second UVs");
   add_texels(BINDING_SPHERES, scene.spheres, "spheres");
   add_texels(BINDING_MATERIALS, scene.materials, "materials");
   add_texels(BINDING_EMITTERS, scene.emitters, "emitters");

@@ -60,6 +60,7 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
   glm::uvec4 k(0u);
   for (const shader::Material& m : cs.materials) {
     k.x |= KIND_BIT(m.info.x);
+    if (m.children.z != WP_INVALID) k.w |= KIND_BIT(FEATURE_NORMAL_MAPS);
     if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) k.w |= KIND_BIT(FEATURE_EMISSION_TEXTURES);
   }
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
@@ -72,6 +73,12 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
   if (environment) k.z |= KIND_BIT(LIGHT_ENVIRONMENT);
   if (spheres) k.w |= KIND_BIT(FEATURE_SPHERES);
   if (!cs.triangleShading.empty()) k.w |= KIND_BIT(FEATURE_SHADING_DATA);
+  if (!cs.triangleVertexData.empty()) k.w |= KIND_BIT(FEATURE_VERTEX_DATA);
+  for (const shader::Triangle& t : cs.triangles) {
+    if (t.material == WP_INVALID) continue;  // a sphere's placeholder
+    if (t.material & TRIANGLE_ONE_SIDED) k.w |= KIND_BIT(FEATURE_ONE_SIDED);
+    if (t.material & TRIANGLE_CUTOUT) k.w |= KIND_BIT(FEATURE_CUTOUTS);
+  }
   return k;
 }
 
@@ -90,7 +97,9 @@ uint32_t lookup_kinds(const std::vector<shader::Texture>& textures, uint32_t t, 
 // emission's kinds every shade kernel has: shade_classes.)
 glm::uvec2 bsdf_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
   const shader::Material& mat = cs.materials[m];
-  glm::uvec2 k(KIND_BIT(mat.info.x), lookup_kinds(cs.textures, mat.info.y) | lookup_kinds(cs.textures, mat.info.w));
+  glm::uvec2 k(KIND_BIT(mat.info.x),
+               lookup_kinds(cs.textures, mat.info.y) | lookup_kinds(cs.textures, mat.info.w) | lookup_kinds(cs.textures, mat.children.z));
+  if (mat.info.x == MAT_METAL_ROUGH) k.y |= lookup_kinds(cs.textures, mat.children.y);  // its transmission texture
   // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
   if (mat.info.x == MAT_BLEND && depth < int(BSDF_MAX_LOBES))
     k |= bsdf_kinds(cs, mat.children.x, depth + 1) | bsdf_kinds(cs, mat.children.y, depth + 1);
@@ -108,7 +117,7 @@ void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
   cs.shadeCommonKinds = common;
   std::vector<bool> used(cs.materials.size(), false);
   for (const shader::Triangle& t : cs.triangles)
-    if (t.material != WP_INVALID) used[t.material] = true;
+    if (t.material != WP_INVALID) used[t.material & TRIANGLE_MATERIAL_MASK] = true;
   for (const shader::Sphere& sp : cs.spheres) used[sp.material] = true;
   for (uint32_t m = 0; m < cs.materials.size(); ++m) {
     cs.materials[m].children.w = SORT_KEY_MISS + 1u;  // for unused materials: any class will do
@@ -139,6 +148,7 @@ shader::SceneView CompiledScene::view() const {
   v.wideNodeTexels = texels_of(wideNodes);
   v.triangleTexels = texels_of(triangles);
   v.shadingTexels = texels_of(triangleShading);
+  v.vertexDataTexels = texels_of(triangleVertexData);
   v.sphereTexels = texels_of(spheres);
   v.materialTexels = texels_of(materials);
   v.emitterTexels = texels_of(emitters);
@@ -167,6 +177,7 @@ size_t CompiledScene::gpu_bytes() const {
          spheres.size() * sizeof(shader::Sphere) + materials.size() * sizeof(shader::Material) +
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
+         triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
          pointLights.size() * sizeof(shader::PointLight) + environmentCdf.size() * sizeof(float);
 }
 
@@ -270,12 +281,17 @@ static PackedTextures pack_textures(const Scene& scene) {
   std::vector<uint32_t> firstTexel;
   for (const LinearImage& img : scene.images) {
     firstTexel.push_back(uint32_t(out.texels.size()));
-    for (const glm::vec3& c : img.pixels)
-      out.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, 1.0f)));
+    for (size_t i = 0; i < img.pixels.size(); ++i) {
+      const glm::vec3 c = img.pixels[i];
+      const float alpha = img.alpha.empty() ? 1.0f : img.alpha[i];
+      out.texels.emplace_back(glm::packHalf2x16(glm::vec2(c.x, c.y)), glm::packHalf2x16(glm::vec2(c.z, alpha)));
+    }
   }
   for (const SceneTexture& in : scene.textures) {
     shader::Texture t{};
-    t.info = glm::uvec4(in.kind | (in.solid ? TEX_SOLID : 0u), 0u, 0u, 0u);
+    t.info = glm::uvec4(in.kind | (in.solid ? TEX_SOLID : 0u) | (in.secondUvSet ? TEX_UV1 : 0u) | in.wrapU << TEX_WRAP_U_SHIFT |
+                            in.wrapV << TEX_WRAP_V_SHIFT,
+                        0u, 0u, 0u);
     rows_3x4(in.mapping, t.map0, t.map1, t.map2);
     switch (in.kind) {
       case TEX_CHECKER:
@@ -292,11 +308,11 @@ static PackedTextures pack_textures(const Scene& scene) {
         t.info.y = firstTexel[in.image];
         t.info.z = uint32_t(img.width);
         t.info.w = uint32_t(img.height);
-        t.color0 = glm::vec4(in.color, 0.0f);
+        t.color0 = glm::vec4(in.color, in.alpha);
         break;
       }
       case TEX_FRESNEL: t.color0.x = in.ior; break;
-      default: t.color0 = glm::vec4(in.color, 0.0f); break;
+      default: t.color0 = glm::vec4(in.color, in.alpha); break;
     }
     out.textures.push_back(t);
   }
@@ -306,7 +322,9 @@ static PackedTextures pack_textures(const Scene& scene) {
 static shader::Material pack_material(const SceneMaterial& in) {
   shader::Material m{};
   m.info = glm::uvec4(in.kind, in.albedo, in.emission, in.amount);
-  m.children = glm::uvec4(in.a, in.b, WP_INVALID, WP_INVALID);  // w: the sort key (shade_classes)
+  m.children = glm::uvec4(in.a, in.b, in.normalMap, WP_INVALID);  // w: the sort key (shade_classes)
+  if (in.kind != MAT_BLEND) m.children.x = glm::floatBitsToUint(in.alphaCutoff);
+  if (in.kind == MAT_METAL_ROUGH) m.children.y = in.transmission;
   m.params = in.params;
   m.params2 = in.params2;
   return m;
@@ -392,6 +410,11 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // triangle, and for each sphere a placeholder naming it.
   reserve_huge(out.triangles, order.size());
   reserve_huge(out.triangleShading, scene.triangleShading.size());
+  // Tangents, colours and second UVs: a record beside every shading record
+  // once any triangle has them.
+  const bool vertexData = std::any_of(scene.triangleShading.begin(), scene.triangleShading.end(),
+                                      [](const SceneTriangleShading& s) { return s.hasVertexData; });
+  if (vertexData) reserve_huge(out.triangleVertexData, scene.triangleShading.size());
   for (uint32_t id : order) {
     shader::Triangle g{};
     if (id >= numTris) {
@@ -412,7 +435,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       const SceneTriangleShading& in = scene.triangleShading[t.shading];
       shader::TriangleShading sh{};
       g.shading = uint32_t(out.triangleShading.size());
-      sh.hasNormals = in.hasNormals ? 1u : 0u;
+      sh.flags = (in.hasNormals ? SHADING_NORMALS : 0u) | (in.hasVertexData ? SHADING_VERTEX_DATA : 0u);
       if (in.hasNormals) {
         sh.n0 = in.n[0];
         sh.n1 = in.n[1];
@@ -425,6 +448,19 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       sh.v0 = uv[0].y;
       sh.uv12 = glm::vec4(uv[1], uv[2]);
       out.triangleShading.push_back(sh);
+      if (vertexData) {
+        shader::TriangleVertexData vd{};
+        const glm::vec2* uv1 = in.hasUv1 ? in.uv1 : uv;
+        vd.tangent0 = in.tangent[0];
+        vd.tangent1 = in.tangent[1];
+        vd.tangent2 = in.tangent[2];
+        vd.color0 = in.color[0];
+        vd.color1 = in.color[1];
+        vd.color2 = in.color[2];
+        vd.uv1_01 = glm::vec4(uv1[0], uv1[1]);
+        vd.uv1_2 = glm::vec4(uv1[2], 0.0f, 0.0f);
+        out.triangleVertexData.push_back(vd);
+      }
     }
     out.triangles.push_back(g);
   }
@@ -506,6 +542,16 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     prims.push_back(uint32_t(i) | EMITTER_POINT_BIT);
     power.push_back(p);
   }
+  // What the traversal must know of a triangle's material: whether its back
+  // is there, whether its alpha cuts it (an emitter is never cut: light
+  // sampling could not see the cuts).
+  if (scene.materials.size() > TRIANGLE_MATERIAL_MASK) throw RenderError("the scene has more materials than wavepath can index");
+  for (shader::Triangle& t : out.triangles) {
+    if (t.material == WP_INVALID) continue;  // a sphere's placeholder
+    const SceneMaterial& m = scene.materials[t.material];
+    if (!m.doubleSided) t.material |= TRIANGLE_ONE_SIDED;
+    if (m.alphaCutoff != 0.0f && materialRadiance[t.material & TRIANGLE_MATERIAL_MASK] <= 0.0) t.material |= TRIANGLE_CUTOUT;
+  }
   out.emitters = build_alias_table(power);
   for (size_t i = 0; i < prims.size(); ++i) out.emitters[i].prim = prims[i];
   glm::uvec4 kinds = scene_kinds(out, prims, numSpheres > 0, scene.environment != WP_INVALID);
@@ -518,6 +564,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (out.textures.empty()) out.textures.push_back(shader::Texture{});
   if (out.texels.empty()) out.texels.push_back(glm::uvec2(0u));
   if (out.triangleShading.empty()) out.triangleShading.push_back(shader::TriangleShading{});
+  if (out.triangleVertexData.empty()) out.triangleVertexData.push_back(shader::TriangleVertexData{});
   if (out.pointLights.empty()) out.pointLights.push_back(shader::PointLight{});
   if (out.environmentCdf.empty()) out.environmentCdf.push_back(0.0f);
 

@@ -55,6 +55,7 @@ struct CompiledScene {
   std::vector<shader::Texture> textures;
   std::vector<glm::uvec2> texels;
   std::vector<shader::TriangleShading> triangleShading;
+  std::vector<shader::TriangleVertexData> triangleVertexData;  // parallel to triangleShading, or empty (FEATURE_VERTEX_DATA)
   std::vector<shader::PointLight> pointLights;
   std::vector<float> environmentCdf;
   std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)

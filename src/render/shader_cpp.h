@@ -55,6 +55,7 @@ struct SceneView : ShaderMath {
   const uvec4* wideNodeTexels = nullptr;
   const uvec4* triangleTexels = nullptr;
   const uvec4* shadingTexels = nullptr;
+  const uvec4* vertexDataTexels = nullptr;
   const uvec4* sphereTexels = nullptr;
   const uvec4* materialTexels = nullptr;
   const uvec4* emitterTexels = nullptr;
@@ -95,6 +96,7 @@ struct SceneView : ShaderMath {
 // Host-side layout checks; tests/test_layout.cpp checks the GLSL side.
 static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 * WIDE_NODE_TEXELS &&
               sizeof(Triangle) == 16 * TRIANGLE_TEXELS && sizeof(TriangleShading) == 16 * TRIANGLE_SHADING_TEXELS &&
+              sizeof(TriangleVertexData) == 16 * TRIANGLE_VERTEX_DATA_TEXELS &&
               sizeof(Sphere) == 16 * SPHERE_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
               sizeof(Texture) == 16 * TEXTURE_TEXELS && sizeof(PointLight) == 16 * POINT_LIGHT_TEXELS &&
               sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(PathState) == 16 * PATH_STATE_TEXELS &&
@@ -103,7 +105,8 @@ static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof
 static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
               offsetof(WideNode, qlo) == 32 && offsetof(WideNode, qhi) == 64);
 static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof(Triangle, shading) == 44);
-static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, hasNormals) == 44 && offsetof(TriangleShading, uv12) == 48);
+static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, flags) == 44 && offsetof(TriangleShading, uv12) == 48);
+static_assert(sizeof(TriangleVertexData) == 128 && offsetof(TriangleVertexData, color0) == 48 && offsetof(TriangleVertexData, uv1_2) == 112);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
 static_assert(sizeof(Material) == 64 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
               offsetof(Material, params2) == 48);

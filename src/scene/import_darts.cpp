@@ -307,14 +307,14 @@ class DartsImporter {
       m.albedo = tint_param(j);
       m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, smooth_or_ggx_alpha(j), 0.0f, 0.0f);
     } else if (type == "metal_rough") {
-      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "emit"});
+      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "transmission", "emit"});
       m.kind = MAT_METAL_ROUGH;
       if (j.has("emit")) m.emission = texture_param(j["emit"]);  // as glTF's emissive materials, which also scatter
       // As glTF's metallicRoughnessTexture: green scales roughness, blue metallic.
       if (j.has("metallic_roughness")) m.amount = texture_param(j["metallic_roughness"]);
       m.albedo = j.has("base_color") ? albedo_param(j, "base_color") : add_texture(constant_texture(glm::vec3(1.0f)));
       m.params = glm::vec4(unit_number(j, "roughness", 1.0f), unit_number(j, "metallic", 1.0f),
-                           j.has("ior") ? j["ior"].positive_number() : 1.5f, 0.0f);
+                           j.has("ior") ? j["ior"].positive_number() : 1.5f, unit_number(j, "transmission", 0.0f));
     } else if (type == "blend") {
       j.allow_only({"type", "name", "amount", "a", "b"});
       m.kind = MAT_BLEND;

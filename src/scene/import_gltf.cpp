@@ -101,7 +101,7 @@ std::string joined(const std::set<std::string>& names) {
 // The extensions wavepath reads. Others are named once in a warning, or
 // refused when the file requires them.
 const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
-                                                    "KHR_texture_transform"};
+                                                    "KHR_materials_transmission", "KHR_texture_transform"};
 
 // The most nodes a scene's tree may visit (a DAG can share subtrees, which
 // multiplies what a walk visits).
@@ -265,7 +265,6 @@ class GltfImporter {
         const std::string mode = prim.mode >= 0 && prim.mode <= 6 ? kModes[prim.mode] : "mode " + std::to_string(prim.mode);
         fail(pat + "/mode", "wavepath renders triangles only, not " + mode);
       }
-      if (prim.attributes.count("COLOR_0")) unread_.insert("vertex colours (COLOR_0)");
       if (!prim.targets.empty()) unread_.insert("morph targets");
       auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(pat + "/attributes", "has no POSITION");
@@ -280,11 +279,31 @@ class GltfImporter {
       if (normal != prim.attributes.end())
         for (const glm::vec4& v : reader.read(normal->second, {TINYGLTF_TYPE_VEC3}, pat + "/attributes/NORMAL", vertices))
           m.normals.push_back(glm::vec3(v));
-      const int uvSet = material_uv_set(prim.material);
-      auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(uvSet));
-      if (uv != prim.attributes.end())
-        for (const glm::vec4& v : reader.read(uv->second, {TINYGLTF_TYPE_VEC2}, pat + "/attributes/TEXCOORD_" + std::to_string(uvSet), vertices))
-          m.uvs.push_back(glm::vec2(v.x, 1.0f - v.y));  // glTF's v runs down the image; wavepath's up
+      for (int set = 0; set < 2; ++set) {
+        auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(set));
+        if (uv == prim.attributes.end()) continue;
+        std::vector<glm::vec2>& uvs = set == 0 ? m.uvs : m.uvs1;
+        for (const glm::vec4& v : reader.read(uv->second, {TINYGLTF_TYPE_VEC2}, pat + "/attributes/TEXCOORD_" + std::to_string(set), vertices))
+          uvs.push_back(glm::vec2(v.x, 1.0f - v.y));  // glTF's v runs down the image; wavepath's up
+      }
+      auto tangent = prim.attributes.find("TANGENT");
+      if (tangent != prim.attributes.end())
+        for (const glm::vec4& v : reader.read(tangent->second, {TINYGLTF_TYPE_VEC4}, pat + "/attributes/TANGENT", vertices)) {
+          // A tangent that is not a finite direction is derived from the UVs instead.
+          const bool usable = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+          m.tangents.push_back(usable ? v : glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+        }
+      auto color = prim.attributes.find("COLOR_0");
+      if (color != prim.attributes.end()) {
+        const std::vector<glm::vec4> colors = reader.read(color->second, {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, pat + "/attributes/COLOR_0", vertices);
+        const bool rgb = model_.accessors[size_t(color->second)].type == TINYGLTF_TYPE_VEC3;  // read() checked the index
+        for (const glm::vec4& v : colors) {
+          const glm::vec4 c(v.x, v.y, v.z, rgb ? 1.0f : v.w);
+          if (!(glm::all(glm::greaterThanEqual(c, glm::vec4(0.0f))) && glm::all(glm::lessThanEqual(c, glm::vec4(1.0f)))))
+            fail(pat + "/attributes/COLOR_0", "holds a colour outside [0, 1]");
+          m.colors.push_back(c);
+        }
+      }
       std::vector<uint32_t> corners;
       if (prim.indices >= 0) {
         corners = reader.indices(prim.indices, pat + "/indices", vertices);
@@ -298,17 +317,13 @@ class GltfImporter {
       m.uvIndices = m.uvs.empty() ? std::vector<uint32_t>(corners.size(), WP_INVALID) : corners;
       m.materials.assign(corners.size() / 3, 0u);
       const uint32_t material = material_for(prim.material, pat + "/material");
+      // A normal map without TANGENT: smooth tangents from its UV set.
+      const uint32_t normalMap = scene_.materials[material].normalMap;
+      if (normalMap != WP_INVALID && m.tangents.empty())
+        m.tangents = smooth_tangents(m, scene_.textures[normalMap].secondUvSet ? m.uvs1 : m.uvs);
       out.push_back(Primitive{std::move(m), material, pat});
     }
     return out;
-  }
-
-  // The TEXCOORD set a material's base colour texture reads (0 without one).
-  int material_uv_set(int material) const {
-    if (material < 0 || material >= int(model_.materials.size())) return 0;
-    const tinygltf::Material& m = model_.materials[size_t(material)];
-    const int set = m.pbrMetallicRoughness.baseColorTexture.index >= 0 ? m.pbrMetallicRoughness.baseColorTexture.texCoord : 0;
-    return std::clamp(set, 0, 1);
   }
 
   // ---- materials -----------------------------------------------------------
@@ -332,18 +347,23 @@ class GltfImporter {
     const tinygltf::Material& g = model_.materials[size_t(index)];
     const std::string at = "/materials/" + std::to_string(index);
     const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
-    if (g.normalTexture.index >= 0) unread_.insert("normal maps");
     if (g.occlusionTexture.index >= 0) unread_.insert("occlusion maps (a path tracer computes occlusion)");
-    if (g.alphaMode == "MASK" || g.alphaMode == "BLEND") unread_.insert("alphaMode " + g.alphaMode + " (surfaces are opaque)");
     SceneMaterial m;
     m.kind = MAT_METAL_ROUGH;
     m.name = g.name.empty() ? "material " + std::to_string(index) : g.name;
     const glm::vec3 base = factor3(pbr.baseColorFactor, glm::vec3(1.0f), at + "/pbrMetallicRoughness/baseColorFactor");
-    m.albedo = texture_times(pbr.baseColorTexture, base, ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture");
+    const std::vector<double>& baseFactor = pbr.baseColorFactor;
+    const float alpha = baseFactor.size() == 4 ? unit(baseFactor[3], at + "/pbrMetallicRoughness/baseColorFactor/3") : 1.0f;
+    m.albedo = texture_times(TextureRef(pbr.baseColorTexture), glm::vec4(base, alpha), ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture");
+    if (g.normalTexture.index >= 0) {
+      const float scale = float(g.normalTexture.scale);
+      if (!std::isfinite(scale) || std::fabs(scale) > 1e3f) fail(at + "/normalTexture/scale", "must be a finite number of at most 1000");
+      m.normalMap = texture_times(TextureRef(g.normalTexture), glm::vec4(scale, scale, 1.0f, 1.0f), ColorEncoding::Linear, at + "/normalTexture");
+    }
     const float metallic = unit(pbr.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor");
     const float roughness = unit(pbr.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor");
     if (pbr.metallicRoughnessTexture.index >= 0)
-      m.amount = texture_times(pbr.metallicRoughnessTexture, glm::vec3(1.0f), ColorEncoding::Linear,
+      m.amount = texture_times(TextureRef(pbr.metallicRoughnessTexture), glm::vec4(1.0f), ColorEncoding::Linear,
                                at + "/pbrMetallicRoughness/metallicRoughnessTexture");
     float ior = 1.5f;
     auto iorExt = g.extensions.find("KHR_materials_ior");
@@ -351,7 +371,37 @@ class GltfImporter {
       ior = float(iorExt->second.Get("ior").GetNumberAsDouble());
       if (!(ior >= 1.0f && ior <= 10.0f)) fail(at + "/extensions/KHR_materials_ior/ior", "must lie in [1, 10]");
     }
-    m.params = glm::vec4(roughness, metallic, ior, 0.0f);
+    float transmission = 0.0f;
+    auto transmissionExt = g.extensions.find("KHR_materials_transmission");
+    if (transmissionExt != g.extensions.end()) {
+      const tinygltf::Value& t = transmissionExt->second;
+      const std::string tat = at + "/extensions/KHR_materials_transmission";
+      if (t.Has("transmissionFactor")) {
+        if (!t.Get("transmissionFactor").IsNumber()) fail(tat + "/transmissionFactor", "expected a number");
+        transmission = unit(t.Get("transmissionFactor").GetNumberAsDouble(), tat + "/transmissionFactor");
+      }
+      if (t.Has("transmissionTexture")) {
+        tinygltf::TextureInfo info;
+        const tinygltf::Value& ti = t.Get("transmissionTexture");
+        if (!ti.IsObject() || !ti.Has("index") || !ti.Get("index").IsInt()) fail(tat + "/transmissionTexture", "expected a textureInfo with an index");
+        info.index = ti.Get("index").GetNumberAsInt();
+        if (ti.Has("texCoord")) info.texCoord = ti.Get("texCoord").IsInt() ? ti.Get("texCoord").GetNumberAsInt() : -1;
+        m.transmission = texture_times(TextureRef(info), glm::vec4(1.0f), ColorEncoding::Linear, tat + "/transmissionTexture");
+      }
+    }
+    m.params = glm::vec4(roughness, metallic, ior, transmission);
+    m.doubleSided = g.doubleSided;
+    // MASK cuts out where alpha < cutoff; BLEND is rendered as stochastic
+    // transparency (a ray passes with probability 1 - alpha), which a path
+    // tracer converges to the blend a rasterizer draws.
+    if (g.alphaMode == "MASK") {
+      if (!(g.alphaCutoff >= 0.0 && g.alphaCutoff <= 1.0)) fail(at + "/alphaCutoff", "must lie in [0, 1]");
+      m.alphaCutoff = float(g.alphaCutoff);
+    } else if (g.alphaMode == "BLEND") {
+      m.alphaCutoff = -1.0f;
+    } else if (g.alphaMode != "OPAQUE") {
+      fail(at + "/alphaMode", "is \"" + g.alphaMode + "\", not OPAQUE, MASK or BLEND");
+    }
     float strength = 1.0f;
     auto strengthExt = g.extensions.find("KHR_materials_emissive_strength");
     if (strengthExt != g.extensions.end() && strengthExt->second.Has("emissiveStrength")) {
@@ -361,7 +411,7 @@ class GltfImporter {
     }
     const glm::vec3 emissive = factor3(g.emissiveFactor, glm::vec3(0.0f), at + "/emissiveFactor") * strength;
     if (emissive != glm::vec3(0.0f))
-      m.emission = texture_times(g.emissiveTexture, emissive, ColorEncoding::Srgb, at + "/emissiveTexture");
+      m.emission = texture_times(TextureRef(g.emissiveTexture), glm::vec4(emissive, 1.0f), ColorEncoding::Srgb, at + "/emissiveTexture");
     scene_.materials.push_back(m);
     const uint32_t id = uint32_t(scene_.materials.size() - 1);
     materials_[index] = id;
@@ -382,10 +432,26 @@ class GltfImporter {
     return float(v);
   }
 
-  // A texture scaled by a constant factor, or the factor alone without one.
-  uint32_t texture_times(const tinygltf::TextureInfo& info, glm::vec3 factor, ColorEncoding encoding, const std::string& where) {
+  // What a material says of one of its textures (glTF's textureInfo, and
+  // the normal texture's, which adds a scale).
+  struct TextureRef {
+    int index;
+    int texCoord;
+    const tinygltf::ExtensionMap& extensions;
+    template <typename Info>
+    explicit TextureRef(const Info& info) : index(info.index), texCoord(info.texCoord), extensions(info.extensions) {}
+  };
+
+  // A texture scaled by a constant factor (RGB and alpha), or the factor
+  // alone without one.
+  uint32_t texture_times(const TextureRef& info, glm::vec4 factor, ColorEncoding encoding, const std::string& where) {
     const int textureIndex = info.index;
-    if (textureIndex < 0) return add_texture(scene_, constant_texture(factor));
+    if (textureIndex < 0) {
+      SceneTexture constant = constant_texture(glm::vec3(factor));
+      constant.alpha = factor.w;
+      return add_texture(scene_, constant);
+    }
+    if (info.texCoord < 0 || info.texCoord > 1) fail(where + "/texCoord", "wavepath reads TEXCOORD_0 and TEXCOORD_1, not set " + std::to_string(info.texCoord));
     if (textureIndex >= int(model_.textures.size()))
       fail(where + "/index", "names texture " + std::to_string(textureIndex) + ", which does not exist");
     const tinygltf::Texture& t = model_.textures[size_t(textureIndex)];
@@ -394,11 +460,39 @@ class GltfImporter {
       fail("/textures/" + std::to_string(textureIndex) + "/source", "names image " + std::to_string(image) + ", which does not exist");
     SceneTexture tex;
     tex.kind = TEX_IMAGE;
+    tex.color = glm::vec3(factor);
+    tex.alpha = factor.w;
+    tex.secondUvSet = info.texCoord == 1;
+    if (t.sampler >= 0) {
+      if (t.sampler >= int(model_.samplers.size()))
+        fail("/textures/" + std::to_string(textureIndex) + "/sampler", "names sampler " + std::to_string(t.sampler) + ", which does not exist");
+      const tinygltf::Sampler& s = model_.samplers[size_t(t.sampler)];
+      const std::string sat = "/samplers/" + std::to_string(t.sampler);
+      tex.wrapU = wrap_mode(s.wrapS, sat + "/wrapS");
+      tex.wrapV = wrap_mode(s.wrapT, sat + "/wrapT");
+    }
     tex.image = decoded_image(image, encoding);
-    tex.color = factor;
     auto transform = info.extensions.find("KHR_texture_transform");
-    if (transform != info.extensions.end()) tex.mapping = uv_transform(transform->second, where + "/extensions/KHR_texture_transform");
+    if (transform != info.extensions.end()) {
+      const std::string tat = where + "/extensions/KHR_texture_transform";
+      tex.mapping = uv_transform(transform->second, tat);
+      if (transform->second.Has("texCoord")) {  // overrides the textureInfo's set
+        const tinygltf::Value& set = transform->second.Get("texCoord");
+        if (!set.IsInt() || set.GetNumberAsInt() < 0 || set.GetNumberAsInt() > 1) fail(tat + "/texCoord", "wavepath reads TEXCOORD_0 and TEXCOORD_1 only");
+        tex.secondUvSet = set.GetNumberAsInt() == 1;
+      }
+    }
     return add_texture(scene_, tex);
+  }
+
+  // A sampler's wrap mode (the OpenGL enum glTF uses) as TEX_WRAP_*.
+  uint32_t wrap_mode(int mode, const std::string& where) const {
+    switch (mode) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT: return TEX_WRAP_REPEAT;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TEX_WRAP_CLAMP;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TEX_WRAP_MIRROR;
+      default: fail(where, "is " + std::to_string(mode) + ", not a wrap mode (10497, 33071 or 33648)");
+    }
   }
 
   // KHR_texture_transform's offset x rotation x scale of glTF's UVs, as a
@@ -418,7 +512,6 @@ class GltfImporter {
       if (!t.Get("rotation").IsNumber() || !std::isfinite(t.Get("rotation").GetNumberAsDouble())) fail(where + "/rotation", "expected a number");
       rotation = float(t.Get("rotation").GetNumberAsDouble());
     }
-    if (t.Has("texCoord")) fail(where + "/texCoord", "a texture transform's own TEXCOORD set is not supported");
     const float c = std::cos(rotation), s = std::sin(rotation);
     glm::mat4 m(1.0f);  // the specification's matrix: (u, v) -> (c u + s v + ox, -s u + c v + oy) after scaling
     m[0] = glm::vec4(c * scale.x, -s * scale.x, 0.0f, 0.0f);

@@ -116,9 +116,42 @@ void choose_camera(Scene& scene, const std::string& which) {
   scene.camera = found->camera;
 }
 
+std::vector<glm::vec4> smooth_tangents(const SceneMesh& mesh, const std::vector<glm::vec2>& uvs) {
+  const size_t n = mesh.positions.size();
+  if (mesh.normals.size() != n || uvs.size() != n) return {};
+  std::vector<glm::vec3> dpdu(n, glm::vec3(0.0f)), dpdv(n, glm::vec3(0.0f));
+  for (size_t t = 0; t + 2 < mesh.positionIndices.size(); t += 3) {
+    const uint32_t i[3] = {mesh.positionIndices[t], mesh.positionIndices[t + 1], mesh.positionIndices[t + 2]};
+    const glm::vec3 e1 = mesh.positions[i[1]] - mesh.positions[i[0]], e2 = mesh.positions[i[2]] - mesh.positions[i[0]];
+    const glm::vec2 d1 = uvs[i[1]] - uvs[i[0]], d2 = uvs[i[2]] - uvs[i[0]];
+    const float det = d1.x * d2.y - d2.x * d1.y;
+    if (det == 0.0f || !std::isfinite(det)) continue;
+    // Weighted by the triangle's area over its UV area: larger triangles count more.
+    const glm::vec3 u = (e1 * d2.y - e2 * d1.y) / det, v = (e2 * d1.x - e1 * d2.x) / det;
+    if (!is_finite(u) || !is_finite(v)) continue;
+    for (uint32_t k : i) {
+      dpdu[k] += u;
+      dpdv[k] += v;
+    }
+  }
+  std::vector<glm::vec4> out(n, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  for (size_t k = 0; k < n; ++k) {
+    const glm::vec3 normal = mesh.normals[k];
+    const glm::vec3 t = dpdu[k] - normal * glm::dot(normal, dpdu[k]);
+    const float len = glm::length(t);
+    if (!(len > 0.0f) || !std::isfinite(len)) continue;
+    out[k] = glm::vec4(t / len, glm::dot(glm::cross(normal, t), dpdv[k]) < 0.0f ? -1.0f : 1.0f);
+  }
+  return out;
+}
+
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
               uint32_t unassigned, const std::function<void(const std::string&)>& fail) {
   const glm::mat3 normalXform = normal_matrix(toWorld);
+  const glm::mat3 vectorXform(toWorld);
+  // A mirroring transform turns the bitangent's handedness.
+  const float handedness = glm::determinant(vectorXform) < 0.0f ? -1.0f : 1.0f;
+  const bool vertexData = !mesh.tangents.empty() || !mesh.colors.empty() || !mesh.uvs1.empty();
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
     const uint32_t slot = mesh.materials[t];
     const uint32_t material = slot == WP_INVALID ? unassigned : slot < slots.size() ? slots[slot] : WP_INVALID;
@@ -144,7 +177,22 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
       if (ti != WP_INVALID) sh.uv[c] = mesh.uvs[ti];
       else sh.hasUvs = false;
     }
-    if (sh.hasNormals || sh.hasUvs) {
+    if (vertexData) {
+      sh.hasVertexData = true;
+      sh.hasUv1 = !mesh.uvs1.empty();
+      for (size_t c = 0; c < 3; ++c) {
+        const uint32_t vi = mesh.positionIndices[3 * t + c];
+        if (!mesh.tangents.empty()) {
+          const glm::vec3 tw = vectorXform * glm::vec3(mesh.tangents[vi]);
+          const float len = glm::length(tw);
+          // A zero or broken tangent leaves the kernels to derive one from the UVs.
+          if (len > 0.0f && std::isfinite(len)) sh.tangent[c] = glm::vec4(tw / len, mesh.tangents[vi].w < 0.0f ? -handedness : handedness);
+        }
+        if (!mesh.colors.empty()) sh.color[c] = mesh.colors[vi];
+        if (!mesh.uvs1.empty()) sh.uv1[c] = mesh.uvs1[vi];
+      }
+    }
+    if (sh.hasNormals || sh.hasUvs || sh.hasVertexData) {
       tri.shading = uint32_t(scene.triangleShading.size());
       scene.triangleShading.push_back(sh);
     }

@@ -78,6 +78,12 @@ struct SceneTriangleShading {
   bool hasUvs = false;
   glm::vec3 n[3]{};
   glm::vec2 uv[3]{};
+  // glTF's further vertex data (TriangleVertexData), where the mesh has any.
+  bool hasVertexData = false;
+  glm::vec4 tangent[3]{};  // xyz world-space tangent (zero: derived from the UVs), w handedness
+  glm::vec4 color[3]{glm::vec4(1.0f), glm::vec4(1.0f), glm::vec4(1.0f)};
+  bool hasUv1 = false;
+  glm::vec2 uv1[3]{};      // the second UV set (without one, the first serves)
 };
 
 struct SceneSphere {
@@ -90,12 +96,16 @@ struct SceneTexture {
   uint32_t kind = TEX_CONSTANT;
   glm::vec3 color{0.0f};     // constant: the colour; marble: the base colour; image: a factor (glTF's)
   glm::vec3 veins{0.0f};     // marble: the veins' colour
+  float alpha = 1.0f;        // constant and image: opacity (an image's alpha times it)
   float scale = 1.0f;        // checker and marble: squares or pattern per unit
   float ior = 1.5f;          // fresnel: the index whose reflectance is the value
   uint32_t even = WP_INVALID;   // checker: the textures of its even and odd squares
   uint32_t odd = WP_INVALID;
   uint32_t image = WP_INVALID;  // image: index into Scene::images
   bool solid = false;           // looked up at the hit point, not at (u, v, 0)
+  bool secondUvSet = false;     // looked up at the second UV set (glTF's TEXCOORD_1)
+  uint32_t wrapU = TEX_WRAP_REPEAT;  // image: how it extends beyond [0, 1] (TEX_WRAP_*)
+  uint32_t wrapV = TEX_WRAP_REPEAT;
   glm::mat4 mapping{1.0f};      // applied to the lookup point
 };
 
@@ -106,12 +116,19 @@ struct SceneMaterial {
   std::string name;                // for messages
   uint32_t albedo = WP_INVALID;    // lambertian, metal, phong, blinn-phong
   uint32_t emission = WP_INVALID;  // emitted radiance (any kind may emit; diffuse_light only emits)
+  uint32_t normalMap = WP_INVALID; // an image texture of tangent-space normals, its factor (scale, scale, 1)
+  // glTF's alphaMode: 0 opaque; > 0 a cut-out where the albedo texture's
+  // alpha (times the vertex colour's) is below it (MASK); < 0 stochastic
+  // transparency, the alpha the chance of being there (BLEND). Not for blends.
+  float alphaCutoff = 0.0f;
+  bool doubleSided = true;         // false: triangles are not there from behind (glTF's doubleSided)
   glm::vec4 params{0.0f};          // the kind's parameters, as kinds.glsl lists them (Material.params)
   glm::vec4 params2{0.0f};
   uint32_t amount = WP_INVALID;    // blend: the weight of b (a texture's mean, or a fresnel texture);
                                    // metal-rough: its metallic-roughness texture (WP_INVALID: none)
   uint32_t a = WP_INVALID;         // blend: its two materials
   uint32_t b = WP_INVALID;
+  uint32_t transmission = WP_INVALID;  // metal-rough: a texture whose red channel scales its transmission (params.w)
 };
 
 // A punctual light (PointLight in types.glsl): a point light's radiant
@@ -141,6 +158,11 @@ struct SceneMesh {
   std::vector<uint32_t> positionIndices;  // three per triangle
   std::vector<uint32_t> normalIndices;    // three per triangle
   std::vector<uint32_t> uvIndices;        // three per triangle
+  // glTF's further vertex data, indexed by positionIndices, each empty or one
+  // per position: tangents (xyz, w handedness), RGBA colours, a second UV set.
+  std::vector<glm::vec4> tangents;
+  std::vector<glm::vec4> colors;
+  std::vector<glm::vec2> uvs1;
   std::vector<uint32_t> materials;        // per triangle: the mesh's material slot, or WP_INVALID
   size_t triangle_count() const { return materials.size(); }
 };
@@ -200,6 +222,16 @@ inline constexpr const char* kPastFloatRange = "the transforms place it past the
 // passed to `fail` as "triangle N: ..." (N from 1); `fail` must throw.
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
               uint32_t unassigned, const std::function<void(const std::string&)>& fail);
+
+// Per-vertex tangents for a normal map on `mesh`, whose corners index
+// positions, normals and UVs alike (glTF's single index), from the UV set
+// `uvs` (the mesh's first or second): each vertex's is the sum of the
+// tangents d p / d u of the triangles around it, made orthogonal to its
+// normal, with the handedness of their d p / d v, so that tangents turn
+// smoothly across a curved surface as its normals do (the idea of
+// MikkTSpace, without its seam rules). Zero where they degenerate (the
+// kernels then derive a triangle's own); empty without normals or UVs.
+std::vector<glm::vec4> smooth_tangents(const SceneMesh& mesh, const std::vector<glm::vec2>& uvs);
 
 // A camera that frames the bounds of the scene's triangles and spheres:
 // looking down -Z and slightly down from in front of them, 40 degrees of

@@ -118,11 +118,18 @@ LinearImage decode_stb(const std::vector<unsigned char>& bytes, const std::strin
     for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(data[3 * i], data[3 * i + 1], data[3 * i + 2]);
     stbi_image_free(data);
   } else {
-    unsigned char* data = stbi_load_from_memory(data8, size, &w, &h, &channels, 3);
+    // Grey + alpha and RGBA files keep their alpha (linear whatever the colours' encoding).
+    const bool hasAlpha = channels == 2 || channels == 4;
+    const int n = hasAlpha ? 4 : 3;
+    unsigned char* data = stbi_load_from_memory(data8, size, &w, &h, &channels, n);
     check_decoded(data);
     float lut[256];
     for (int i = 0; i < 256; ++i) lut[i] = encoding == ColorEncoding::Srgb ? srgb_to_linear(float(i) / 255.0f) : float(i) / 255.0f;
-    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(lut[data[3 * i]], lut[data[3 * i + 1]], lut[data[3 * i + 2]]);
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(lut[data[n * i]], lut[data[n * i + 1]], lut[data[n * i + 2]]);
+    if (hasAlpha) {
+      img.alpha.resize(img.pixels.size());
+      for (size_t i = 0; i < img.pixels.size(); ++i) img.alpha[i] = float(data[4 * i + 3]) / 255.0f;
+    }
     stbi_image_free(data);
   }
   return img;

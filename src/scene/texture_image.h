@@ -14,6 +14,7 @@ struct LinearImage {
   int width = 0;
   int height = 0;
   std::vector<glm::vec3> pixels;  // row by row, top row first
+  std::vector<float> alpha;       // opacity per pixel where the file has an alpha channel, else empty (opaque)
 };
 
 // What 8-bit values mean: sRGB-encoded colours (decoded to linear), or

@@ -101,7 +101,7 @@ void pick_children_uniformly(CompiledScene& cs, const DartsTest& t) {
       area[e] = s.area;
     } else {
       const shader::Triangle& tri = cs.triangles[prim];
-      material = tri.material;
+      material = tri.material & TRIANGLE_MATERIAL_MASK;
       area[e] = view.triangle_area(tri);
     }
     child[e] = size_t(std::find(t.childMaterials.begin(), t.childMaterials.end(), material) - t.childMaterials.begin());
