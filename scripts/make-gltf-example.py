@@ -9,11 +9,14 @@ a sun (KHR_lights_punctual). It has no camera: wavepath frames it.
   python3 scripts/make-gltf-example.py
   ./build/wavepath render scenes/spot.glb --env scenes/assets/sky.hdr -o spot.png
 """
-import json
+import importlib.util
 import math
 import os
-import struct
-import zlib
+
+# The PNG and binary-glTF writers of the test models' script.
+_spec = importlib.util.spec_from_file_location("assets", os.path.join(os.path.dirname(os.path.abspath(__file__)), "make-gltf-test-assets.py"))
+assets = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(assets)
 
 SIZE = 256  # texture width and height
 
@@ -69,15 +72,6 @@ def mesh(positions, uvs, corners):
     return pos, nrm, uv, idx
 
 
-def png(pixel):
-    raw = b"".join(b"\0" + bytes(c for x in range(SIZE) for c in pixel(x, y)) for y in range(SIZE))
-
-    def chunk(tag, data):
-        return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", SIZE, SIZE, 8, 2, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
-
-
 def patch(x, y):
     """1 inside the patches (a few soft-edged blobs, wrapping), 0 outside."""
     u, v = x / SIZE, y / SIZE
@@ -121,38 +115,19 @@ def look_rotation(direction):
 
 def main():
     pos, nrm, uv, idx = mesh(*read_obj(os.path.join("scenes", "assets", "spot.obj")))
-    data, views, accessors = bytearray(), [], []
-
-    def view(payload, target=None):
-        while len(data) % 4:
-            data.append(0)
-        views.append({"buffer": 0, "byteOffset": len(data), "byteLength": len(payload)})
-        if target:
-            views[-1]["target"] = target
-        data.extend(payload)
-        return len(views) - 1
-
-    def accessor(fmt, component, kind, values, width):
-        flat = [c for v in values for c in (v if isinstance(v, list) else [v])]
-        acc = {"bufferView": view(struct.pack("<%d%s" % (len(flat), fmt), *flat), 34963 if kind == "SCALAR" else 34962),
-               "componentType": component, "count": len(values), "type": kind}
-        if kind == "VEC3" and width == 3:
-            acc["min"] = [min(v[i] for v in values) for i in range(3)]
-            acc["max"] = [max(v[i] for v in values) for i in range(3)]
-        accessors.append(acc)
-        return len(accessors) - 1
-
-    attributes = {"POSITION": accessor("f", 5126, "VEC3", pos, 3), "NORMAL": accessor("f", 5126, "VEC3", nrm, 0),
-                  "TEXCOORD_0": accessor("f", 5126, "VEC2", uv, 2)}
-    indices = accessor("H", 5123, "SCALAR", idx, 1)
-    images = [view(png(f)) for f in (base_color, grooves, metal_rough)]
+    buf = assets.Buffer()
+    FLOAT, USHORT = assets.FLOAT, assets.USHORT
+    attributes = {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm),
+                  "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", uv)}
+    indices = buf.accessor("H", USHORT, "SCALAR", idx)
+    images = [buf.view(assets.png(SIZE, SIZE, f)) for f in (base_color, grooves, metal_rough)]
     # The ground: a dark rough disc (a 32-gon) under the mesh.
     ground_y = min(p[1] for p in pos)
     ring = [[1.0 * math.cos(2 * math.pi * k / 32), ground_y, 1.0 * math.sin(2 * math.pi * k / 32)] for k in range(32)]
     ground_pos = [[0, ground_y, 0]] + ring
     ground_idx = [i for k in range(32) for i in (0, 1 + (k + 1) % 32, 1 + k)]
-    ground = {"attributes": {"POSITION": accessor("f", 5126, "VEC3", ground_pos, 3)},
-              "indices": accessor("H", 5123, "SCALAR", ground_idx, 1), "material": 1}
+    ground = {"attributes": {"POSITION": buf.accessor("f", FLOAT, "VEC3", ground_pos)},
+              "indices": buf.accessor("H", USHORT, "SCALAR", ground_idx), "material": 1}
     doc = {
         "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-example.py"},
         "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}],
@@ -174,14 +149,10 @@ def main():
         "extensions": {"KHR_lights_punctual": {"lights": [
             {"name": "key", "type": "spot", "color": [1, 0.9, 0.8], "intensity": 30 * 683, "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.6}},
             {"name": "sun", "type": "directional", "color": [1, 0.97, 0.9], "intensity": 2 * 683}]}},
-        "accessors": accessors, "bufferViews": views, "buffers": [{"byteLength": len(data)}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
     }
-    text = json.dumps(doc, separators=(",", ":")).encode()
-    text += b" " * (-len(text) % 4)
-    data.extend(b"\0" * (-len(data) % 4))
-    body = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(data), 0x004E4942) + bytes(data)
     with open(os.path.join("scenes", "spot.glb"), "wb") as f:
-        f.write(struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body)
+        f.write(assets.glb(doc, buf.data))
 
 
 if __name__ == "__main__":
