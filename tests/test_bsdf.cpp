@@ -72,6 +72,10 @@ const std::vector<Config>& smooth_configs() {
       {"metal-rough alpha 0.09 metallic 0", {{MAT_METAL_ROUGH, glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, 1.0f, {0.09f, 0.0f, 1.5f, 0}}}},
       {"metal-rough alpha 0.49 metallic 0.5", {{MAT_METAL_ROUGH, glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, 1.0f, {0.49f, 0.5f, 1.5f, 0}}}},
       {"metal-rough alpha 1 metallic 1", {{MAT_METAL_ROUGH, glm::vec3(1.0f), 0.0f, 1.0f, {1.0f, 1.0f, 1.5f, 0}}}},
+      {"Beckmann conductor (gold) alpha 0.15, Smith",
+       {{MAT_BECKMANN_CONDUCTOR, glm::vec3(1.0f), 0.0f, 1.0f, kGoldEta + glm::vec4(0.15f, 0, 0, 0), kGoldK}}},
+      {"Beckmann conductor (gold) alpha 0.5, the CS184 skeleton's shadowing",
+       {{MAT_BECKMANN_CONDUCTOR, glm::vec3(1.0f), 0.0f, 1.0f, kGoldEta + glm::vec4(0.5f, 0, 0, 0), kGoldK + glm::vec4(0, 0, 0, 1)}}},
       {"metal-rough alpha 0.16 metallic 0.2 transmission 0.7",
        {{MAT_METAL_ROUGH, glm::vec3(0.9f, 0.7f, 0.5f), 0.0f, 1.0f, {0.16f, 0.2f, 1.5f, 0.7f}}}},
   };
@@ -110,7 +114,7 @@ const Geometry kGeometries[] = {
 };
 
 constexpr int kChi2Samples = 300000;
-const int kChi2Tests = int(std::size(kGeometries)) * 16;  // smooth_configs().size() configurations
+const int kChi2Tests = int(std::size(kGeometries)) * 18;  // smooth_configs().size() configurations
 const double kLevel = sidak(0.01, kChi2Tests);
 
 glm::vec3 unit(glm::vec3 v) { return glm::normalize(v); }
@@ -189,7 +193,10 @@ TEST(Bsdf, SmoothLobesConserveEnergyAndWeightIsEvalOverPdf) {
       // model, kept as specified; docs/scene-format.md): a white base at 89
       // degrees returns about 1.84x.
       const Lobe& l = c.lobes[0];
-      const double bound = l.type == MAT_METAL_ROUGH && l.params.y < 1.0f ? 1.9 : 1.01;
+      // The CS184 skeleton's shadowing term (pi for sqrt(pi)) can exceed 1:
+      // its conductor returns up to about 1.4x (beckmann_conductor.glsl).
+      const bool skeleton = l.type == MAT_BECKMANN_CONDUCTOR && l.params2.w > 0.5f;
+      const double bound = l.type == MAT_METAL_ROUGH && l.params.y < 1.0f ? 1.9 : skeleton ? 1.45 : 1.01;
       EXPECT_LT(sum / samples, bound) << c.name << ", direction " << d;
     }
   }

@@ -89,6 +89,25 @@ TEST(DartsKeys, MicrofacetMaterialsReadTheirParameters) {
   expect_error(R"({"materials": [{"type": "rough_dielectric", "name": "m", "ior": 0}]})", {"/materials/0/ior"});
   expect_error(R"({"materials": [{"type": "rough_dielectric", "name": "m", "eta": 1.5}]})", {"/materials/0", "eta"});
   expect_error(R"({"materials": [{"type": "metal_roughh", "name": "m"}]})", {"/materials/0/type", "metal_rough"});
+  expect_error(R"({"materials": [{"type": "metal_rough", "name": "m", "transmission": -0.5}]})", {"/materials/0/transmission", "[0, 1]"});
+}
+
+// CS184's microfacet conductor: alpha as given (no roughness squared), eta
+// and k required, Smith's shadowing unless the skeleton's is asked for.
+TEST(DartsKeys, BeckmannConductorReadsItsParameters) {
+  Scene s = load_text("beckmann.json", R"({"camera": {}, "materials": [
+    {"type": "beckmann_conductor", "name": "smith", "alpha": 0.3, "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.1]},
+    {"type": "beckmann_conductor", "name": "course", "alpha": 0.05, "eta": 1, "k": 2, "shadowing": "cs184"}]})");
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].kind, MAT_BECKMANN_CONDUCTOR);
+  EXPECT_EQ(s.materials[0].params, glm::vec4(0.3f, 0.2f, 0.9f, 1.1f));
+  EXPECT_EQ(s.materials[0].params2, glm::vec4(3.9f, 2.4f, 2.1f, 0.0f));
+  EXPECT_EQ(s.materials[1].params2, glm::vec4(2.0f, 2.0f, 2.0f, 1.0f));
+  const char* m = R"({"materials": [{"type": "beckmann_conductor", "name": "m", )";
+  expect_error(std::string(m) + R"("eta": 1, "k": 1}]})", {"/materials/0", "alpha"});
+  expect_error(std::string(m) + R"("alpha": 0, "eta": 1, "k": 1}]})", {"/materials/0/alpha"});
+  expect_error(std::string(m) + R"("alpha": 0.2, "k": 1}]})", {"/materials/0", "eta"});
+  expect_error(std::string(m) + R"("alpha": 0.2, "eta": 1, "k": 1, "shadowing": "ggx"}]})", {"/materials/0/shadowing", "cs184"});
 }
 
 TEST(DartsKeys, BackgroundDefaultsToDartsGrey) {

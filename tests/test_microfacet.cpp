@@ -3,8 +3,10 @@
 // its pdf, narrow lobes on grids centred on their peaks, the pdf's integral
 // against the fraction of samples a lobe keeps, the conductor's Fresnel
 // term, the dielectric's reciprocity, a white furnace against single-
-// scattering GGX computed independently, and a planted roughness error.
-// (Bsdf.* runs the wider GGX lobes through the tests every lobe takes.)
+// scattering GGX computed independently, and a planted roughness error;
+// CS184's Beckmann conductor's terms against its skeleton's formulas, and
+// a planted alpha error. (Bsdf.* runs the wider lobes of both through the
+// tests every lobe takes.)
 #include <functional>
 #include "test_support.h"
 
@@ -315,15 +317,56 @@ TEST(MicrofacetLobes, WhiteFurnaceSphereRendersTheSingleScatteringAlbedo) {
 }
 
 // A 5% error in alpha between sampling and the claimed pdf must fail the chi-square.
-TEST(MicrofacetLobes, ChiSquareCatchesAPlantedRoughnessError) {
-  glm::vec3 wo = at_angle(35.0f);
+// χ² of `sampled`'s directions against `claimed`'s pdf, wo at 35 degrees.
+Chi2Result planted_chi2(const ShaderMath::Bsdf& sampled, const ShaderMath::Bsdf& claimed, uint32_t seed) {
   DirectionalChi2 grid;
   grid.thetaRes = 48;
   grid.phiRes = 96;
   grid.integrationRes = 10;
-  Chi2Result r = bsdf_chi2(grid, 300000, metal_rough(0.25f, 1.0f, glm::vec3(0.9f)),
-                           metal_rough(0.25f * 1.05f, 1.0f, glm::vec3(0.9f)), wo, 3);
+  return bsdf_chi2(grid, 300000, sampled, claimed, at_angle(35.0f), seed);
+}
+
+TEST(MicrofacetLobes, ChiSquareCatchesAPlantedRoughnessError) {
+  Chi2Result r = planted_chi2(metal_rough(0.25f, 1.0f, glm::vec3(0.9f)), metal_rough(0.25f * 1.05f, 1.0f, glm::vec3(0.9f)), 3);
   EXPECT_LT(r.pValue, 1e-4) << "a 5% error in GGX's alpha was not detected";
+}
+
+// CS184's microfacet conductor (beckmann_conductor.glsl) as its skeleton
+// writes it: the course's Lambda (with pi, erf from the shared
+// approximation) against std::erf in double precision; its Fresnel
+// approximation against the exact conductor term at normal incidence,
+// where the two agree; the half vectors' density D cos integrating to 1.
+TEST(MicrofacetLobes, Cs184MicrofacetTermsAreTheSkeletons) {
+  ShaderMath m;
+  for (float alpha : {0.05f, 0.25f, 0.5f})
+    for (float c : {0.05f, 0.3f, 0.7f, 0.95f, 0.9999f}) {
+      const double theta = std::acos(std::clamp(double(c), -1.0 + 1e-5, 1.0 - 1e-5));
+      const double a = 1.0 / (alpha * std::tan(theta));
+      const double skeleton = 0.5 * (std::erf(a) - 1.0 + std::exp(-a * a) / (a * M_PI));
+      const double smith = 0.5 * (std::erf(a) - 1.0 + std::exp(-a * a) / (a * std::sqrt(M_PI)));
+      EXPECT_NEAR(m.cs184_lambda(alpha, c, true), skeleton, 2e-6 + 1e-5 * std::fabs(skeleton)) << alpha << ", " << c;
+      EXPECT_NEAR(m.cs184_lambda(alpha, c, false), smith, 2e-6 + 1e-5 * std::fabs(smith)) << alpha << ", " << c;
+    }
+  const glm::vec3 fNormal = m.cs184_fresnel(glm::vec3(kGoldEta), glm::vec3(kGoldK), 1.0f);
+  const glm::vec3 exact = m.fresnel_conductor(1.0f, glm::vec3(kGoldEta), glm::vec3(kGoldK));
+  EXPECT_NEAR(glm::distance(fNormal, exact), 0.0f, 1e-5f);
+  for (float alpha : {0.1f, 0.6f}) {
+    double integral = 0.0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {  // over cos(theta_h), d omega = 2 pi d cos
+      const float c = (float(i) + 0.5f) / float(n);
+      integral += double(m.beckmann_d(alpha, c)) * c * 2.0 * M_PI / n;
+    }
+    EXPECT_NEAR(integral, 1.0, 1e-3) << "alpha " << alpha;
+  }
+}
+
+TEST(MicrofacetLobes, ChiSquareCatchesAPlantedBeckmannAlphaError) {
+  auto lobe = [](float alpha) {
+    return one_lobe(MAT_BECKMANN_CONDUCTOR, glm::vec3(1.0f), glm::vec4(alpha, kGoldEta), glm::vec4(kGoldK, 0.0f));
+  };
+  Chi2Result r = planted_chi2(lobe(0.3f), lobe(0.3f * 1.05f), 4);
+  EXPECT_LT(r.pValue, 1e-4) << "a 5% error in Beckmann's alpha was not detected";
 }
 
 }  // namespace

@@ -263,6 +263,16 @@ class DartsImporter {
     return r * r >= GGX_MIN_ALPHA ? r * r : 0.0f;
   }
 
+  // A conductor's complex index of refraction, the real part `eta` (above 0)
+  // or the imaginary part `k` (from 0), per channel, below 1000; required.
+  static glm::vec3 conductor_index(const JsonCursor& j, const char* key, bool zeroAllowed) {
+    const glm::vec3 v = j[key].vec3();
+    const bool low = zeroAllowed ? glm::all(glm::greaterThanEqual(v, glm::vec3(0.0f))) : glm::all(glm::greaterThan(v, glm::vec3(0.0f)));
+    if (!(low && glm::all(glm::lessThan(v, glm::vec3(1e3f)))))
+      j[key].fail(std::string(key) + (zeroAllowed ? " must lie from 0 to 1000" : " must lie between 0 and 1000") + " in every channel");
+    return v;
+  }
+
   uint32_t add_material(const JsonCursor& j, const std::string& name) {
     std::string type = j["type"].string();
     SceneMaterial m;
@@ -294,13 +304,19 @@ class DartsImporter {
       j.allow_only({"type", "name", "albedo", "eta", "k", "roughness"});
       m.kind = MAT_ROUGH_CONDUCTOR;
       m.albedo = tint_param(j);
-      const glm::vec3 eta = j["eta"].vec3(), k = j["k"].vec3();
-      if (!(glm::all(glm::greaterThan(eta, glm::vec3(0.0f))) && glm::all(glm::lessThan(eta, glm::vec3(1e3f)))))
-        j["eta"].fail("eta must lie between 0 and 1000 in every channel");
-      if (!(glm::all(glm::greaterThanEqual(k, glm::vec3(0.0f))) && glm::all(glm::lessThan(k, glm::vec3(1e3f)))))
-        j["k"].fail("k must lie from 0 to 1000 in every channel");
-      m.params = glm::vec4(smooth_or_ggx_alpha(j), eta);
-      m.params2 = glm::vec4(k, 0.0f);
+      m.params = glm::vec4(smooth_or_ggx_alpha(j), conductor_index(j, "eta", false));
+      m.params2 = glm::vec4(conductor_index(j, "k", true), 0.0f);
+    } else if (type == "beckmann_conductor") {
+      j.allow_only({"type", "name", "albedo", "alpha", "eta", "k", "shadowing"});
+      m.kind = MAT_BECKMANN_CONDUCTOR;
+      m.albedo = tint_param(j);
+      const float alpha = j["alpha"].positive_number();
+      if (!(alpha >= 1e-3f && alpha <= 10.0f)) j["alpha"].fail("alpha must lie between 0.001 and 10");
+      m.params = glm::vec4(alpha, conductor_index(j, "eta", false));
+      // Smith's masking-shadowing, or the CS184 skeleton's variant of it.
+      const std::string shadowing = j.has("shadowing") ? j["shadowing"].string() : "smith";
+      if (shadowing != "smith" && shadowing != "cs184") j["shadowing"].fail("shadowing must be \"smith\" or \"cs184\"");
+      m.params2 = glm::vec4(conductor_index(j, "k", true), shadowing == "cs184" ? 1.0f : 0.0f);
     } else if (type == "rough_dielectric") {
       j.allow_only({"type", "name", "albedo", "ior", "roughness"});
       m.kind = MAT_ROUGH_DIELECTRIC;
