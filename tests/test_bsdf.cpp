@@ -308,6 +308,51 @@ TEST(Bsdf, FresnelReflectanceMatchesKnownValues) {
 
 // The dielectric reflects with probability F and refracts by Snell's law,
 // from either side; the weight is white either way.
+// CS184's glass (cs184_glass.glsl): reflection with Schlick's probability
+// R0 + (1 - R0)(1 - cos)^5 weighted by the reflectance, refraction by Snell
+// weighted by the transmittance times eta^2 (transmitted over incident
+// index); total internal reflection reflects, or, for the refraction-only
+// BSDF, is absorbed, which otherwise never reflects.
+TEST(Bsdf, Cs184GlassPicksBySchlickAndScalesByEtaSquared) {
+  const float ior = 1.5f;
+  const glm::vec3 n(0, 0, 1), transmittance(0.9f, 0.8f, 0.7f), reflectance(0.6f, 0.7f, 0.8f);
+  const float r0 = 0.04f;  // ((1 - 1.5) / (1 + 1.5))^2
+  uint32_t state = 12;
+  for (bool refractionOnly : {false, true}) {
+    for (bool front : {true, false}) {
+      for (float cosO : {0.95f, 0.6f, 0.3f}) {
+        const glm::vec3 wo(std::sqrt(1.0f - cosO * cosO), 0.0f, cosO);
+        const glm::vec4 params(ior, refractionOnly ? 1.0f : 0.0f, 0.0f, 0.0f);
+        ShaderMath::Bsdf b = make_bsdf(n, {{MAT_CS184_GLASS, transmittance, ior, 1.0f, params, glm::vec4(reflectance, 0.0f)}}, front);
+        const float eta = front ? ior : 1.0f / ior;
+        const bool tir = (1.0f - cosO * cosO) / (eta * eta) >= 1.0f;
+        const double r = tir ? 1.0 : r0 + (1.0 - r0) * std::pow(1.0 - cosO, 5.0);
+        int reflected = 0;
+        const int samples = 100000;
+        for (int s = 0; s < samples; ++s) {
+          Sample x = sample_of(b, wo, state);
+          ASSERT_TRUE(x.isDelta);
+          if (x.wi.z > 0.0f) {
+            ++reflected;
+            ASSERT_EQ(x.weight, refractionOnly ? glm::vec3(0.0f) : reflectance);
+            ASSERT_NEAR(x.wi.x, -wo.x, 1e-5f);
+          } else {
+            ASSERT_NEAR(std::sqrt(x.wi.x * x.wi.x + x.wi.y * x.wi.y) * eta, wo.x, 1e-5f);  // Snell
+            ASSERT_NEAR(glm::distance(x.weight, transmittance * eta * eta), 0.0f, 1e-5f);
+          }
+        }
+        const double expected = refractionOnly ? (tir ? 1.0 : 0.0) : r;
+        const double sd = std::sqrt(expected * (1.0 - expected) / samples);
+        EXPECT_NEAR(double(reflected) / samples, expected, 5.0 * sd + 1e-9)
+            << "front " << front << " cos " << cosO << " refraction only " << refractionOnly;
+        if (!front && cosO == 0.3f) {
+          EXPECT_TRUE(tir) << "the case meant to reflect totally does not";
+        }
+      }
+    }
+  }
+}
+
 TEST(Bsdf, DielectricReflectsWithFresnelProbabilityAndRefractsBySnell) {
   ShaderMath m;
   const float ior = 1.5f;

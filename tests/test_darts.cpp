@@ -110,6 +110,25 @@ TEST(DartsKeys, BeckmannConductorReadsItsParameters) {
   expect_error(std::string(m) + R"("alpha": 0.2, "eta": 1, "k": 1, "shadowing": "ggx"}]})", {"/materials/0/shadowing", "cs184"});
 }
 
+// CS184's glass: ior, a transmittance (a texture) and a reflectance, and
+// the refraction-only variant.
+TEST(DartsKeys, Cs184GlassReadsItsParameters) {
+  Scene s = load_text("glass.json", R"({"camera": {}, "materials": [
+    {"type": "cs184_glass", "name": "glass", "ior": 1.4, "transmittance": [0.9, 0.8, 0.7], "reflectance": 0.5},
+    {"type": "cs184_glass", "name": "refraction", "refraction_only": true}]})");
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].kind, MAT_CS184_GLASS);
+  EXPECT_EQ(s.materials[0].params, glm::vec4(1.4f, 0.0f, 0.0f, 0.0f));
+  EXPECT_EQ(s.materials[0].params2, glm::vec4(0.5f, 0.5f, 0.5f, 0.0f));
+  EXPECT_EQ(s.textures[s.materials[0].albedo].color, glm::vec3(0.9f, 0.8f, 0.7f));
+  EXPECT_EQ(s.materials[1].params, glm::vec4(1.5f, 1.0f, 0.0f, 0.0f));
+  EXPECT_EQ(s.materials[1].params2, glm::vec4(1.0f, 1.0f, 1.0f, 0.0f));
+  const char* m = R"({"materials": [{"type": "cs184_glass", "name": "m", )";
+  expect_error(std::string(m) + R"("reflectance": 2}]})", {"/materials/0/reflectance", "[0, 1]"});
+  expect_error(std::string(m) + R"("refraction_only": 1}]})", {"/materials/0/refraction_only", "true or false"});
+  expect_error(std::string(m) + R"("ior": -1}]})", {"/materials/0/ior"});
+}
+
 TEST(DartsKeys, BackgroundDefaultsToDartsGrey) {
   EXPECT_EQ(load_text("bg.json", R"({"camera": {}})").background, glm::vec3(0.2f));
   EXPECT_EQ(load_text("bg0.json", R"({"camera": {}, "background": 0})").background, glm::vec3(0.0f));

@@ -91,6 +91,7 @@ float fresnel_dielectric(float cosI, float eta) {
 #include "materials/rough_dielectric.glsl"
 #include "materials/metal_rough.glsl"
 #include "materials/beckmann_conductor.glsl"
+#include "materials/cs184_glass.glsl"
 
 // The lobe functions of a lobe of kind `type`, dispatched through the kind
 // table: one branch per kind, each compiled only where the scene has the kind.

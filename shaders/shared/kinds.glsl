@@ -48,6 +48,7 @@
 #define MAT_ROUGH_DIELECTRIC 8u  // GGX microfacet glass: reflection and refraction
 #define MAT_METAL_ROUGH 9u       // glTF 2.0 metal-rough: GGX over a Lambertian base, mixed with a metal
 #define MAT_BECKMANN_CONDUCTOR 10u  // CS184's microfacet conductor: Beckmann, the course's G and Fresnel
+#define MAT_CS184_GLASS 11u         // CS184's glass: Schlick's Fresnel, tinted reflection and refraction, eta^2
 #define WP_MATERIAL_KINDS(X)                                                                                            \
   X(MAT_LAMBERTIAN, "lambertian", lambertian, LOBE_DIFFUSE)                                                             \
   X(MAT_LIGHT, "diffuse_light", no_lobe, LOBE_EMISSIVE)                                                                 \
@@ -60,7 +61,8 @@
   X(MAT_ROUGH_DIELECTRIC, "rough_dielectric", rough_dielectric,                                                         \
     LOBE_GLOSSY | LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW)                                                     \
   X(MAT_METAL_ROUGH, "metal_rough", metal_rough, LOBE_DIFFUSE | LOBE_GLOSSY | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW) \
-  X(MAT_BECKMANN_CONDUCTOR, "beckmann_conductor", beckmann_conductor, LOBE_GLOSSY | LOBE_PARAMS_YZW | LOBE_PARAMS2)
+  X(MAT_BECKMANN_CONDUCTOR, "beckmann_conductor", beckmann_conductor, LOBE_GLOSSY | LOBE_PARAMS_YZW | LOBE_PARAMS2)        \
+  X(MAT_CS184_GLASS, "cs184_glass", cs184_glass, LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW | LOBE_PARAMS2)
 
 // Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
 // solid mapping. Columns: id, name.

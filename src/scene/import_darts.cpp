@@ -317,6 +317,17 @@ class DartsImporter {
       const std::string shadowing = j.has("shadowing") ? j["shadowing"].string() : "smith";
       if (shadowing != "smith" && shadowing != "cs184") j["shadowing"].fail("shadowing must be \"smith\" or \"cs184\"");
       m.params2 = glm::vec4(conductor_index(j, "k", true), shadowing == "cs184" ? 1.0f : 0.0f);
+    } else if (type == "cs184_glass") {
+      j.allow_only({"type", "name", "transmittance", "reflectance", "ior", "refraction_only"});
+      m.kind = MAT_CS184_GLASS;
+      m.albedo = j.has("transmittance") ? albedo_param(j, "transmittance") : add_texture(constant_texture(glm::vec3(1.0f)));
+      const glm::vec3 reflectance = j.has("reflectance") ? j["reflectance"].vec3() : glm::vec3(1.0f);
+      if (!(glm::all(glm::greaterThanEqual(reflectance, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(reflectance, glm::vec3(1.0f)))))
+        j["reflectance"].fail("reflectance must lie in [0, 1] in every channel");
+      if (j.has("refraction_only") && !j["refraction_only"].json().is_boolean()) j["refraction_only"].fail("expected true or false");
+      const bool refractionOnly = j.has("refraction_only") && j["refraction_only"].json().get<bool>();
+      m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, refractionOnly ? 1.0f : 0.0f, 0.0f, 0.0f);
+      m.params2 = glm::vec4(reflectance, 0.0f);
     } else if (type == "rough_dielectric") {
       j.allow_only({"type", "name", "albedo", "ior", "roughness"});
       m.kind = MAT_ROUGH_DIELECTRIC;
