@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "gpu/wavefront.h"
+#include "scene/importers.h"
 #include "scene/kinds.h"
 #include "stats/compare.h"
 #include "stats/darts_tests.h"
@@ -596,7 +597,45 @@ const FeatureCase kFeatureCases[] = {
      "glTF surfaces: normal maps (given and derived tangents), vertex colours, a second UV set with clamped and mirrored "
      "wrapping, MASK and BLEND alpha, a one-sided wall, thin-walled transmission",
      40},
+    {"../collada/lights.dae", std::nullopt,
+     "CS184: its estimator, point light without falloff, directional and ambient (hemisphere) lights, microfacet gold, "
+     "refraction",
+     32},
 };
+
+// CS184's scenes (tests/data/collada): the course's estimator (lights no
+// ray meets, emissive meshes only the camera sees, both-sided emission, its
+// Russian roulette, the environment in its layout seen from the camera
+// alone), -H, its hemisphere and falloff-free point lights, and the
+// physical reading.
+TEST_F(Gpu, Cs184ScenesAgreeWithTheCpuReference) {
+  struct Cs184Case {
+    const char* scene;
+    std::optional<IntegratorKind> integrator;
+    bool consistent, environment;
+    const char* what;
+  };
+  const Cs184Case cases[] = {
+      {"cornell.dae", std::nullopt, false, false, "the course's estimator: area light, lamp mesh, mirror and glass balls"},
+      {"cornell.dae", IntegratorKind::PathHemisphere, false, false, "-H"},
+      {"lights.dae", std::nullopt, false, true, "point, directional and ambient lights, microfacet gold, refraction, a CS184 environment map"},
+      {"cornell.dae", std::nullopt, true, false, "--consistent-lights"},
+  };
+  for (const Cs184Case& c : cases) {
+    Scene scene = load_scene(source_path(std::string("tests/data/collada/") + c.scene));
+    if (c.consistent) use_consistent_lights(scene);
+    if (c.environment) scene.environment = add_image_texture(scene, source_path("tests/data/features/sky.hdr"), "test");
+    scene.camera.width = 40;  // the whole frame, small
+    scene.camera.height = 30;
+    RenderOptions o;
+    o.integrator = c.integrator;
+    o.spp = 64;
+    o.maxBounces = 5;
+    CompareResult r = gpu_against_cpu(scene, o);
+    EXPECT_TRUE(r.passed()) << c.what << ": " << r.summary();
+    EXPECT_GT(r.meanB, 0.01) << c.what << ": lit";
+  }
+}
 
 TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
   for (const FeatureCase& c : kFeatureCases) {

@@ -60,7 +60,7 @@ std::vector<Expected> expected_layouts() {
        {FIELD(SceneParams, camToWorld0), FIELD(SceneParams, camToWorld1), FIELD(SceneParams, camToWorld2),
         FIELD(SceneParams, camLens), FIELD(SceneParams, background), FIELD(SceneParams, image), FIELD(SceneParams, counts),
         FIELD(SceneParams, mode), FIELD(SceneParams, environment),
-        FIELD(SceneParams, accel), FIELD(SceneParams, kinds), FIELD(SceneParams, mis)}},
+        FIELD(SceneParams, accel), FIELD(SceneParams, kinds), FIELD(SceneParams, mis), FIELD(SceneParams, camWindow)}},
       {"PathState", sizeof(PathState),
        {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
         FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf)}},

@@ -222,8 +222,12 @@ TEST(Sampling, CorrelatedMultiJitteredPatternsAreStratifiedAndUniform) {
 
 // The environment map's importance sampling: directions against
 // environment_pdf, which must also integrate to 1 and match each sample's pdf.
+// In wavepath's lat-long layout and in CS184's.
 TEST(Sampling, EnvironmentMapSamplingMatchesItsPdf) {
+  for (bool cs184 : {false, true}) {
+  SCOPED_TRACE(cs184 ? "CS184's layout" : "wavepath's layout");
   Scene scene = load_scene(source_path("tests/data/features/environment.json"));
+  scene.cs184LatLong = cs184;
   CompiledScene cs = compile_scene(scene, RenderOptions{});
   SceneView view = cs.view();
   ASSERT_NE(cs.params.environment.x, WP_INVALID);
@@ -246,6 +250,7 @@ TEST(Sampling, EnvironmentMapSamplingMatchesItsPdf) {
   EXPECT_LE(pdfMismatches, 10) << "of " << kSamples << " samples";
   double integral = std::accumulate(chi.expected.begin(), chi.expected.end(), 0.0) / kSamples;
   EXPECT_NEAR(integral, 1.0, 2e-3);
+  }
 }
 
 TEST(Rng, SequencesAreReproducibleAndUniform) {

@@ -57,8 +57,8 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
     lensU = cmj_sample(sampleIndex, scene.mode.z, pcg_hash(pattern));
   }
   uvec2 xy = pixel_xy(pixel);
-  float fx = (float(xy.x) + jitter.x) / float(width);
-  float fy = (float(xy.y) + jitter.y) / float(height);
+  float fx = scene.camWindow.x + (float(xy.x) + jitter.x) / float(width) * scene.camWindow.z;
+  float fy = scene.camWindow.y + (float(xy.y) + jitter.y) / float(height) * scene.camWindow.w;
   float tanHalf = scene.camLens.x;
   vec3 dirCam = vec3((2.0f * fx - 1.0f) * tanHalf * scene.camLens.y, (1.0f - 2.0f * fy) * tanHalf, -1.0f);
   vec3 originCam = vec3(0.0f);
@@ -136,14 +136,19 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
 // estimation found a candidate. Returns true while the path continues.
 bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   uint lightSamples = LIGHT_SAMPLES_OF_SCENE;
-  for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) shadow_ray_none(srs.ray[j]);
+  // The slots beyond the scene's light samples (C++ has MAX_LIGHT_SAMPLES) stay untouched.
+  for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
+    if (j >= lightSamples) break;
+    shadow_ray_none(srs.ray[j]);
+  }
   uint mode = INTEGRATOR_OF_SCENE;  // equals scene.mode.x
   bool preview = mode == INTEGRATOR_NORMALS || mode == INTEGRATOR_AO;
   bool mixture = mode == INTEGRATOR_MIXTURE;
   bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
   bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
+  bool cs184 = (scene.counts.w & SCENE_FLAG_CS184) != 0u;
   if (h.prim == WP_INVALID) {
-    if (preview) return false;
+    if (preview || (cs184 && path_depth(p) > 0u)) return false;
     float w = 1.0f;
     if (LIGHT_COMPILED(LIGHT_ENVIRONMENT) && scene.environment.y != WP_INVALID && (p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this direction of the environment map.
@@ -166,7 +171,11 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   vec3 le = emitted_radiance(s, wo);
   if (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f) {
     float w = 1.0f;
-    if ((p.flags & PATH_SPECULAR) == 0u && useNee) {
+    if ((p.flags & PATH_SPECULAR) == 0u && s.emitter == WP_INVALID) {
+      // Outside the light table (CS184's emissive meshes): only BSDF sampling
+      // finds it, but CS184's estimator, sampling lights, ignores it here.
+      w = cs184 && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u ? 0.0f : 1.0f;
+    } else if ((p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this point too.
       float lightPdf = emitter_pdf(s.emitter, p.origin, s, p.dir, h.t);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf, scene.mis.x) : 0.0f;
@@ -231,6 +240,17 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   p.dir = wi;
   p.flags = (depth + 1u) | (isDelta ? PATH_SPECULAR : 0u);
 
+  if (cs184) {
+    // CS184's Russian roulette: continue with probability min(1, 10 times the
+    // luminance of the sampled BSDF value f), except at the first bounce of
+    // paths allowed several. weight is f |cos| / pdf (f |cos| for a delta lobe).
+    if (depth == 0u && scene.image.z > 1u) return true;
+    float cosI = abs(dot(wi, b.ns));
+    float q = cosI > 0.0f ? min(1.0f, 10.0f * illuminance(weight) * (isDelta ? 1.0f : pdf) / cosI) : 1.0f;
+    if (rng_next(p.rng) >= q) return false;
+    p.throughput /= q;
+    return true;
+  }
   // Russian roulette once the path is long enough; unbiased by reweighting.
   if (depth + 1u >= scene.image.w) {
     float maxT = max(p.throughput.x, max(p.throughput.y, p.throughput.z));
@@ -334,6 +354,7 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(A
     ShadowRays srs;
     bool alive = path_shade(p, h, srs);
     for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
+      if (j >= LIGHT_SAMPLES_OF_SCENE) break;
       ShadowRay sr = srs.ray[j];
       if (sr.tmax <= 0.0f) continue;
       Hit blocker;

@@ -90,10 +90,11 @@
 #define LIGHT_POINT 2u        // point lights: CS184's, glTF's
 #define LIGHT_ENVIRONMENT 3u  // an environment map (also where it only replaces the background)
 #define LIGHT_SPOT 4u         // spot lights (glTF's KHR_lights_punctual)
-#define LIGHT_DIRECTIONAL 5u  // directional lights (glTF's KHR_lights_punctual)
+#define LIGHT_DIRECTIONAL 5u  // directional lights (glTF's KHR_lights_punctual, CS184's)
+#define LIGHT_HEMISPHERE 6u   // uniform radiance from above a horizon, seen only by light sampling (CS184's ambient light)
 #define WP_LIGHT_KINDS(X) \
   X(LIGHT_AREA, "area lights") X(LIGHT_SPHERE, "sphere lights") X(LIGHT_POINT, "point lights") X(LIGHT_ENVIRONMENT, "environment map") \
-  X(LIGHT_SPOT, "spot lights") X(LIGHT_DIRECTIONAL, "directional lights")
+  X(LIGHT_SPOT, "spot lights") X(LIGHT_DIRECTIONAL, "directional lights") X(LIGHT_HEMISPHERE, "hemisphere lights")
 
 // Other features a scene may use. Columns: id, name.
 #define FEATURE_SPHERES 0u
@@ -122,7 +123,7 @@
 // Whether any of several light kinds is compiled, as one mask test: Mesa
 // 22.3's SPIR-V reader refuses a logical or of specialization constants.
 #define ANY_LIGHT_COMPILED(bits) ((LIGHT_KINDS_OF_SCENE & (bits)) != 0u)
-#define PUNCTUAL_LIGHT_BITS (KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL))
+#define PUNCTUAL_LIGHT_BITS (KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL) | KIND_BIT(LIGHT_HEMISPHERE))
 #define ALL_KINDS 0xffffffffu
 
 // Whether a compiled material kind reads params.yzw or params2: kernels

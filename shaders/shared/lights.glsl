@@ -11,17 +11,31 @@ struct LightSample {
   vec3 radiance;  // emitted radiance towards the shading point (point lights: I / d^2)
   float pdf;      // solid-angle density of wi, pick probability included (point lights: the pick probability)
   vec3 p;         // the light point
-  uint isDelta;   // 1 for point lights: no BSDF sample can hit them, so no MIS
+  uint isDelta;   // 1 where no BSDF sample can reach the light (point lights, lights no ray meets): no MIS
   vec3 n;         // surface normal at p (zero for point lights)
 };
 
 // ---- environment map ----------------------------------------------------------
 
-// Equirectangular: -Z at the image's centre column, +Y at its top row.
+// Equirectangular: -Z at the image's centre column, +Y at its top row; in
+// CS184's layout (SCENE_FLAG_CS184_LATLONG) +X at the centre column and
+// azimuth running the other way.
+bool environment_cs184() {
+  return (scene.counts.w & SCENE_FLAG_CS184_LATLONG) != 0u;
+}
+
 vec2 environment_uv(vec3 d) {
-  float phi = atan(d.x, -d.z);
+  float phi = environment_cs184() ? atan(-d.z, d.x) : atan(d.x, -d.z);
   float theta = acos(clamp(d.y, -1.0f, 1.0f));
   return vec2(0.5f + phi * (0.5f * WP_INV_PI), 1.0f - theta * WP_INV_PI);
+}
+
+// The direction of polar angle theta (from +Y) at azimuth phi (the column's,
+// 0 at the centre), environment_uv's inverse.
+vec3 environment_direction(float theta, float phi) {
+  float sinTheta = sin(theta);
+  if (environment_cs184()) return vec3(sinTheta * cos(phi), cos(theta), -sinTheta * sin(phi));
+  return vec3(sinTheta * sin(phi), cos(theta), -sinTheta * cos(phi));
 }
 
 // Radiance arriving from direction d out of the scene: the environment map, or
@@ -81,9 +95,8 @@ vec3 environment_sample(vec2 u, OUT(float) pdf) {
   float du = clamp((u.x - c0) / (cdf_at(rowCdf + col + 1u) - c0), 0.0f, 1.0f);
   float theta = (float(row) + dv) / float(h) * WP_PI;
   float phi = ((float(col) + du) / float(w) - 0.5f) * (2.0f * WP_PI);
-  float sinTheta = sin(theta);
-  vec3 d = vec3(sinTheta * sin(phi), cos(theta), -sinTheta * cos(phi));
-  sinTheta = length(vec2(d.x, d.z));  // exactly as environment_pdf computes it
+  vec3 d = environment_direction(theta, phi);
+  float sinTheta = length(vec2(d.x, d.z));  // exactly as environment_pdf computes it
   pdf = sinTheta > 0.0f ? environment_cell_pdf(row, col) / (2.0f * WP_PI * WP_PI * sinTheta) : 0.0f;
   return d;
 }
@@ -167,7 +180,7 @@ bool sample_emitter_surface(Emitter e, float pmf, vec3 ref, vec2 uv, OUT(Surface
     s = sphere_surface_of(sp, ref + w * ds);
     pdf = pmf * uniform_cone_pdf(cone);
   } else if (LIGHT_COMPILED(LIGHT_AREA) && (e.prim & (EMITTER_POINT_BIT | EMITTER_ENVIRONMENT)) == 0u) {
-    Triangle tri = load_triangle(e.prim);
+    Triangle tri = load_triangle(e.prim & ~EMITTER_UNSEEN_BIT);
     vec2 bary = square_to_triangle_barycentric(uv);
     s = triangle_surface_of(tri, bary.x, bary.y);
     pdf = pmf / triangle_area(tri);  // per unit area; per solid angle below
@@ -218,6 +231,19 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     vec3 power = vec3(l.intensity.x, l.intensity.y, l.intensity.z);
     ls.pdf = pmf;
     ls.isDelta = 1u;
+    if (LIGHT_COMPILED(LIGHT_HEMISPHERE) && l.position.w == 2.0f) {
+      // Uniform over the hemisphere about the zenith. No ray meets this
+      // light, so, like a delta light, it takes no part in MIS.
+      vec3 t;
+      vec3 b;
+      make_frame(shine, t, b);
+      vec3 local = square_to_uniform_hemisphere(uv);
+      ls.wi = frame_to_world(local, t, b, shine);
+      ls.dist = WP_INF;
+      ls.radiance = power;
+      ls.pdf = pmf * square_to_uniform_hemisphere_pdf(local);
+      return true;
+    }
     if (LIGHT_COMPILED(LIGHT_DIRECTIONAL) && l.position.w == 0.0f) {
       ls.wi = -shine;
       ls.dist = WP_INF;  // at infinity: the shadow ray is unbounded
@@ -232,7 +258,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     ls.dist = sqrt(dist2);
     ls.wi = d / ls.dist;
     ls.p = vec3(l.position.x, l.position.y, l.position.z);
-    ls.radiance = power / dist2;
+    ls.radiance = l.direction.w == -3.0f ? power : power / dist2;  // CS184's point lights do not fall off
     if (spot) {
       // glTF's falloff: the square of a linear ramp in the cosine between the cones.
       float ramp = clamp((dot(shine, -ls.wi) - l.direction.w) / max(l.intensity.w - l.direction.w, 1e-3f), 0.0f, 1.0f);
@@ -246,6 +272,11 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
   ls.p = s.p;
   ls.n = s.ng;
   ls.radiance = emitted_radiance(s, -ls.wi);
+  ls.isDelta = (e.prim & EMITTER_UNSEEN_BIT) != 0u ? 1u : 0u;  // no ray meets it: no MIS
+  // CS184's area lights take the cosine of the unnormalised direction in
+  // their density (light.cpp, AreaLight::sample_L), which scales what they
+  // give by the distance; its estimator keeps that.
+  if ((e.prim & EMITTER_UNSEEN_BIT) != 0u && (scene.counts.w & SCENE_FLAG_CS184) != 0u) ls.pdf /= ls.dist;
   return true;
 }
 
@@ -262,7 +293,7 @@ float emitters_pdf_direction(vec3 ref, vec3 wi, bool bothSides) {
       pdf += e.pmf * environment_pdf(wi);  // every direction reaches it
       continue;
     }
-    if ((e.prim & (EMITTER_POINT_BIT | EMITTER_ENVIRONMENT)) != 0u) continue;
+    if ((e.prim & (EMITTER_POINT_BIT | EMITTER_ENVIRONMENT | EMITTER_UNSEEN_BIT)) != 0u) continue;
     float t;
     SurfaceHit s;
     if (LIGHT_COMPILED(LIGHT_SPHERE) && (e.prim & HIT_SPHERE_BIT) != 0u) {

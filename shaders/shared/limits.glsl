@@ -16,8 +16,9 @@
 #define GGX_MIN_ALPHA 1e-3f
 // Checker textures nest at most this deep (texture_eval follows the picks).
 #define TEXTURE_MAX_NESTING 8
-// Most next-event-estimation samples per path vertex (CS184's -l).
-#define MAX_LIGHT_SAMPLES 8u
+// Most next-event-estimation samples per path vertex (CS184's -l: its
+// assignment renders with up to 64).
+#define MAX_LIGHT_SAMPLES 64u
 // Widest and tallest image, in pixels: the kernels find a pixel's row and
 // column by a float division that is exact for quotients below 2^14
 // (pixel_xy in integrator.glsl).

@@ -10,7 +10,8 @@
 // every path.
 vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
   uint tex = load_material(s.material).info.z;
-  if (tex == WP_INVALID || dot(s.ng, wo) <= 0.0f) return vec3(0.0f);
+  // Seen from the front only, or from both sides under CS184's conventions.
+  if (tex == WP_INVALID || (dot(s.ng, wo) <= 0.0f && (scene.counts.w & SCENE_FLAG_CS184) == 0u)) return vec3(0.0f);
   if (!FEATURE_COMPILED(FEATURE_EMISSION_TEXTURES)) {
     vec4 c = load_texture(tex).color0;
     return vec3(c.x, c.y, c.z);

@@ -34,9 +34,11 @@
 #include "layers.glsl"
 
 // Emitter.prim: a point light (index into pointLights) rather than a surface;
-// or the environment map.
+// or the environment map; or a triangle that no ray meets, which only light
+// sampling sees (CS184's area lights; Scene::lightOnlyTriangles).
 #define EMITTER_POINT_BIT 0x40000000u
 #define EMITTER_ENVIRONMENT 0x20000000u
+#define EMITTER_UNSEEN_BIT 0x10000000u
 
 // SceneParams.mode.x: what the integrator computes (darts integrator names).
 #define INTEGRATOR_PATH 0u     // path tracer mis / nee / mats (see SCENE_FLAG_*)
@@ -53,6 +55,17 @@
 #define SCENE_FLAG_NO_NEE 1u      // BSDF sampling only (darts "path tracer mats")
 #define SCENE_FLAG_NO_BSDF_MIS 2u // NEE only: emitters hit by BSDF rays are ignored
 #define SCENE_FLAG_HEMISPHERE 4u  // directions uniform over the hemisphere, not from the BSDF (CS184 -H)
+// CS184's estimator (docs/scene-format.md, "CS184"): emitters outside the
+// light table count only for camera rays and after specular bounces (unless
+// light sampling is off), emission is seen from both sides, light-only area
+// lights give their distance times their radiance (as the course's density
+// makes them), escaped rays see the environment only from the camera, and
+// Russian roulette continues with probability min(1, 10 luminance(f)) after
+// every bounce but a first of several.
+#define SCENE_FLAG_CS184 8u
+// The environment map in CS184's lat-long layout (its environment_light.cpp):
+// +X at the centre column, the image mirrored against wavepath's.
+#define SCENE_FLAG_CS184_LATLONG 16u
 
 // Counters[] slots written by the kernels (see CounterSlot in src/gpu).
 #define COUNTER_QUEUE0 0u
@@ -237,9 +250,11 @@ struct Texture {
 // outer one, as the glTF extension defines), or a direction from which
 // parallel light of an irradiance arrives. 48 bytes.
 struct PointLight {
-  vec4 position;   // xyz: where it is (point, spot); w: 1, or 0 for a directional light
-  vec4 intensity;  // rgb: W/sr (point, spot) or W/m^2 across the direction (directional); w: cos of a spot's inner cone
-  vec4 direction;  // xyz: the unit direction it shines in (spot, directional); w: cos of a spot's outer cone, -2 for a point light
+  vec4 position;   // xyz: where it is (point, spot); w: 1, 0 for a directional light, 2 for a hemisphere light
+  vec4 intensity;  // rgb: W/sr (point, spot), W/m^2 across the direction (directional), radiance (hemisphere);
+                   // w: cos of a spot's inner cone
+  vec4 direction;  // xyz: the unit direction it shines in (spot, directional), the zenith (hemisphere);
+                   // w: cos of a spot's outer cone; -2 a point light, -3 one without falloff (CS184's)
 };
 
 // One entry of the emitter alias table (Vose). Picking: i = floor(u * N);
@@ -268,6 +283,8 @@ struct SceneParams {
   // them as specialization constants and compile out the code of the rest.
   uvec4 kinds;
   vec4 mis;          // x: exponent of the MIS heuristic (darts' "power": 2 the power heuristic, 1 the balance heuristic)
+  vec4 camWindow;    // the part of the camera's frame the image covers: its top-left corner and size, as
+                     // fractions of the frame ((0, 0, 1, 1): all of it; CS184's -p renders a cell)
 };
 
 

@@ -268,7 +268,7 @@ int run_render(const RenderArgs& a) {
   std::string rate = first.adaptive.enabled() ? rate_image_path(out) : "";
   write_partial(exr, image, done, status, exactSums);
   try {
-    if (*outFormat == ImageFormat::Png) write_png(out, image);
+    if (*outFormat == ImageFormat::Png) write_png(out, image, scene.cs184Png ? PngTone::Cs184 : PngTone::Srgb);
     else if (!outIsExr) write_image(out, mean_rgb(image));
     if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
     if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status, true);
@@ -313,7 +313,7 @@ Command add_render(CLI::App& app) {
   auto r = std::make_shared<RenderArgs>();
   auto hemisphere = std::make_shared<bool>(false);
   CLI::App* render = app.add_subcommand("render", "render a scene to PNG (and a linear EXR with statistics)");
-  render->add_option("scene", r->scene, "scene file (darts JSON, glTF 2.0)")->required();
+  render->add_option("scene", r->scene, "scene file (darts JSON, glTF 2.0, CS184 COLLADA)")->required();
   // Short options in parentheses are the CS184 pathtracer's, for its students.
   render->add_option("-o,-f,--output", r->output,
                      std::string("image to write: ") + image_format_names() +
@@ -352,6 +352,13 @@ Command add_render(CLI::App& app) {
       ->expected(2);
   render->add_option("-e,--env", r->environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e)");
   render->add_option("--camera", r->camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
+  render->add_option("-c,--camera-settings", r->cameraSettings, "a CS184 camera settings file, as its viewer writes with D (CS184: -c)");
+  render->add_option("-p,--cell", r->cell, "render one cell X Y DX DY of the frame, rows counted from the bottom (CS184: -p)")
+      ->expected(4)
+      ->check(CLI::Range(0, MAX_IMAGE_SIZE));
+  render->add_flag("--consistent-lights", r->consistentLights,
+                   "CS184 scenes: read the lights physically (area lights are visible quads, emissive meshes light the "
+                   "scene) instead of as the course's estimator does");
   render->add_option("--seed", r->seed, "random seed; renders with equal seeds are identical");
   render->add_option("--device", r->device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   render->add_option("--devices", r->devices,

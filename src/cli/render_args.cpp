@@ -10,6 +10,7 @@
 
 #include "cpu/reference.h"
 #include "gpu/vulkan_context.h"
+#include "scene/importers.h"
 #include "scene/load_scene.h"
 #include "util/error.h"
 #include "util/progress.h"
@@ -44,10 +45,26 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
 
 Scene load_scene_with_overrides(const RenderArgs& a) {
   Scene scene = load_scene(a.scene);
+  if (a.consistentLights) {
+    if (!scene.cs184Estimator) throw InputError("--consistent-lights: " + a.scene + " is not a CS184 scene (.dae), whose lights it reads physically");
+    use_consistent_lights(scene);
+  }
   if (!a.camera.empty()) choose_camera(scene, a.camera);
-  if (!a.resolution.empty()) {
-    scene.camera.width = a.resolution[0];
-    scene.camera.height = a.resolution[1];
+  if (!a.resolution.empty()) set_resolution(scene.camera, a.resolution[0], a.resolution[1]);
+  // As the course does: the settings file after the resolution, its fields winning.
+  if (!a.cameraSettings.empty()) apply_cs184_camera_settings(a.cameraSettings, scene.camera);
+  if (!a.cell.empty()) {
+    // A cell of the frame, its rows counted from the bottom as the course counts them.
+    Camera& c = scene.camera;
+    const int x = a.cell[0], y = a.cell[1], dx = a.cell[2], dy = a.cell[3];
+    if (x < 0 || y < 0 || dx < 1 || dy < 1 || x + dx > c.width || y + dy > c.height)
+      throw InputError("-p " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(dx) + " " + std::to_string(dy) +
+                       ": the cell must lie inside the " + std::to_string(c.width) + "x" + std::to_string(c.height) + " frame");
+    if (c.aspect <= 0.0f) c.aspect = float(c.width) / float(c.height);
+    c.window = glm::vec4(float(x) / float(c.width), float(c.height - y - dy) / float(c.height), float(dx) / float(c.width),
+                         float(dy) / float(c.height));
+    c.width = dx;
+    c.height = dy;
   }
   if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
   if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;

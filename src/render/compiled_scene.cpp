@@ -48,6 +48,7 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
 
 // The light kind of a punctual light record (types.glsl's PointLight).
 uint32_t punctual_light_kind(const shader::PointLight& l) {
+  if (l.position.w == 2.0f) return LIGHT_HEMISPHERE;
   return l.position.w == 0.0f ? LIGHT_DIRECTIONAL : l.direction.w > -2.0f ? LIGHT_SPOT : LIGHT_POINT;
 }
 
@@ -368,7 +369,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
   const size_t numSpheres = scene.spheres.size();
-  if (numTris + numSpheres >= size_t(EMITTER_ENVIRONMENT)) throw InputError(scene.sourcePath + ": too many primitives");
+  if (numTris + numSpheres + scene.lightOnlyTriangles.size() >= size_t(EMITTER_UNSEEN_BIT))
+    throw InputError(scene.sourcePath + ": too many primitives");
 
   PackedTextures packed = pack_textures(scene);
   const std::vector<double> materialRadiance = material_radiance(scene, packed);
@@ -464,6 +466,18 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     }
     out.triangles.push_back(g);
   }
+  // Light-only triangles after the leaves' records, where no leaf reaches them.
+  const size_t firstLightOnly = out.triangles.size();
+  for (const SceneTriangle& t : scene.lightOnlyTriangles) {
+    shader::Triangle g{};
+    g.v0 = t.v[0];
+    g.v1 = t.v[1];
+    g.v2 = t.v[2];
+    g.material = t.material;
+    g.emitter = WP_INVALID;
+    g.shading = WP_INVALID;
+    out.triangles.push_back(g);
+  }
   for (const SceneSphere& s : scene.spheres) {
     shader::Sphere g{};
     rows_3x4(s.toWorld, g.toWorld0, g.toWorld1, g.toWorld2);
@@ -479,8 +493,9 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   out.textures = std::move(packed.textures);
   out.texels = std::move(packed.texels);
   for (const ScenePointLight& l : scene.pointLights) {
-    shader::PointLight p{glm::vec4(l.position, 1.0f), glm::vec4(l.intensity, 0.0f), glm::vec4(l.direction, -2.0f)};
+    shader::PointLight p{glm::vec4(l.position, 1.0f), glm::vec4(l.intensity, 0.0f), glm::vec4(l.direction, l.falloff ? -2.0f : -3.0f)};
     if (l.kind == ScenePointLight::Kind::Directional) p.position.w = 0.0f;
+    if (l.kind == ScenePointLight::Kind::Hemisphere) p.position.w = 2.0f;
     if (l.kind == ScenePointLight::Kind::Spot) {
       p.intensity.w = l.cosInner;
       p.direction.w = l.cosOuter;
@@ -488,9 +503,10 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     out.pointLights.push_back(p);
   }
 
-  // Emitters: every primitive whose material emits, and every point light,
-  // picked in proportion to power (luminance of the mean emitted radiance
-  // times pi times area; of the intensity times 4 pi).
+  // Emitters: every primitive whose material emits (under CS184's estimator
+  // only the light-only triangles), and every point light, picked in
+  // proportion to power (luminance of the mean emitted radiance times pi
+  // times area; of the intensity times 4 pi).
   std::vector<double> power;
   std::vector<uint32_t> prims;
   auto emits = [&](uint32_t material, float area) {
@@ -500,13 +516,15 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   for (size_t i = 0; i < out.triangles.size(); ++i) {
     shader::Triangle& t = out.triangles[i];
     if (t.material == WP_INVALID) continue;  // a sphere's placeholder
+    const bool lightOnly = i >= firstLightOnly;
+    if (scene.cs184Estimator && !lightOnly) continue;
     double p = emits(t.material, 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)));
     if (p <= 0.0) continue;
     t.emitter = uint32_t(prims.size());
-    prims.push_back(uint32_t(i));
+    prims.push_back(uint32_t(i) | (lightOnly ? EMITTER_UNSEEN_BIT : 0u));
     power.push_back(p);
   }
-  for (size_t i = 0; i < out.spheres.size(); ++i) {
+  for (size_t i = 0; i < out.spheres.size() && !scene.cs184Estimator; ++i) {
     shader::Sphere& s = out.spheres[i];
     double p = emits(s.material, s.area);
     if (p <= 0.0) continue;
@@ -537,6 +555,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     double spread = 4.0 * WP_PI;  // a point light's solid angle
     if (kind == LIGHT_SPOT) spread = 2.0 * WP_PI * (1.0 - 0.5 * (double(l.intensity.w) + double(l.direction.w)));
     if (kind == LIGHT_DIRECTIONAL) spread = WP_PI * sceneRadius * sceneRadius;  // the area its light falls on
+    if (kind == LIGHT_HEMISPHERE) spread = WP_PI * WP_PI * sceneRadius * sceneRadius;  // pi L on that area
     double p = luminance(glm::vec3(l.intensity)) * spread;
     if (p <= 0.0) continue;
     prims.push_back(uint32_t(i) | EMITTER_POINT_BIT);
@@ -578,7 +597,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   int maxBounces = options.maxBounces >= 0 ? options.maxBounces : scene.integrator.maxBounces;
   shader::SceneParams& p = out.params;
   rows_3x4(cam.toWorld, p.camToWorld0, p.camToWorld1, p.camToWorld2);
-  p.camLens = glm::vec4(std::tan(glm::radians(cam.vfovDegrees) * 0.5f), float(cam.width) / float(cam.height),
+  p.camLens = glm::vec4(std::tan(glm::radians(cam.vfovDegrees) * 0.5f),
+                        cam.aspect > 0.0f ? cam.aspect : float(cam.width) / float(cam.height),
                         cam.apertureRadius, cam.focusDistance);
   p.background = glm::vec4(scene.background, 0.0f);
   p.environment = glm::uvec4(scene.environment, environmentEmitter, 0u, 0u);
@@ -589,11 +609,14 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.image = glm::uvec4(uint32_t(cam.width), uint32_t(cam.height), uint32_t(maxBounces),
                        uint32_t(scene.integrator.russianRouletteDepth));
   p.mis = glm::vec4(scene.integrator.misPower, 0.0f, 0.0f, 0.0f);
+  p.camWindow = cam.window;
   uint32_t flags = 0;
   IntegratorKind kind = options.integrator ? *options.integrator : scene.integrator.kind;
   if (kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;
   if (kind == IntegratorKind::PathHemisphere) flags |= SCENE_FLAG_NO_NEE | SCENE_FLAG_HEMISPHERE;
   if (kind == IntegratorKind::PathNee) flags |= SCENE_FLAG_NO_BSDF_MIS;
+  if (scene.cs184Estimator) flags |= SCENE_FLAG_CS184;
+  if (scene.cs184LatLong) flags |= SCENE_FLAG_CS184_LATLONG;
   uint32_t mode = INTEGRATOR_PATH;
   if (kind == IntegratorKind::Normals) mode = INTEGRATOR_NORMALS;
   if (kind == IntegratorKind::AmbientOcclusion) mode = INTEGRATOR_AO;

@@ -113,8 +113,9 @@ static_assert(sizeof(Material) == 64 && offsetof(Material, children) == 16 && of
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 48 && offsetof(PointLight, intensity) == 16 && offsetof(PointLight, direction) == 32);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 192 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
-              offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160 && offsetof(SceneParams, mis) == 176);
+static_assert(sizeof(SceneParams) == 208 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
+              offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160 && offsetof(SceneParams, mis) == 176 &&
+              offsetof(SceneParams, camWindow) == 192);
 static_assert(sizeof(PathState) == 64 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60);
 static_assert(sizeof(Hit) == 16);
 // write_shadow_ray and read_shadow_ray (kernel.glsl) move shadow rays as three

@@ -17,4 +17,19 @@ Scene import_darts(const std::string& path);
 // glTF 2.0, .gltf or .glb (docs/scene-format.md, "glTF 2.0").
 Scene import_gltf(const std::string& path);
 
+// Berkeley CS184's COLLADA scenes, .dae, with the course's conventions
+// (docs/scene-format.md, "CS184").
+Scene import_collada(const std::string& path);
+
+// Points `camera` as a CS184 camera settings file says (the file the
+// course's viewer writes with D, camera.cpp's dump_settings): position,
+// orientation and both fields of view. The lens stays as it is, as the
+// course's renderer sets it from the command line.
+void apply_cs184_camera_settings(const std::string& path, Camera& camera);
+
+// CS184 scenes read physically (render --consistent-lights): area lights
+// become one-sided emissive quads that rays meet, emissive surfaces light
+// the scene, and the estimator is wavepath's own (docs/scene-format.md).
+void use_consistent_lights(Scene& scene);
+
 }  // namespace wp

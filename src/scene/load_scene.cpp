@@ -19,6 +19,7 @@ SceneFormat scene_format(const std::string& path, const std::string& head) {
   // whatever its name says, unless the name says glTF (which is JSON too).
   if (head.compare(0, 4, "glTF") == 0) return SceneFormat::Gltf;
   if (ext == ".gltf" || ext == ".glb") return SceneFormat::Gltf;  // its importer reports what is wrong with it
+  if (ext == ".dae" || head.find("<COLLADA") != std::string::npos) return SceneFormat::Collada;
   auto first = std::find_if(head.begin(), head.end(), [](unsigned char c) { return !std::isspace(c); });
   if (first != head.end() && *first == '{') return SceneFormat::Darts;
   if (ext == ".json") return SceneFormat::Darts;
@@ -35,8 +36,9 @@ Scene load_scene(const std::string& path) {
   switch (scene_format(path, head)) {
     case SceneFormat::Darts: scene = import_darts(path); break;
     case SceneFormat::Gltf: scene = import_gltf(path); break;
+    case SceneFormat::Collada: scene = import_collada(path); break;
     case SceneFormat::Unknown:
-      throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json, or glTF 2.0, .gltf or .glb)");
+      throw InputError(path + ": not a scene file wavepath reads (expected a darts JSON scene, .json; glTF 2.0, .gltf or .glb; or CS184 COLLADA, .dae)");
   }
   scene.inputFiles.insert(scene.inputFiles.begin(), path);
   return scene;

@@ -8,7 +8,7 @@
 namespace wp {
 
 // The formats load_scene tells apart.
-enum class SceneFormat { Darts, Gltf, Unknown };
+enum class SceneFormat { Darts, Gltf, Collada, Unknown };
 
 // The format of a file with this name whose first bytes are `head`: by
 // content where it is telling (a JSON object), else by extension.

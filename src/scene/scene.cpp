@@ -73,6 +73,16 @@ uint32_t add_image_texture(Scene& scene, const std::string& path, const std::str
   return add_texture(scene, image_texture(scene, path, where));
 }
 
+void set_resolution(Camera& camera, int width, int height) {
+  if (camera.resizeKeepsFocalLength && camera.height > 0) {
+    // tan(vfov / 2) is half the height over the focal length in pixels.
+    double t = std::tan(glm::radians(double(camera.vfovDegrees)) * 0.5) * double(height) / double(camera.height);
+    camera.vfovDegrees = float(glm::degrees(2.0 * std::atan(t)));
+  }
+  camera.width = width;
+  camera.height = height;
+}
+
 Camera framing_camera(const Scene& scene) {
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const SceneTriangle& t : scene.triangles)

@@ -29,7 +29,21 @@ struct Camera {
   int height = 512;
   float focusDistance = 1.0f;
   float apertureRadius = 0.0f;
+  // The horizontal over the vertical tangent of the half-fields; 0: width /
+  // height (square pixels). A CS184 camera settings file sets both fields.
+  float aspect = 0.0f;
+  // A new resolution keeps the focal length in pixels, cropping or widening
+  // the frame about its centre, instead of the vertical field (CS184's
+  // windowless renders: set_resize_keeps_focal_length).
+  bool resizeKeepsFocalLength = false;
+  // The part of the frame the image covers (x, y of its top-left corner,
+  // width, height, as fractions of the frame): CS184's -p renders a cell.
+  glm::vec4 window{0.0f, 0.0f, 1.0f, 1.0f};
 };
+
+// Gives the camera a new resolution: the vertical field stays, or (resize
+// keeps focal length) the focal length in pixels does.
+void set_resolution(Camera& camera, int width, int height);
 
 // How the BVH builder splits a node's primitives (bvh.h): binned SAH; the
 // clustered SAH build, faster for large scenes (binned SAH over Morton-order
@@ -136,12 +150,18 @@ struct SceneMaterial {
 // within its cone, falling off between the inner and the outer cone's
 // half-angles; or a directional light's irradiance (W/m^2) arriving across
 // `direction`, the way its light travels.
+//
+// A hemisphere light (CS184's ambient light) sends radiance `intensity`
+// from every direction above the horizon of the zenith `direction`; no ray
+// meets it, only light sampling sees it. A point light without `falloff`
+// (CS184's) gives every distance the intensity's irradiance of 1 m.
 struct ScenePointLight {
-  enum class Kind { Point, Spot, Directional };
+  enum class Kind { Point, Spot, Directional, Hemisphere };
   Kind kind = Kind::Point;
   glm::vec3 position{0.0f};
-  glm::vec3 intensity{0.0f};        // W/sr; directional: W/m^2
-  glm::vec3 direction{0, 0, -1};    // spot, directional: unit, the way the light goes
+  glm::vec3 intensity{0.0f};        // W/sr; directional: W/m^2; hemisphere: W/(m^2 sr)
+  glm::vec3 direction{0, 0, -1};    // spot, directional: unit, the way the light goes; hemisphere: the zenith
+  bool falloff = true;              // point: inverse-square falloff
   float cosInner = 1.0f;            // spot: cosines of the cones' half-angles (inner >= outer)
   float cosOuter = 0.70710678f;
 };
@@ -203,6 +223,15 @@ struct Scene {
   std::vector<SceneTriangle> triangles;
   std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;
+  // Emissive triangles that no ray meets, lighting the scene through light
+  // sampling alone (CS184's area lights, which are not geometry there).
+  std::vector<SceneTriangle> lightOnlyTriangles;
+  // CS184's estimator (SCENE_FLAG_CS184; docs/scene-format.md, "CS184"):
+  // emissive surfaces are not in the light table, so they light nothing and
+  // only the camera and specular bounces see them.
+  bool cs184Estimator = false;
+  bool cs184LatLong = false;  // the environment map in CS184's lat-long layout
+  bool cs184Png = false;      // PNGs in CS184's tone curve (write_png)
 };
 
 // Finite inputs can still be placed past the range of floats by the product

@@ -10,6 +10,7 @@
 #include "render/compiled_scene.h"
 #include "render/partial.h"
 #include "scene/darts_tests.h"
+#include "scene/importers.h"
 #include "scene/load_scene.h"
 #include "scene/obj_mesh.h"
 #include "scene/texture_image.h"
@@ -49,6 +50,7 @@ FuzzedInput fuzzed_input_named(const std::string& name) {
   if (name == "image") return FuzzedInput::Image;
   if (name == "partial") return FuzzedInput::Partial;
   if (name == "gltf") return FuzzedInput::Gltf;
+  if (name == "collada") return FuzzedInput::Collada;
   throw std::invalid_argument("no fuzzed input kind named \"" + name + "\"");
 }
 
@@ -90,6 +92,16 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         RenderOptions options;
         options.spp = 1;
         compile_scene(load_scene(path), options);
+        break;
+      }
+      case FuzzedInput::Collada: {
+        path = write_input("input.dae", data, size);
+        RenderOptions options;
+        options.spp = 1;
+        Scene scene = load_scene(path);
+        compile_scene(scene, options);
+        use_consistent_lights(scene);
+        compile_scene(scene, options);
         break;
       }
     }

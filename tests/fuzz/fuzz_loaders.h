@@ -15,9 +15,10 @@ enum class FuzzedInput {
   Image,  // an image file, after a first byte that picks its name: input.png, .exr or .tga (byte % 3)
   Partial,  // a partial render's EXR, read as `wavepath merge` and --resume read one
   Gltf,     // a glTF model, loaded and compiled, after a first byte that picks its name: input.gltf or input.glb (byte % 2)
+  Collada,  // a CS184 COLLADA scene, loaded (with --consistent-lights too) and compiled
 };
 
-// The kind a corpus folder holds: "scene", "obj", "image", "partial" or "gltf".
+// The kind a corpus folder holds: "scene", "obj", "image", "partial", "gltf" or "collada".
 FuzzedInput fuzzed_input_named(const std::string& name);
 
 // Writes the bytes to a file in a private temporary folder (beside a small
