@@ -155,6 +155,15 @@ check "-a writes the rate image beside a .dae's render" $?
 "$wavepath" render -s 4 -m 3 -H -r 16 12 -f "$work/cbh.png" --consistent-lights "$dae" -q && [ -s "$work/cbh.png" ]
 check "-H and --consistent-lights render a .dae" $?
 
+# A .dae's parts merge into the very PNG its whole render writes (CS184's
+# tone curve); a part seen through another camera (-c) is refused.
+for r in 0:2 2:4; do "$wavepath" render -s 4 -m 2 -r 20 15 --samples "$r" -f "$work/cbpart${r%:*}.png" --cpu -q "$dae"; done
+"$wavepath" render -s 4 -m 2 -r 20 15 -f "$work/cbwhole.png" --cpu -q "$dae"
+"$wavepath" merge "$work/cbpart0.exr" "$work/cbpart2.exr" -o "$work/cbmerged.png" -q && cmp -s "$work/cbmerged.png" "$work/cbwhole.png"
+check "a .dae's merged parts give the PNG of its whole render" $?
+"$wavepath" render -s 4 -m 2 -r 20 15 --samples 2:4 -c "$work/cam.txt" -f "$work/cbother.png" --cpu -q "$dae"
+expect_error "merging a part of another view" 2 "cbother.exr|other settings|view" -- "$wavepath" merge "$work/cbpart0.exr" "$work/cbother.exr" -o "$work/out.png"
+
 # The scaling scenes' generator: usage without arguments, scenes that load.
 scale="$(dirname "$0")/../scripts/make-scale-scenes.py"
 "$scale" >/dev/null 2>&1

@@ -30,7 +30,8 @@ int run_merge(const MergeArgs& m) {
   PartialFile merged = merger.finish(m.allowGaps);
   write_exr(exr, merged.image, merged.record, true);
   try {
-    write_png(m.output, merged.image);
+    // A CS184 scene's parts merge into the PNG its render writes.
+    write_png(m.output, merged.image, render_setting(merged.record.settings, "png") == "cs184" ? PngTone::Cs184 : PngTone::Srgb);
   } catch (...) {
     std::remove(exr.c_str());  // both or neither
     throw;

@@ -589,6 +589,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
 
   const Camera& cam = scene.camera;
   out.cameraName = cam.name;
+  out.cs184Png = scene.cs184Png;
   out.width = cam.width;
   out.height = cam.height;
   out.spp = options.spp > 0 ? options.spp : scene.samplesPerPixel;

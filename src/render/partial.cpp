@@ -83,6 +83,10 @@ std::string scene_content_hash(const Scene& scene) {
   return hex;
 }
 
+std::string render_setting(const std::string& settings, const std::string& key) {
+  return setting(settings, key);
+}
+
 std::string render_settings(const CompiledScene& cs) {
   const shader::SceneParams& p = cs.params;
   char lens[64];
@@ -101,6 +105,19 @@ std::string render_settings(const CompiledScene& cs) {
     << "; mis_power=" << p.mis.x << "; light_samples=" << p.mode.w << "; seed=" << p.counts.y << "; lens=" << lens << "; adaptive=" << adaptive
     << "; aovs=" << (aovs.empty() ? "none" : aovs);
   if (!cs.cameraName.empty()) s << "; camera=" << cs.cameraName;
+  // The view itself: a camera settings file (-c) or a cell of the frame (-p)
+  // changes it without changing the scene's files.
+  std::string view;
+  for (const glm::vec4& r : {p.camToWorld0, p.camToWorld1, p.camToWorld2, glm::vec4(p.camLens.x, p.camLens.y, 0, 0), p.camWindow})
+    for (int c = 0; c < 4; ++c) {
+      char v[32];
+      std::snprintf(v, sizeof v, "%.9g", double(r[c]));
+      view += (view.empty() ? "" : ",") + std::string(v);
+    }
+  s << "; view=" << view;
+  if (p.counts.w & SCENE_FLAG_CS184) s << "; estimator=cs184";
+  if (p.counts.w & SCENE_FLAG_CS184_LATLONG) s << "; latlong=cs184";
+  if (cs.cs184Png) s << "; png=cs184";
   return s.str();
 }
 

@@ -31,6 +31,9 @@ std::string scene_content_hash(const Scene& scene);
 // ones merge (render --devices does just that).
 std::string render_settings(const CompiledScene& scene);
 
+// The value of `key` in a settings string (render_settings), or "".
+std::string render_setting(const std::string& settings, const std::string& key);
+
 // "0:16,16:40" and back. parse_sample_ranges throws InputError naming
 // `where` for anything else (ranges must be A:B with A < B).
 std::string format_sample_ranges(const std::vector<SampleRange>& ranges);
