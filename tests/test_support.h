@@ -55,9 +55,10 @@ inline std::string write_scene(const std::string& name, const std::string& text)
   return path;
 }
 
-// Loads `text` and expects an InputError whose message contains every part.
-inline void expect_error(const std::string& text, std::initializer_list<const char*> parts) {
-  std::string path = write_scene("bad.json", text);
+// Loads `text`, written as `file`, and expects an InputError naming the file
+// in one line that contains every part.
+inline void expect_error(const std::string& text, std::initializer_list<const char*> parts, const std::string& file = "bad.json") {
+  std::string path = write_scene(file, text);
   try {
     load_scene(path);
     ADD_FAILURE() << "no error for: " << text;

@@ -341,6 +341,19 @@ static std::vector<double> material_radiance(const Scene& scene, const PackedTex
   return radiance;
 }
 
+// A triangle's record without its shading data (compile_scene adds that)
+// and before the emitter table names it.
+static shader::Triangle triangle_record(const SceneTriangle& t) {
+  shader::Triangle g{};
+  g.v0 = t.v[0];
+  g.v1 = t.v[1];
+  g.v2 = t.v[2];
+  g.material = t.material;
+  g.emitter = WP_INVALID;
+  g.shading = WP_INVALID;
+  return g;
+}
+
 // bvh_input with the scene's material_radiance already at hand.
 static BvhInput bvh_input(const Scene& scene, const std::vector<double>& radiance) {
   BvhInput input;
@@ -427,12 +440,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       continue;
     }
     const SceneTriangle& t = scene.triangles[id];
-    g.v0 = t.v[0];
-    g.v1 = t.v[1];
-    g.v2 = t.v[2];
-    g.material = t.material;
-    g.emitter = WP_INVALID;
-    g.shading = WP_INVALID;
+    g = triangle_record(t);
     if (t.shading != WP_INVALID) {
       const SceneTriangleShading& in = scene.triangleShading[t.shading];
       shader::TriangleShading sh{};
@@ -468,16 +476,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
   // Light-only triangles after the leaves' records, where no leaf reaches them.
   const size_t firstLightOnly = out.triangles.size();
-  for (const SceneTriangle& t : scene.lightOnlyTriangles) {
-    shader::Triangle g{};
-    g.v0 = t.v[0];
-    g.v1 = t.v[1];
-    g.v2 = t.v[2];
-    g.material = t.material;
-    g.emitter = WP_INVALID;
-    g.shading = WP_INVALID;
-    out.triangles.push_back(g);
-  }
+  for (const SceneTriangle& t : scene.lightOnlyTriangles) out.triangles.push_back(triangle_record(t));
   for (const SceneSphere& s : scene.spheres) {
     shader::Sphere g{};
     rows_3x4(s.toWorld, g.toWorld0, g.toWorld1, g.toWorld2);
@@ -524,7 +523,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     prims.push_back(uint32_t(i) | (lightOnly ? EMITTER_UNSEEN_BIT : 0u));
     power.push_back(p);
   }
-  for (size_t i = 0; i < out.spheres.size() && !scene.cs184Estimator; ++i) {
+  for (size_t i = 0; i < out.spheres.size(); ++i) {
+    if (scene.cs184Estimator) break;  // CS184's emissive spheres are no lights
     shader::Sphere& s = out.spheres[i];
     double p = emits(s.material, s.area);
     if (p <= 0.0) continue;

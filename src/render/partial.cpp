@@ -38,21 +38,20 @@ std::vector<std::pair<std::string, std::string>> settings_items(const std::strin
   return items;
 }
 
-// The value of `key` in a settings string, or "".
-std::string setting(const std::string& settings, const std::string& key) {
-  for (const auto& [k, v] : settings_items(settings))
-    if (k == key) return v;
-  return "";
-}
-
 // The first setting whose value differs, as "key A vs B".
 std::string first_difference(const std::string& a, const std::string& b) {
   for (const auto& [key, value] : settings_items(a))
-    if (setting(b, key) != value) return key + " " + value + " vs " + setting(b, key);
+    if (render_setting(b, key) != value) return key + " " + value + " vs " + render_setting(b, key);
   return "\"" + a + "\" vs \"" + b + "\"";
 }
 
 }  // namespace
+
+std::string render_setting(const std::string& settings, const std::string& key) {
+  for (const auto& [k, v] : settings_items(settings))
+    if (k == key) return v;
+  return "";
+}
 
 std::string wavepath_version() {
   return "wavepath " WAVEPATH_VERSION;
@@ -81,10 +80,6 @@ std::string scene_content_hash(const Scene& scene) {
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016" PRIx64, h);
   return hex;
-}
-
-std::string render_setting(const std::string& settings, const std::string& key) {
-  return setting(settings, key);
 }
 
 std::string render_settings(const CompiledScene& cs) {
@@ -146,7 +141,7 @@ std::vector<SampleRange> parse_sample_ranges(const std::string& text, const std:
 }
 
 uint32_t samples_of_settings(const std::string& settings) {
-  return uint32_t(std::strtoul(setting(settings, "spp").c_str(), nullptr, 10));
+  return uint32_t(std::strtoul(render_setting(settings, "spp").c_str(), nullptr, 10));
 }
 
 PartialFile read_partial(const std::string& path) {

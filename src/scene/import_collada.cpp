@@ -33,6 +33,28 @@ constexpr int kMaxNodeDepth = 256;
 constexpr size_t kMaxNodesVisited = size_t(1) << 20;
 constexpr size_t kMaxTriangles = size_t(1) << 26;
 
+// Appends the whitespace-separated numbers of [s, end) to `out`, at most
+// `limit` of them. Returns the problem ("" for none): text that is not a
+// number, a float that is not finite, or one number past the limit.
+template <typename T>
+std::string read_numbers(const char* s, const char* end, size_t limit, std::vector<T>& out) {
+  for (;;) {
+    while (s < end && std::isspace(static_cast<unsigned char>(*s))) ++s;
+    if (s == end) return "";
+    T v{};
+    if (*s == '+') ++s;  // from_chars refuses a leading plus
+    auto [next, ec] = std::from_chars(s, end, v);
+    if (ec != std::errc() || (next < end && !std::isspace(static_cast<unsigned char>(*next))))
+      return "\"" + std::string(s, std::min<size_t>(size_t(end - s), 20)) + "\" is not a number";
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(v)) return "a number is not finite";
+    }
+    out.push_back(v);
+    if (out.size() > limit) return "more than " + std::to_string(limit) + " numbers";
+    s = next;
+  }
+}
+
 // What a node instances, in the order the course's parser meets them.
 struct Placed {
   pugi::xml_node instance;  // instance_camera, instance_light or instance_geometry
@@ -132,24 +154,10 @@ class ColladaReader {
   template <typename T>
   std::vector<T> numbers(pugi::xml_node e, size_t count, const char* what) const {
     const char* s = e.child_value();
-    const char* end = s + std::strlen(s);
     std::vector<T> out;
     if (count > 0) out.reserve(std::min(count, kMaxArray));
-    for (;;) {
-      while (s < end && std::isspace(static_cast<unsigned char>(*s))) ++s;
-      if (s == end) break;
-      T v{};
-      if (*s == '+') ++s;  // from_chars refuses a leading plus
-      auto [next, ec] = std::from_chars(s, end, v);
-      if (ec != std::errc() || (next < end && !std::isspace(static_cast<unsigned char>(*next))))
-        fail(e, std::string(what) + ": \"" + std::string(s, std::min<size_t>(size_t(end - s), 20)) + "\" is not a number");
-      if constexpr (std::is_floating_point_v<T>) {
-        if (!std::isfinite(v)) fail(e, std::string(what) + ": a number is not finite");
-      }
-      out.push_back(v);
-      if (out.size() > kMaxArray) fail(e, std::string(what) + ": more than " + std::to_string(kMaxArray) + " numbers");
-      s = next;
-    }
+    const std::string problem = read_numbers(s, s + std::strlen(s), kMaxArray, out);
+    if (!problem.empty()) fail(e, std::string(what) + ": " + problem);
     if (count > 0 && out.size() != count)
       fail(e, std::string(what) + ": " + std::to_string(out.size()) + " numbers where " + std::to_string(count) + " belong");
     return out;
@@ -297,17 +305,17 @@ class ColladaReader {
     auto known = materials_.find(mat.internal_object());
     if (known != materials_.end()) return known->second;
     pugi::xml_node effect = resolve(required(mat, "instance_effect"), "url", "effect");
+    const std::string name = mat.attribute("name") ? mat.attribute("name").value() : mat.attribute("id").value();
     SceneMaterial m;
-    m.name = mat.attribute("name") ? mat.attribute("name").value() : mat.attribute("id").value();
-    m.kind = MAT_LAMBERTIAN;
+    m.name = name;
     glm::dvec3 diffuse(0.5);
     bool fromCgl = false;
     if (pugi::xml_node cgl = cgl_technique(effect)) {
       for (pugi::xml_node b : cgl.children()) {
         if (b.type() != pugi::node_element) continue;
         const std::string type = b.name();
-        m = SceneMaterial{};
-        m.name = mat.attribute("name") ? mat.attribute("name").value() : mat.attribute("id").value();
+        m = SceneMaterial{};  // the last BSDF element wins
+        m.name = name;
         fromCgl = true;
         if (type == "emission") {
           m.kind = MAT_LIGHT;
@@ -753,20 +761,9 @@ void apply_cs184_camera_settings(const std::string& path, Camera& camera) {
   // row by row) / screenW screenH screenDist / focalDistance lensRadius.
   std::vector<double> v;
   const char* s = reinterpret_cast<const char*>(bytes->data());
-  const char* end = s + bytes->size();
-  while (s < end) {
-    while (s < end && std::isspace(static_cast<unsigned char>(*s))) ++s;
-    if (s == end) break;
-    double x = 0.0;
-    auto [next, ec] = std::from_chars(s, end, x);
-    if (ec != std::errc() || !std::isfinite(x) || (next < end && !std::isspace(static_cast<unsigned char>(*next))))
-      throw InputError(path + ": number " + std::to_string(v.size() + 1) + " is not a finite number (a CS184 camera settings file holds 30)");
-    v.push_back(x);
-    s = next;
-    if (v.size() > 30) break;
-  }
-  if (v.size() != 30) throw InputError(path + ": " + std::string(v.size() > 30 ? "more than 30" : std::to_string(v.size())) +
-                                       " numbers, where a CS184 camera settings file holds 30");
+  const std::string problem = read_numbers(s, s + bytes->size(), 30, v);
+  if (!problem.empty()) throw InputError(path + ": " + problem + " (a CS184 camera settings file holds 30)");
+  if (v.size() != 30) throw InputError(path + ": " + std::to_string(v.size()) + " numbers, where a CS184 camera settings file holds 30");
   const double hFov = v[0], vFov = v[1];
   if (!(hFov > 0.0 && hFov < 180.0 && vFov > 0.0 && vFov < 180.0))
     throw InputError(path + ": the fields of view (" + std::to_string(hFov) + ", " + std::to_string(vFov) + ") must lie between 0 and 180 degrees");
