@@ -397,6 +397,16 @@ TEST(Collada, CameraSettingsFileSetsPoseAndFields) {
   EXPECT_NEAR(s.camera.aspect, std::tan(glm::radians(30.0)) / std::tan(glm::radians(20.0)), 1e-6);
   CompiledScene cs = compile_scene(s, RenderOptions{});
   EXPECT_FLOAT_EQ(cs.params.camLens.y, s.camera.aspect);
+  // A binary file: one line naming the file, its bytes not echoed raw.
+  try {
+    std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
+    apply_cs184_camera_settings(write_scene("cam.png", png), s.camera);
+    ADD_FAILURE() << "a PNG read as camera settings";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_NE(msg.find("\"?PNG\" is not a number"), std::string::npos) << msg;
+  }
   for (const char* bad : {"60 40 1.33", "60 40 1.33 0.1 100 0.5 1 3 0 0.75 0 1.4 0.1 3 0.3 60 0 0 1 0 1 0 -1 0 0 800 600 824.2 4.7 nan",
                           "200 40 1.33 0.1 100 0.5 1 3 0 0.75 0 1.4 0.1 3 0.3 60 0 0 1 0 1 0 -1 0 0 800 600 824.2 4.7 0",
                           "60 40 1.33 0.1 100 0.5 1 3 0 0.75 0 1.4 0.1 3 0.3 60 0 0 0 0 0 0 0 0 0 800 600 824.2 4.7 0"}) {

@@ -44,8 +44,13 @@ std::string read_numbers(const char* s, const char* end, size_t limit, std::vect
     T v{};
     if (*s == '+') ++s;  // from_chars refuses a leading plus
     auto [next, ec] = std::from_chars(s, end, v);
-    if (ec != std::errc() || (next < end && !std::isspace(static_cast<unsigned char>(*next))))
-      return "\"" + std::string(s, std::min<size_t>(size_t(end - s), 20)) + "\" is not a number";
+    if (ec != std::errc() || (next < end && !std::isspace(static_cast<unsigned char>(*next)))) {
+      // The word that is not a number, shortened, its unprintable bytes shown as '?' (a binary file's).
+      std::string word;
+      for (const char* c = s; c < end && word.size() < 20 && !std::isspace(static_cast<unsigned char>(*c)); ++c)
+        word += std::isprint(static_cast<unsigned char>(*c)) ? *c : '?';
+      return "\"" + word + "\" is not a number";
+    }
     if constexpr (std::is_floating_point_v<T>) {
       if (!std::isfinite(v)) return "a number is not finite";
     }
