@@ -141,6 +141,9 @@ sed 's/<vcount>4<\/vcount>/<vcount>2<\/vcount>/' "$dae" >"$work/degenerate.dae"
 expect_error "COLLADA degenerate polygon" 2 "degenerate.dae:|a polygon of 2 vertices" -- "$wavepath" render "$work/degenerate.dae" -f "$out"
 expect_error "-p outside the frame" 2 "-p 790 0 20 20|inside the 800x600 frame" -- "$wavepath" render -s 1 -p 790 0 20 20 -f "$out" "$dae"
 expect_error "--consistent-lights on a darts scene" 2 "--consistent-lights|furnace.json|not a CS184 scene" -- "$wavepath" render "$data/furnace.json" --consistent-lights -o "$out"
+expect_error "--cs184 3-2 on a darts scene" 2 "--cs184 3-2|furnace.json|not a CS184 scene" -- "$wavepath" render "$data/furnace.json" --cs184 3-2 -o "$out"
+expect_error "--cs184 with --consistent-lights" 2 "--consistent-lights|--cs184 3-2|choose one" -- "$wavepath" render --cs184 3-2 --consistent-lights -f "$out" "$dae"
+expect_error "an unknown --cs184 skeleton" 2 "--cs184" -- "$wavepath" render --cs184 3-3 -f "$out" "$dae"
 expect_error "missing camera settings file" 2 "no-such-camera.txt|cannot read" -- "$wavepath" render -c "$work/no-such-camera.txt" -f "$out" "$dae"
 rm -f "$work"/cb*.png
 "$wavepath" render -t 2 -s 2 -l 16 -m 6 -r 48 36 -f "$work/cb.png" "$dae" 2>/dev/null >/dev/null
@@ -154,6 +157,8 @@ check "-c reads a camera settings file" $?
 check "-a writes the rate image beside a .dae's render" $?
 "$wavepath" render -s 4 -m 3 -H -r 16 12 -f "$work/cbh.png" --consistent-lights "$dae" -q && [ -s "$work/cbh.png" ]
 check "-H and --consistent-lights render a .dae" $?
+"$wavepath" render -s 4 -m 3 -r 16 12 -f "$work/cb32.png" --cs184 3-2 "$dae" -q && [ -s "$work/cb32.png" ]
+check "--cs184 3-2 renders a .dae" $?
 
 # A .dae's parts merge into the very PNG its whole render writes (CS184's
 # tone curve); a part seen through another camera (-c) is refused.

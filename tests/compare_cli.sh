@@ -29,10 +29,28 @@ check "GPU against CPU on the command line: exit 0" $([ $rc -eq 0 ]; echo $?)
 bad "missing EXR" "missing.exr" -- "$wavepath" compare --images "$work/missing.exr" "$work/b.exr"
 bad "images of different sizes" "differ in size" -- "$wavepath" compare --images "$work/a.exr" "$work/small.exr"
 bad "not an EXR" "not an OpenEXR file" -- "$wavepath" compare --images "$work/a.png" "$work/b.exr"
-bad "scene and images together" "not both" -- "$wavepath" compare "$data/furnace.json" --images "$work/a.exr" "$work/b.exr"
+bad "scene and images together" "needs one of" -- "$wavepath" compare "$data/furnace.json" --images "$work/a.exr" "$work/b.exr"
 bad "unknown kernel variant" "unknown kernel variant \"tpu\"" -- "$wavepath" compare "$data/furnace.json" --a tpu
 "$wavepath" compare "$data/furnace.json" --a gpu-oneray --b gpu --spp 16 -q >"$work/out" 2>&1
 check "one kernel variant against another: exit 0" $?
+bad "an --alpha out of range" "--alpha" -- "$wavepath" compare --images "$work/a.exr" "$work/b.exr" --alpha 2
+
+# Against a reference without variance (a course's *-ref.png): measured,
+# judged by tolerances. The same scene is within them; a render of the
+# light alone at twice its power is beyond; PNGs and EXRs alike.
+"$wavepath" compare --reference "$work/a.png" "$work/b.png" >"$work/out" 2>&1
+rc=$?
+check "--reference: another render of the scene is WITHIN, exit 0" $([ $rc -eq 0 ] && grep -q '^WITHIN: mean / reference' "$work/out"; echo $?)
+"$wavepath" compare --reference "$work/a.exr" "$work/b.exr" --tolerance 0.05 0.2 >"$work/out" 2>&1
+check "--reference reads EXRs" $?
+"$wavepath" render "$data/quad-light.json" --cpu --spp 64 --seed 3 -q -o "$work/dim.exr" --max-bounces 0
+"$wavepath" compare --reference "$work/a.exr" "$work/dim.exr" >"$work/out" 2>&1
+rc=$?
+check "--reference: the light alone is BEYOND, exit 1" $([ $rc -eq 1 ] && grep -q '^BEYOND' "$work/out"; echo $?)
+bad "--reference of another size" "differ in size" -- "$wavepath" compare --reference "$work/a.png" "$work/small.png"
+bad "--reference missing" "missing-ref.png" -- "$wavepath" compare --reference "$work/missing-ref.png" "$work/a.png"
+bad "--reference and a scene together" "needs one of" -- "$wavepath" compare "$data/furnace.json" --reference "$work/a.png" "$work/b.png"
+bad "an unknown --curve" "--curve" -- "$wavepath" compare --reference "$work/a.png" "$work/b.png" --curve gamma
 
 # The report in a real browser: every embedded image decodes, and it renders.
 if command -v chromium >/dev/null; then

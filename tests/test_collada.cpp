@@ -112,7 +112,7 @@ TEST(Collada, CornellSceneReadsEveryElement) {
   }
   EXPECT_NEAR(area, 0.25f, 1e-6f);
   // The course's conventions and defaults (-s 1, -m 1, 800x600).
-  EXPECT_TRUE(s.cs184Estimator && s.cs184LatLong && s.cs184Png);
+  EXPECT_TRUE(s.cs184Estimator && s.cs184LatLong && s.eightBitCurve == EightBitCurve::Cs184);
   EXPECT_EQ(s.integrator.kind, IntegratorKind::PathNee);
   EXPECT_EQ(s.integrator.maxBounces, 1);
   EXPECT_EQ(s.samplesPerPixel, 1);
@@ -125,6 +125,50 @@ TEST(Collada, CornellSceneReadsEveryElement) {
     const glm::vec3 ng = glm::normalize(glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]));
     for (const glm::vec3& n : s.triangleShading[t.shading].n) EXPECT_NEAR(glm::dot(n, ng), -1.0f, 1e-5f);
   }
+}
+
+// The 3-2 skeleton's reading (render --cs184 3-2): the lamp mesh emits
+// nothing (collada.cpp:879), and the area light is also two triangles of
+// geometry emitting radiance / area times the cosine, from the front only
+// (light.cpp:77-105, bsdf.h:274-278), while light sampling stays as it was.
+TEST(Collada, Cs184Skeleton32LightsAsThatSkeletonBuildsThem) {
+  Scene s = load_scene(collada_path("cornell.dae"));
+  EXPECT_EQ(s.cs184Skeleton, 31);
+  use_cs184_3_2_skeleton(s);
+  EXPECT_EQ(s.cs184Skeleton, 32);
+  ASSERT_EQ(s.triangles.size(), 14u);
+  ASSERT_EQ(s.lightOnlyTriangles.size(), 2u);
+  for (const SceneMaterial& m : s.materials)
+    if (m.name == "lamp") {
+      EXPECT_EQ(m.emission, WP_INVALID) << "the lamp mesh still emits";
+    }
+  CompiledScene cs = compile_scene(s, RenderOptions{});
+  EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(FEATURE_COSINE_EMISSION));
+  for (uint32_t i = 12; i < 14; ++i) {
+    const SceneTriangle& t = s.triangles[i];
+    // The light's triangle, a hair in front of its plane (below it: the light faces down).
+    EXPECT_NEAR(glm::distance(t.v[0], s.lightOnlyTriangles[i - 12].v[0]), 4e-5f * 1.48f, 1e-6f);
+    EXPECT_LT(t.v[0].y, s.lightOnlyTriangles[i - 12].v[0].y);
+    const SceneMaterial& quad = s.materials[t.material];
+    EXPECT_EQ(quad.kind, uint32_t(MAT_LIGHT));
+    EXPECT_NEAR(glm::distance(s.textures[quad.emission].color, glm::vec3(6.0f / 0.25f)), 0.0f, 1e-4f);
+  }
+  // Seen from below along its normal, the full radiance over the area; at 60
+  // degrees from it, half; from above nothing, under the course's both-sided
+  // estimator too.
+  shader::SceneView view = cs.view();
+  int quads = 0;
+  for (uint32_t i = 0; i < cs.triangles.size(); ++i) {
+    const uint32_t material = cs.triangles[i].material;  // WP_INVALID: a sphere's placeholder
+    if (material == WP_INVALID || cs.materials[material & TRIANGLE_MATERIAL_MASK].params.x != 1.0f) continue;
+    ++quads;
+    const shader::SceneView::SurfaceHit hit = view.triangle_surface(i, 0.25f, 0.25f);
+    const glm::vec3 down(0.0f, -1.0f, 0.0f), slant = glm::normalize(glm::vec3(std::sqrt(3.0f), -1.0f, 0.0f));
+    EXPECT_NEAR(view.emitted_radiance(hit, down).x, 24.0f, 1e-3f);
+    EXPECT_NEAR(view.emitted_radiance(hit, slant).x, 12.0f, 1e-3f);
+    EXPECT_EQ(view.emitted_radiance(hit, -down).x, 0.0f);
+  }
+  EXPECT_EQ(quads, 2);
 }
 
 // The camera as application.cpp places it, computed here from the course's
@@ -307,13 +351,14 @@ TEST(Collada, EnvironmentMapInTheCoursesLatLongLayout) {
 
 TEST(Collada, Cs184PngToneCurve) {
   // (sqrt(2) L)^(1 / 2.2), clamped to [0, 1], times 255, truncated.
-  EXPECT_EQ(cs184_png8(-1.0), 0);
-  EXPECT_EQ(cs184_png8(0.0), 0);
-  EXPECT_EQ(cs184_png8(0.1), 104);  // 0.1414^(1/2.2) = 0.4110: 104.8
-  EXPECT_EQ(cs184_png8(0.5), 217);  // 0.7071^(1/2.2) = 0.8543: 217.8
-  EXPECT_EQ(cs184_png8(1.0), 255);
-  EXPECT_EQ(cs184_png8(7.0), 255);
-  EXPECT_EQ(to_srgb8(0.5), 188);  // against sRGB, rounded
+  EXPECT_EQ(encode_8bit_value(-1.0, EightBitCurve::Cs184), 0);
+  EXPECT_EQ(encode_8bit_value(0.0, EightBitCurve::Cs184), 0);
+  EXPECT_EQ(encode_8bit_value(0.1, EightBitCurve::Cs184), 104);  // 0.1414^(1/2.2) = 0.4110: 104.8
+  EXPECT_EQ(encode_8bit_value(0.5, EightBitCurve::Cs184), 217);  // 0.7071^(1/2.2) = 0.8543: 217.8
+  EXPECT_EQ(encode_8bit_value(1.0, EightBitCurve::Cs184), 255);
+  EXPECT_EQ(encode_8bit_value(7.0, EightBitCurve::Cs184), 255);
+  EXPECT_EQ(encode_8bit_value(0.5), 188);  // against sRGB, rounded
+  EXPECT_EQ(encode_8bit_value(0.5, EightBitCurve::DartsSrgb), 187);  // and truncated, as darts writes (0.7354 * 255 = 187.5)
 }
 
 TEST(Collada, BadInputNamesFileLineAndColumn) {

@@ -345,5 +345,22 @@ TEST(DirectionTest, HistogramIntegratesToTheValidShare) {
   EXPECT_NEAR(glm::length(back - d), 0.0, 1e-12);
 }
 
+// darts weighs a sample by 1 / sin theta computed in floats from the
+// normalised float direction, at least 1e-8 (src/tests/test.cpp:134-135):
+// a direction 1e-4 rad from the pole has z = 1 in floats and weighs 1e8
+// times a sample's share; one 0.3 rad away weighs 1 / sin(0.3).
+TEST(DirectionTest, HistogramWeighsSamplesAsDartsDoesInFloats) {
+  const glm::ivec2 size(32, 16);
+  const double share = double(size.x * size.y) / (2.0 * M_PI * M_PI * 1000.0);
+  DirectionHistogram hist(size, 1000);
+  hist.add(glm::vec3(std::sin(1e-4f), 0.0f, std::cos(1e-4f)));
+  hist.add(glm::vec3(std::sin(0.3f), 0.0f, std::cos(0.3f)) * 3.0f);
+  const std::vector<double>& d = hist.density();
+  const double pole = std::accumulate(d.begin(), d.begin() + size.x, 0.0);
+  EXPECT_NEAR(pole / (share * 1e8), 1.0, 1e-6) << "z = 1 in floats: sin theta floored at 1e-8";
+  const double second = std::accumulate(d.begin() + size.x, d.begin() + 2 * size.x, 0.0);
+  EXPECT_NEAR(second / (share / std::sin(0.3)), 1.0, 1e-5);
+}
+
 }  // namespace
 }  // namespace wp::test

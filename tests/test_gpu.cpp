@@ -570,7 +570,16 @@ struct FeatureCase {
   std::optional<IntegratorKind> integrator;
   const char* what;
   int size = 0;  // rendered size x size, or 0: the scene's own
+  void (*adjust)(Scene&) = nullptr;  // a reading of the scene a render option selects
 };
+
+// A feature case's scene, as its options read it.
+Scene feature_scene(const FeatureCase& c) {
+  Scene s = load_scene(source_path(std::string("tests/data/features/") + c.scene));
+  if (c.size > 0) s.camera.width = s.camera.height = c.size;
+  if (c.adjust) c.adjust(s);
+  return s;
+}
 
 const FeatureCase kFeatureCases[] = {
     {"materials.json", IntegratorKind::PathMis, "metal, mirror, glass, phong, blinn-phong, fresnel blend; quad, sphere and point lights (mis)"},
@@ -601,6 +610,9 @@ const FeatureCase kFeatureCases[] = {
      "CS184: its estimator, point light without falloff, directional and ambient (hemisphere) lights, microfacet gold, "
      "refraction",
      32},
+    {"../collada/cornell.dae", std::nullopt,
+     "CS184 3-2's scene: the lamp mesh black, the area light a visible quad of cosine emission seen in the mirror ball",
+     40, use_cs184_3_2_skeleton},
 };
 
 // CS184's scenes (tests/data/collada): the course's estimator (lights no
@@ -620,6 +632,15 @@ TEST_F(Gpu, Cs184ScenesAgreeWithTheCpuReference) {
       {"cornell.dae", IntegratorKind::PathHemisphere, false, false, "-H"},
       {"lights.dae", std::nullopt, false, true, "point, directional and ambient lights, microfacet gold, refraction, a CS184 environment map"},
       {"cornell.dae", std::nullopt, true, false, "--consistent-lights"},
+      // One light kind alone, as CS184's CBempty.dae has a lone <point>: the
+      // kernels compile only that kind. The no-falloff flag and the ambient
+      // light's zenith once lived in PointLight.direction, which the kernels
+      // loaded only where spot or directional lights were compiled, so the
+      // lone point light fell off as 1/d^2 (CBempty 43 % dark) and the lone
+      // ambient light shone from below (types.glsl, LIGHTS_READING_DIRECTION).
+      {"lone-point.dae", std::nullopt, false, false, "a lone point light (no falloff)"},
+      {"lone-point.dae", std::nullopt, true, false, "a lone point light, --consistent-lights"},
+      {"lone-ambient.dae", std::nullopt, false, false, "a lone ambient light"},
   };
   for (const Cs184Case& c : cases) {
     Scene scene = load_scene(source_path(std::string("tests/data/collada/") + c.scene));
@@ -639,7 +660,10 @@ TEST_F(Gpu, Cs184ScenesAgreeWithTheCpuReference) {
 
 TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
   for (const FeatureCase& c : kFeatureCases) {
-    CompareResult r = gpu_vs_cpu(source_path(std::string("tests/data/features/") + c.scene), c.size, 64, 1.0f, c.integrator);
+    RenderOptions o;
+    o.integrator = c.integrator;
+    o.spp = 64;
+    CompareResult r = gpu_against_cpu(feature_scene(c), o);
     EXPECT_TRUE(r.passed()) << c.what << ": " << r.summary();
   }
 }
@@ -687,11 +711,7 @@ TEST_F(Gpu, EveryKindIsUsedByAFeatureSceneAndCompilingItOutIsCaught) {
     o.integrator = kFeatureCases[c].integrator;
     return o;
   };
-  auto scene_of = [](size_t c) {
-    Scene s = load_scene(source_path(std::string("tests/data/features/") + kFeatureCases[c].scene));
-    if (kFeatureCases[c].size > 0) s.camera.width = s.camera.height = kFeatureCases[c].size;
-    return s;
-  };
+  auto scene_of = [](size_t c) { return feature_scene(kFeatureCases[c]); };
   std::vector<CompiledScene> compiled;
   for (size_t c = 0; c < std::size(kFeatureCases); ++c) compiled.push_back(compile_scene(scene_of(c), options(c, 1)));
   std::map<size_t, ImageStats> cpu;
@@ -843,6 +863,60 @@ TEST(GpuDarts, TestFilesRunOnTheKernelsAsOnTheCpuReference) {
       differs += std::fabs(a[p] - b[p]);
     }
     EXPECT_LT(differs, 1e-3 * total) << image;
+  }
+}
+
+// The histogram image holds every sample a test draws, as darts' does,
+// whatever share of them the chi-square takes: for a quad, a triangle and a
+// sphere whose pdfs cap the chi-square at 12-70 % of the 819200 samples, the
+// histogram integrates over the sphere to what the pdf integrates to, on
+// the kernels and on the CPU reference. (The surfaces keep away from the
+// poles, where darts' float weights make single samples count 1e8 times:
+// direction_test.cpp.)
+TEST(GpuDarts, HistogramImagesHoldEverySampleWhateverTheChiSquareTakes) {
+  const std::string tests = R"({"type": "tests", "tests": [
+    {"type": "sample surface", "name": "quad", "image size": [64, 32], "spp": 400,
+     "surface": {"type": "quad", "size": [1.2, 1.2], "transform": {"o": [0.9, 0.2, 0.3], "x": [0, 1, 0], "y": [0, 0, 1], "z": [1, 0, 0]},
+                 "material": {"type": "diffuse_light", "emit": 1}}},
+    {"type": "sample surface", "name": "triangle", "image size": [64, 32], "spp": 400,
+     "surface": {"type": "triangle", "positions": [[-0.6, 0.9, -0.5], [0.7, 1.0, -0.4], [-0.4, 0.8, 0.6]],
+                 "material": {"type": "diffuse_light", "emit": 1}}},
+    {"type": "sample surface", "name": "sphere", "image size": [64, 32], "spp": 400,
+     "surface": {"type": "sphere", "radius": 0.6, "transform": {"o": [-1.2, -0.5, 0.2]},
+                 "material": {"type": "diffuse_light", "emit": 1}}}]})";
+  for (bool cpu : {false, true}) {
+    const std::string dir = scratch_path(cpu ? "histogram-cpu" : "histogram-gpu");
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir + "/tests.json") << tests;
+    DartsTestOptions o;
+    o.cpu = cpu;
+    char* said = nullptr;
+    size_t saidSize = 0;
+    FILE* log = open_memstream(&said, &saidSize);
+    for (const DartsTestResult& r : run_darts_tests(dir + "/tests.json", o, log))
+      EXPECT_TRUE(r.passed) << (cpu ? "cpu " : "gpu ") << r.name << ": " << r.message;
+    std::fclose(log);
+    const std::string text(said, saidSize);
+    std::free(said);
+    // Each chi-square capped, so that the test means something.
+    size_t capped = 0;
+    for (size_t at = text.find("chi-square of the first "); at != std::string::npos; at = text.find("chi-square of the first ", at + 1))
+      capped += std::stoull(text.substr(at + 24)) < 819200;
+    EXPECT_EQ(capped, 3u) << text;
+    for (const char* name : {"quad", "triangle", "sphere"}) {
+      // Integrals over the sphere, cell by cell (64x32 cells drawn 4x4 pixels each).
+      double integral[2] = {0.0, 0.0};
+      for (int k = 0; k < 2; ++k) {
+        int w = 0, h = 0;
+        std::vector<float> v = read_exr_red_channel(dir + "/" + name + (k == 0 ? "-sampled.exr" : "-pdf.exr"), w, h);
+        ASSERT_EQ(w, 256) << name;
+        for (int y = 0; y < 32; ++y) {
+          const double solidAngle = (std::cos(y * M_PI / 32) - std::cos((y + 1) * M_PI / 32)) * 2.0 * M_PI / 64;
+          for (int x = 0; x < 64; ++x) integral[k] += double(v[size_t(4 * y) * size_t(w) + size_t(4 * x)]) * solidAngle;
+        }
+      }
+      EXPECT_NEAR(integral[0], integral[1], 0.01) << (cpu ? "cpu " : "gpu ") << name << ": histogram against pdf";
+    }
   }
 }
 

@@ -123,6 +123,45 @@ TEST(Triangle, RaysLeavingTheSurfaceDoNotHitItAgain) {
   }
 }
 
+// A point light, or a light no ray meets, may sit exactly on other
+// geometry: CS184's Cornell files place the point or area light in the
+// plane of the lamp mesh (CBempty.dae, CBspheres_lambertian.dae), through
+// node matrices with 1e-7 rounding terms. A shadow ray that ended on the
+// light point itself was blocked by that mesh or not by rounding, one way
+// on the CPU and another on lavapipe (0.3 % darker there). It must stop
+// short of the light point and never meet the surface the light lies in.
+TEST(Triangle, ShadowRaysToLightsLyingOnASurfaceAreNotBlockedByIt) {
+  SceneView view;  // aim_shadow_ray reads no scene buffer
+  // A lamp panel at y = 1.49, turned from Z up by Blender's matrix.
+  const glm::mat3 blender(-1.0f, 1.50996e-7f, 2.34488e-15f, 2.69452e-14f, 1.62921e-7f, 1.0f, 1.50996e-7f, 1.0f, -1.62921e-7f);
+  const glm::vec3 at(-2.62268e-8f, 0.004315853f, 0.0f);
+  const glm::vec3 v0 = blender * glm::vec3(0.4f, -0.3f, 1.49f) + at, v1 = blender * glm::vec3(0.4f, 0.3f, 1.49f) + at,
+                  v2 = blender * glm::vec3(-0.4f, 0.3f, 1.49f) + at;
+  const glm::vec3 down = glm::normalize(glm::cross(v1 - v0, v2 - v0));
+  uint32_t state = 37;
+  int blocked = 0, blockedAtTheLight = 0;
+  for (int i = 0; i < 20000; ++i) {
+    // The light point on the lamp's plane, inside the triangle, and a
+    // shading point on the floor below (its geometric normal up).
+    glm::vec2 b = view.square_to_triangle_barycentric(glm::vec2(view.rng_next(state), view.rng_next(state)));
+    SceneView::LightSample ls;
+    ls.p = v0 * (1 - b.x - b.y) + v1 * b.x + v2 * b.y;
+    ls.n = glm::dot(down, glm::vec3(0, -1, 0)) > 0.0f ? down : -down;  // facing the room
+    ls.isDelta = 1u;                                                     // a point light, or a light no ray meets
+    const glm::vec3 p(view.rng_next(state) * 2.0f - 1.0f, 0.0f, view.rng_next(state) * 2.0f - 1.0f);
+    ls.dist = glm::length(ls.p - p);
+    ls.wi = (ls.p - p) / ls.dist;
+    glm::vec3 origin, dir;
+    float tmax, t, u, v;
+    view.aim_shadow_ray(p, glm::vec3(0, 1, 0), ls, origin, dir, tmax);
+    blocked += view.intersect_triangle(origin, view.make_ray_shear(dir), v0, v1, v2, tmax, t, u, v);
+    // Ending on the light point itself, the segment meets the plane by rounding.
+    blockedAtTheLight += view.intersect_triangle(origin, view.make_ray_shear(ls.p - origin), v0, v1, v2, 1.0f, t, u, v);
+  }
+  EXPECT_EQ(blocked, 0);
+  EXPECT_GT(blockedAtTheLight, 100) << "the segment ending on the light point was expected to be blocked by rounding";
+}
+
 TEST(Sphere, HitsFromOutsideAndInside) {
   ShaderMath m;
   float t;

@@ -89,16 +89,21 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
 
 // The segment a shadow ray checks for light sample ls, seen from surface
 // point p of geometric normal ng, leaving from the side ls.wi points to: it
-// ends just in front of the light point (at a point light itself), or is
-// unbounded towards the environment. (The ray-casting benchmark aims its
-// shadow rays with it too.)
+// ends just in front of the light point, or is unbounded towards the
+// environment. (The ray-casting benchmark aims its shadow rays with it too.)
+//
+// "Just in front" is off the emitter's surface along its normal, or, for a
+// point light or a light no ray meets, pulled back towards p: such a light
+// may sit exactly on other geometry (CS184's Cornell files put the point or
+// area light in the plane of the lamp mesh), and a segment ending on a
+// surface is blocked or not by rounding, differently on every device.
 void aim_shadow_ray(vec3 p, vec3 ng, LightSample ls, OUT(vec3) origin, OUT(vec3) dir, OUT(float) tmax) {
   origin = offset_ray(p, dot(ls.wi, ng) >= 0.0f ? ng : -ng);  // a transmissive lobe sees lights behind the surface
   if (ls.dist == WP_INF) {
     dir = ls.wi;
     tmax = WP_INF;
   } else {
-    vec3 target = ls.isDelta != 0u ? ls.p : offset_ray(ls.p, ls.n);
+    vec3 target = offset_ray(ls.p, ls.isDelta != 0u ? -ls.wi : ls.n);
     dir = target - origin;
     tmax = 1.0f;
   }

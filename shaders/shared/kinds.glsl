@@ -106,11 +106,13 @@
 #define FEATURE_NORMAL_MAPS 6u          // a material with a normal map (Material.children.z)
 #define FEATURE_ONE_SIDED 7u            // triangles seen from behind are not there (TRIANGLE_ONE_SIDED)
 #define FEATURE_CUTOUTS 8u              // triangles cut out by their material's alpha (TRIANGLE_CUTOUT)
+#define FEATURE_COSINE_EMISSION 9u      // a light material emitting in proportion to the cosine (params.x; CS184 3-2's light quads)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
   X(FEATURE_VERTEX_DATA, "tangents, vertex colours or a second UV set") X(FEATURE_NORMAL_MAPS, "normal maps")    \
-  X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")
+  X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
+  X(FEATURE_COSINE_EMISSION, "cosine emission")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the
@@ -124,6 +126,8 @@
 // 22.3's SPIR-V reader refuses a logical or of specialization constants.
 #define ANY_LIGHT_COMPILED(bits) ((LIGHT_KINDS_OF_SCENE & (bits)) != 0u)
 #define PUNCTUAL_LIGHT_BITS (KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL) | KIND_BIT(LIGHT_HEMISPHERE))
+// The punctual kinds that read PointLight.direction (types.glsl).
+#define LIGHTS_READING_DIRECTION (KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL) | KIND_BIT(LIGHT_HEMISPHERE))
 #define ALL_KINDS 0xffffffffu
 
 // Whether a compiled material kind reads params.yzw or params2: kernels

@@ -231,7 +231,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     vec3 power = vec3(l.intensity.x, l.intensity.y, l.intensity.z);
     ls.pdf = pmf;
     ls.isDelta = 1u;
-    if (LIGHT_COMPILED(LIGHT_HEMISPHERE) && l.position.w == 2.0f) {
+    if (LIGHT_COMPILED(LIGHT_HEMISPHERE) && l.position.w == float(LIGHT_HEMISPHERE)) {
       // Uniform over the hemisphere about the zenith. No ray meets this
       // light, so, like a delta light, it takes no part in MIS.
       vec3 t;
@@ -244,13 +244,13 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
       ls.pdf = pmf * square_to_uniform_hemisphere_pdf(local);
       return true;
     }
-    if (LIGHT_COMPILED(LIGHT_DIRECTIONAL) && l.position.w == 0.0f) {
+    if (LIGHT_COMPILED(LIGHT_DIRECTIONAL) && l.position.w == float(LIGHT_DIRECTIONAL)) {
       ls.wi = -shine;
       ls.dist = WP_INF;  // at infinity: the shadow ray is unbounded
       ls.radiance = power;
       return true;
     }
-    bool spot = LIGHT_COMPILED(LIGHT_SPOT) && l.direction.w > -2.0f;
+    bool spot = LIGHT_COMPILED(LIGHT_SPOT) && l.position.w == float(LIGHT_SPOT);
     if (!spot && !LIGHT_COMPILED(LIGHT_POINT)) return false;  // each kind's code is its own, as kinds.glsl requires
     vec3 d = vec3(l.position.x, l.position.y, l.position.z) - ref;
     float dist2 = dot(d, d);
@@ -258,7 +258,7 @@ bool sample_emitter(vec3 ref, vec3 u, OUT(LightSample) ls) {
     ls.dist = sqrt(dist2);
     ls.wi = d / ls.dist;
     ls.p = vec3(l.position.x, l.position.y, l.position.z);
-    ls.radiance = l.direction.w == -3.0f ? power : power / dist2;  // CS184's point lights do not fall off
+    ls.radiance = !spot && l.intensity.w == 0.0f ? power : power / dist2;  // CS184's point lights do not fall off
     if (spot) {
       // glTF's falloff: the square of a linear ramp in the cosine between the cones.
       float ramp = clamp((dot(shine, -ls.wi) - l.direction.w) / max(l.intensity.w - l.direction.w, 1e-3f), 0.0f, 1.0f);

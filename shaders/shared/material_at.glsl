@@ -8,15 +8,22 @@
 // it and spares its kernels the copies of texture_eval that shade inlines
 // here (the hit's and each light sample's), which lavapipe would run for
 // every path.
+//
+// A light material with params.x set (FEATURE_COSINE_EMISSION) emits its
+// radiance times the cosine towards wo, from the front only: CS184 3-2's
+// EmissionBSDF(radiance, direction) (its bsdf.h:274-278), which that
+// skeleton gives the quad of every area light.
 vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
-  uint tex = load_material(s.material).info.z;
+  Material m = load_material(s.material);
+  uint tex = m.info.z;
   // Seen from the front only, or from both sides under CS184's conventions.
   if (tex == WP_INVALID || (dot(s.ng, wo) <= 0.0f && (scene.counts.w & SCENE_FLAG_CS184) == 0u)) return vec3(0.0f);
+  float scale = FEATURE_COMPILED(FEATURE_COSINE_EMISSION) && m.info.x == MAT_LIGHT && m.params.x != 0.0f ? max(dot(s.ng, wo), 0.0f) : 1.0f;
   if (!FEATURE_COMPILED(FEATURE_EMISSION_TEXTURES)) {
     vec4 c = load_texture(tex).color0;
-    return vec3(c.x, c.y, c.z);
+    return vec3(c.x, c.y, c.z) * scale;
   }
-  return texture_eval(tex, s.uv, s.p);
+  return texture_eval(tex, s.uv, s.p) * scale;
 }
 
 // The lobe a non-blend material contributes, with its colour and weight.

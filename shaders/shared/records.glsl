@@ -133,8 +133,7 @@ PointLight load_point_light(uint i) {
   PointLight l;
   l.position = texel_vec4(texelFetch(pointLightTexels, at));
   l.intensity = texel_vec4(texelFetch(pointLightTexels, at + 1));
-  l.direction = ANY_LIGHT_COMPILED(KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL)) ? texel_vec4(texelFetch(pointLightTexels, at + 2))
-                                                                                   : vec4(0.0f, 0.0f, -1.0f, -2.0f);
+  l.direction = ANY_LIGHT_COMPILED(LIGHTS_READING_DIRECTION) ? texel_vec4(texelFetch(pointLightTexels, at + 2)) : vec4(0.0f);
   return l;
 }
 

@@ -249,12 +249,17 @@ struct Texture {
 // it within a cone (full up to the inner cone, falling off to zero at the
 // outer one, as the glTF extension defines), or a direction from which
 // parallel light of an irradiance arrives. 48 bytes.
+//
+// Every field a kind reads is stored where the kind alone decides its
+// meaning: the kernels load `direction` only where a kind that reads it is
+// compiled (LIGHTS_READING_DIRECTION), so nothing a point light needs may
+// live there.
 struct PointLight {
-  vec4 position;   // xyz: where it is (point, spot); w: 1, 0 for a directional light, 2 for a hemisphere light
+  vec4 position;   // xyz: where it is (point, spot); w: its light kind (LIGHT_POINT, _SPOT, _DIRECTIONAL, _HEMISPHERE)
   vec4 intensity;  // rgb: W/sr (point, spot), W/m^2 across the direction (directional), radiance (hemisphere);
-                   // w: cos of a spot's inner cone
+                   // w: cos of a spot's inner cone; a point light's falloff: 1 inverse-square, 0 none (CS184's)
   vec4 direction;  // xyz: the unit direction it shines in (spot, directional), the zenith (hemisphere);
-                   // w: cos of a spot's outer cone; -2 a point light, -3 one without falloff (CS184's)
+                   // w: cos of a spot's outer cone
 };
 
 // One entry of the emitter alias table (Vose). Picking: i = floor(u * N);

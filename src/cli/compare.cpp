@@ -7,6 +7,7 @@
 #include "cli/render_args.h"
 #include "report/html_report.h"
 #include "stats/compare.h"
+#include "stats/reference_diff.h"
 #include "util/error.h"
 
 namespace wp::cli {
@@ -22,7 +23,33 @@ struct CompareArgs {
   float plantBias = 1.0f;
   std::vector<uint32_t> plantRegion;
   std::string layer = "color";  // which layer to compare (AOVs: layers.glsl)
+  CompareSettings settings;
+  // --reference REF IMAGE: measured against a reference without variance.
+  std::vector<std::string> reference;
+  std::vector<double> tolerance{0.02, 0.1};
+  std::string curve = "srgb";
+  std::vector<int> excludeRows{0, 0};
+  std::vector<int> mask;
 };
+
+// How far IMAGE is from REF; exit 0 when within both tolerances (the mean
+// error and the median block error), 1 when beyond.
+int run_reference(const CompareArgs& c) {
+  const EightBitCurve curve = c.curve == "cs184" ? EightBitCurve::Cs184 : EightBitCurve::Srgb;
+  const LinearImage ref = load_image_as_radiance(c.reference[0], curve), image = load_image_as_radiance(c.reference[1], curve);
+  ReferenceDiffSettings s;
+  s.excludeTop = c.excludeRows[0];
+  s.excludeBottom = c.excludeRows[1];
+  if (!c.mask.empty()) s.mask = glm::ivec4(c.mask[0], c.mask[1], c.mask[2], c.mask[3]);
+  const std::optional<ImageFormat> format = image_format_of(c.reference[0]);
+  const bool eightBit = format && *format != ImageFormat::Hdr && *format != ImageFormat::Pfm && *format != ImageFormat::Exr;
+  if (eightBit) s.clipped = clip_radiance(curve);
+  const ReferenceDiff d = diff_against_reference(image, ref, s);
+  const bool within = d.meanError <= c.tolerance[0] && d.blockMedian <= c.tolerance[1];
+  std::printf("%s: %s (tolerances: mean %.2f%%, median block %.2f%%)\n", within ? "WITHIN" : "BEYOND", d.summary().c_str(),
+              100.0 * c.tolerance[0], 100.0 * c.tolerance[1]);
+  return within ? 0 : 1;
+}
 
 // Renders the scene twice with independent seeds (or reads two EXR renders) and
 // decides whether both estimate the same image. Exit 0: agree, 1: differ.
@@ -63,7 +90,7 @@ int run_compare(const CompareArgs& c) {
     a = layer_as_color(a, c.layer);
     b = layer_as_color(b, c.layer);
   }
-  CompareResult result = compare_images(a, b);
+  CompareResult result = compare_images(a, b, c.settings);
   std::printf("%s\n", result.summary().c_str());
   if (!c.report.empty()) {
     write_html_report(c.report, a, b, result, labels);
@@ -97,12 +124,30 @@ Command add_compare(CLI::App& app) {
   compare->add_option("--plant-bias", cmp->plantBias, "debug: multiply A's radiance by this factor, to see what the test detects")
       ->check(CLI::Range(0.0, 100.0));
   compare->add_option("--plant-region", cmp->plantRegion, "debug: only inside pixels X0 Y0 X1 Y1 (exclusive ends)")->expected(4);
+  compare->add_option("--alpha", cmp->settings.alpha,
+                      "family-wise significance level of each test (default 0.01); checks of many images divide it among them")
+      ->check(CLI::Range(1e-12, 0.5));
+  compare->add_option("--reference", cmp->reference,
+                      "REF IMAGE: measure IMAGE (a PNG, EXR, ...) against a reference image without variance (a course's "
+                      "*-ref.png) instead; exit 0 when within --tolerance")
+      ->expected(2);
+  compare->add_option("--tolerance", cmp->tolerance,
+                      "with --reference: the largest relative error of the whole mean and the largest median error of 16x16 "
+                      "block means (default 0.02 0.1)")
+      ->expected(2)
+      ->check(CLI::Range(0.0, 1e6));
+  compare->add_option("--curve", cmp->curve, "with --reference: how 8-bit images encode radiance, srgb (default) or cs184")
+      ->check(CLI::IsMember({"srgb", "cs184"}));
+  compare->add_option("--exclude-rows", cmp->excludeRows, "with --reference: leave out TOP and BOTTOM rows")->expected(2)->check(CLI::Range(0, MAX_IMAGE_SIZE));
+  compare->add_option("--mask", cmp->mask, "with --reference: leave out pixels X0 Y0 X1 Y1 (exclusive ends; a watermark)")
+      ->expected(4)
+      ->check(CLI::Range(0, MAX_IMAGE_SIZE));
   compare->add_flag("-q,--quiet", cmp->render.quiet, "no progress line");
   compare->add_flag("--validation", cmp->render.validation, "enable Vulkan validation; any message is a failure");
   return {compare, [cmp] {
-            if (cmp->images.empty() == cmp->render.scene.empty())
-              throw InputError("compare needs either a scene file or --images A.exr B.exr (not both)");
-            return run_compare(*cmp);
+            const int modes = !cmp->render.scene.empty() + !cmp->images.empty() + !cmp->reference.empty();
+            if (modes != 1) throw InputError("compare needs one of: a scene file, --images A.exr B.exr, --reference REF IMAGE");
+            return cmp->reference.empty() ? run_compare(*cmp) : run_reference(*cmp);
           }};
 }
 

@@ -30,8 +30,8 @@ int run_merge(const MergeArgs& m) {
   PartialFile merged = merger.finish(m.allowGaps);
   write_exr(exr, merged.image, merged.record, true);
   try {
-    // A CS184 scene's parts merge into the PNG its render writes.
-    write_png(m.output, merged.image, render_setting(merged.record.settings, "png") == "cs184" ? PngTone::Cs184 : PngTone::Srgb);
+    // The parts merge into the image their render writes, in its scene format's 8-bit curve.
+    write_image(m.output, mean_rgb(merged.image), eight_bit_curve_named(render_setting(merged.record.settings, "png")));
   } catch (...) {
     std::remove(exr.c_str());  // both or neither
     throw;

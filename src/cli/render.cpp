@@ -268,8 +268,7 @@ int run_render(const RenderArgs& a) {
   std::string rate = first.adaptive.enabled() ? rate_image_path(out) : "";
   write_partial(exr, image, done, status, exactSums);
   try {
-    if (*outFormat == ImageFormat::Png) write_png(out, image, scene.cs184Png ? PngTone::Cs184 : PngTone::Srgb);
-    else if (!outIsExr) write_image(out, mean_rgb(image));
+    if (!outIsExr) write_image(out, mean_rgb(image), scene.eightBitCurve);
     if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
     if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status, true);
   } catch (...) {
@@ -359,6 +358,11 @@ Command add_render(CLI::App& app) {
   render->add_flag("--consistent-lights", r->consistentLights,
                    "CS184 scenes: read the lights physically (area lights are visible quads, emissive meshes light the "
                    "scene) instead of as the course's estimator does");
+  render->add_option("--cs184", r->cs184Skeleton,
+                     "CS184 scenes: the skeleton whose scene conventions to follow, 3-1 (default: emissive meshes glow, area "
+                     "lights are not geometry) or 3-2 (emissive meshes are black, area lights are visible quads, as the "
+                     "course's 3-2 renderer draws them)")
+      ->check(CLI::IsMember({"3-1", "3-2"}));
   render->add_option("--seed", r->seed, "random seed; renders with equal seeds are identical");
   render->add_option("--device", r->device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   render->add_option("--devices", r->devices,

@@ -47,7 +47,12 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   Scene scene = load_scene(a.scene);
   if (a.consistentLights) {
     if (!scene.cs184Estimator) throw InputError("--consistent-lights: " + a.scene + " is not a CS184 scene (.dae), whose lights it reads physically");
+    if (a.cs184Skeleton == "3-2") throw InputError("--consistent-lights reads the lights physically; --cs184 3-2 reads them as that skeleton does: choose one");
     use_consistent_lights(scene);
+  }
+  if (a.cs184Skeleton == "3-2") {
+    if (!scene.cs184Estimator) throw InputError("--cs184 3-2: " + a.scene + " is not a CS184 scene (.dae)");
+    use_cs184_3_2_skeleton(scene);
   }
   if (!a.camera.empty()) choose_camera(scene, a.camera);
   if (!a.resolution.empty()) set_resolution(scene.camera, a.resolution[0], a.resolution[1]);

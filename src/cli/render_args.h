@@ -40,6 +40,7 @@ struct RenderArgs {
   std::string cameraSettings;   // a CS184 camera settings file (CS184 -c)
   std::vector<int> cell;        // X Y DX DY: render one cell of the frame, Y from the bottom (CS184 -p)
   bool consistentLights = false;  // CS184 scenes read physically (use_consistent_lights)
+  std::string cs184Skeleton;      // CS184 scenes: "3-1" (default) or "3-2" (use_cs184_3_2_skeleton)
   std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
   int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
   std::vector<std::string> aovs;  // AOV layers (layers.glsl names)

@@ -169,28 +169,17 @@ RgbImage mean_rgb(const ImageStats& image) {
   return out;
 }
 
-uint8_t cs184_png8(double linear) {
-  // The course's constants are floats: exposure sqrt(2^1), 1 / gamma.
-  const float exposure = float(std::sqrt(std::pow(2.0, 1.0))), oneOverGamma = 1.0f / 2.2f;
-  const double v = std::max(0.0, std::min(std::pow(linear * exposure, double(oneOverGamma)), 1.0));
-  return uint8_t(uint32_t(float(v) * 255));
-}
-
-std::vector<uint8_t> to_srgb8(const ImageStats& image, PngTone tone) {
+std::vector<uint8_t> to_srgb8(const ImageStats& image) {
   std::vector<uint8_t> rgb(image.pixels() * 3);
   for (size_t p = 0; p < image.pixels(); ++p) {
     glm::dvec3 m = image.mean(p);
-    for (int c = 0; c < 3; ++c) rgb[3 * p + size_t(c)] = tone == PngTone::Cs184 ? cs184_png8(m[c]) : to_srgb8(m[c]);
+    for (int c = 0; c < 3; ++c) rgb[3 * p + size_t(c)] = encode_8bit_value(m[c]);
   }
   return rgb;
 }
 
 std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t>& rgb) {
   return encode_8bit(ImageFormat::Png, width, height, rgb);
-}
-
-void write_png(const std::string& path, const ImageStats& image, PngTone tone) {
-  write_bytes_atomically(path, "PNG", encode_png(image.width, image.height, to_srgb8(image, tone)));
 }
 
 void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples) {

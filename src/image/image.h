@@ -70,18 +70,10 @@ ImageStats layer_as_color(const ImageStats& image, const std::string& layer);
 // The mean colour, as floats (image_file.h writes it in any format).
 RgbImage mean_rgb(const ImageStats& image);
 
-// How 8 bits encode radiance: sRGB, rounded; or CS184's curve (its
-// util/image.h, toColor): (sqrt(2) L)^(1 / 2.2), clamped, truncated.
-enum class PngTone { Srgb, Cs184 };
-uint8_t cs184_png8(double linear);
-// The mean in 8 bits (sRGB unless said), clamped: three bytes per pixel, row by row.
-std::vector<uint8_t> to_srgb8(const ImageStats& image, PngTone tone = PngTone::Srgb);
+// The mean in 8-bit sRGB, clamped: three bytes per pixel, row by row.
+std::vector<uint8_t> to_srgb8(const ImageStats& image);
 // PNG file contents for 8-bit RGB pixels.
 std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t>& rgb);
-
-// 8-bit PNG of the mean (sRGB unless said), clamped. Written to a temporary file and renamed,
-// so a failed or interrupted write never leaves a complete-looking image.
-void write_png(const std::string& path, const ImageStats& image, PngTone tone = PngTone::Srgb);
 
 // Samples per pixel as colour, CS184's sample-rate image: blue (few) through
 // green to red (maxSamples).

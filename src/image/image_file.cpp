@@ -123,10 +123,24 @@ const char* image_format_names() {
   return "png, jpg, jpeg, bmp, tga, hdr, pfm, exr";
 }
 
-uint8_t to_srgb8(double linear) {
-  double c = std::clamp(linear, 0.0, 1.0);
-  double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return uint8_t(std::lround(s * 255.0));
+uint8_t encode_8bit_value(double linear, EightBitCurve curve) {
+  if (curve == EightBitCurve::Cs184) {
+    // The course's constants are floats: exposure sqrt(2^1), 1 / gamma.
+    const float exposure = float(std::sqrt(std::pow(2.0, 1.0))), oneOverGamma = 1.0f / 2.2f;
+    const double v = std::max(0.0, std::min(std::pow(linear * exposure, double(oneOverGamma)), 1.0));
+    return uint8_t(uint32_t(float(v) * 255));
+  }
+  const double c = std::clamp(linear, 0.0, 1.0);
+  const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return curve == EightBitCurve::DartsSrgb ? uint8_t(float(s) * 255.0f) : uint8_t(std::lround(s * 255.0));
+}
+
+const char* eight_bit_curve_name(EightBitCurve curve) {
+  return curve == EightBitCurve::Cs184 ? "cs184" : curve == EightBitCurve::DartsSrgb ? "darts" : "srgb";
+}
+
+EightBitCurve eight_bit_curve_named(const std::string& name) {
+  return name == "cs184" ? EightBitCurve::Cs184 : name == "darts" ? EightBitCurve::DartsSrgb : EightBitCurve::Srgb;
 }
 
 std::vector<uint8_t> encode_8bit(ImageFormat format, int width, int height, const std::vector<uint8_t>& rgb) {
@@ -175,7 +189,7 @@ void write_atomically(const std::string& path, const char* what, const std::func
   }
 }
 
-void write_image(const std::string& path, const RgbImage& image) {
+void write_image(const std::string& path, const RgbImage& image, EightBitCurve curve) {
   std::optional<ImageFormat> format = image_format_of(path);
   if (!format) throw InputError(path + ": unknown image format (expected the extension of one of " + image_format_names() + ")");
   if (image.rgb.size() != size_t(image.width) * size_t(image.height) * 3 || image.width <= 0 || image.height <= 0)
@@ -186,7 +200,7 @@ void write_image(const std::string& path, const RgbImage& image) {
     bytes.resize(image.rgb.size());
     for (size_t i = 0; i < image.rgb.size(); i += 3) {
       bool finite = std::isfinite(image.rgb[i]) && std::isfinite(image.rgb[i + 1]) && std::isfinite(image.rgb[i + 2]);
-      for (size_t c = 0; c < 3; ++c) bytes[i + c] = finite ? to_srgb8(image.rgb[i + c]) : (c == 1 ? 0 : 255);
+      for (size_t c = 0; c < 3; ++c) bytes[i + c] = finite ? encode_8bit_value(image.rgb[i + c], curve) : (c == 1 ? 0 : 255);
     }
   }
   if (*format == ImageFormat::Exr) {

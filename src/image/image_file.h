@@ -22,15 +22,27 @@ std::optional<ImageFormat> image_format_named(const std::string& name);
 // "png, jpg, jpeg, bmp, tga, hdr, pfm, exr", for messages.
 const char* image_format_names();
 
+// How the 8-bit formats encode radiance, as each scene format's own
+// renderer writes them: the sRGB curve rounded (wavepath's own, glTF);
+// the sRGB curve truncated, as darts' Image3f::save does (darts-2022
+// src/image.cpp:250); CS184's (sqrt(2) L)^(1/2.2), truncated (its
+// util/image.h, toColor). Clamped to [0, 1] first.
+enum class EightBitCurve { Srgb, DartsSrgb, Cs184 };
+uint8_t encode_8bit_value(double linear, EightBitCurve curve = EightBitCurve::Srgb);
+// Its name in a partial render's record ("srgb", "darts", "cs184") and back.
+const char* eight_bit_curve_name(EightBitCurve curve);
+EightBitCurve eight_bit_curve_named(const std::string& name);
+
 struct RgbImage {
   int width = 0;
   int height = 0;
   std::vector<float> rgb;  // 3 floats a pixel, rows top to bottom
 };
 
-// Writes `image` in the format of `path`'s extension; an InputError names the
-// file where the extension is not a format or the write fails.
-void write_image(const std::string& path, const RgbImage& image);
+// Writes `image` in the format of `path`'s extension, 8-bit formats through
+// `curve`; an InputError names the file where the extension is not a format
+// or the write fails.
+void write_image(const std::string& path, const RgbImage& image, EightBitCurve curve = EightBitCurve::Srgb);
 
 // The file contents of 8-bit RGB pixels (three bytes a pixel, rows top to
 // bottom) in PNG, JPEG, BMP or TGA; empty where encoding fails.
@@ -44,8 +56,6 @@ void write_bytes_atomically(const std::string& path, const char* what, const std
 // be written to: checked before work whose output would be lost.
 void require_output_directory(const std::string& path);
 
-// 8-bit sRGB of a linear value, clamped to [0, 1].
-uint8_t to_srgb8(double linear);
 
 // Writes through write(temporaryPath, error), then renames over `path`;
 // throws InputError("PATH: cannot write WHAT: error") where either fails.

@@ -48,8 +48,7 @@ glm::vec3 texel_rgb(glm::uvec2 packed) {
 
 // The light kind of a punctual light record (types.glsl's PointLight).
 uint32_t punctual_light_kind(const shader::PointLight& l) {
-  if (l.position.w == 2.0f) return LIGHT_HEMISPHERE;
-  return l.position.w == 0.0f ? LIGHT_DIRECTIONAL : l.direction.w > -2.0f ? LIGHT_SPOT : LIGHT_POINT;
+  return uint32_t(l.position.w);
 }
 
 // The kinds a compiled scene uses (SceneParams.kinds; kinds.glsl), before its
@@ -63,6 +62,7 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
     k.x |= KIND_BIT(m.info.x);
     if (m.children.z != WP_INVALID) k.w |= KIND_BIT(FEATURE_NORMAL_MAPS);
     if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) k.w |= KIND_BIT(FEATURE_EMISSION_TEXTURES);
+    if (m.info.x == MAT_LIGHT && m.params.x != 0.0f) k.w |= KIND_BIT(FEATURE_COSINE_EMISSION);
   }
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (uint32_t prim : emitters) {
@@ -492,10 +492,12 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   out.textures = std::move(packed.textures);
   out.texels = std::move(packed.texels);
   for (const ScenePointLight& l : scene.pointLights) {
-    shader::PointLight p{glm::vec4(l.position, 1.0f), glm::vec4(l.intensity, 0.0f), glm::vec4(l.direction, l.falloff ? -2.0f : -3.0f)};
-    if (l.kind == ScenePointLight::Kind::Directional) p.position.w = 0.0f;
-    if (l.kind == ScenePointLight::Kind::Hemisphere) p.position.w = 2.0f;
+    shader::PointLight p{glm::vec4(l.position, float(LIGHT_POINT)), glm::vec4(l.intensity, l.falloff ? 1.0f : 0.0f),
+                         glm::vec4(l.direction, 0.0f)};
+    if (l.kind == ScenePointLight::Kind::Directional) p.position.w = float(LIGHT_DIRECTIONAL);
+    if (l.kind == ScenePointLight::Kind::Hemisphere) p.position.w = float(LIGHT_HEMISPHERE);
     if (l.kind == ScenePointLight::Kind::Spot) {
+      p.position.w = float(LIGHT_SPOT);
       p.intensity.w = l.cosInner;
       p.direction.w = l.cosOuter;
     }
@@ -589,7 +591,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
 
   const Camera& cam = scene.camera;
   out.cameraName = cam.name;
-  out.cs184Png = scene.cs184Png;
+  out.eightBitCurve = scene.eightBitCurve;
+  out.cs184Skeleton = scene.cs184Skeleton;
   out.width = cam.width;
   out.height = cam.height;
   out.spp = options.spp > 0 ? options.spp : scene.samplesPerPixel;

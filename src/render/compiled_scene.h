@@ -59,7 +59,8 @@ struct CompiledScene {
   std::vector<shader::PointLight> pointLights;
   std::vector<float> environmentCdf;
   std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)
-  bool cs184Png = false;   // its PNGs in CS184's tone curve (Scene::cs184Png)
+  EightBitCurve eightBitCurve = EightBitCurve::Srgb;  // Scene::eightBitCurve
+  int cs184Skeleton = 0;                              // Scene::cs184Skeleton
   int width = 0;
   int height = 0;
   int spp = 0;  // samples per pixel (with adaptive sampling: at most)

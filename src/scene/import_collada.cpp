@@ -670,7 +670,8 @@ class ColladaReader {
     place_camera(cameraNode, cameraToWorld, bounds);
     scene_.cs184Estimator = true;
     scene_.cs184LatLong = true;
-    scene_.cs184Png = true;
+    scene_.eightBitCurve = EightBitCurve::Cs184;
+    scene_.cs184Skeleton = 31;
     scene_.integrator.kind = IntegratorKind::PathNee;
     scene_.integrator.maxBounces = 1;  // the course's -m default
     scene_.samplesPerPixel = 1;
@@ -778,6 +779,44 @@ void apply_cs184_camera_settings(const std::string& path, Camera& camera) {
   camera.toWorld = glm::mat4(glm::dmat4(glm::dvec4(c2w[0], 0), glm::dvec4(c2w[1], 0), glm::dvec4(c2w[2], 0), glm::dvec4(v[5], v[6], v[7], 1)));
   camera.vfovDegrees = float(vFov);
   camera.aspect = float(std::tan(glm::radians(hFov) / 2) / std::tan(glm::radians(vFov) / 2));
+}
+
+void use_cs184_3_2_skeleton(Scene& scene) {
+  // The area lights' materials, and each one's area (its two triangles).
+  std::map<uint32_t, double> lightArea;
+  for (const SceneTriangle& t : scene.lightOnlyTriangles)
+    lightArea[t.material] += 0.5 * glm::length(glm::cross(glm::dvec3(t.v[1] - t.v[0]), glm::dvec3(t.v[2] - t.v[0])));
+  // collada.cpp:879 gives every emissive mesh EmissionBSDF(radiance,
+  // Vector3D(0)): its emission is the radiance times the cosine with a zero
+  // direction. The mesh stays, black, absorbing what reaches it.
+  for (uint32_t i = 0; i < scene.materials.size(); ++i)
+    if (!lightArea.count(i)) scene.materials[i].emission = WP_INVALID;
+  // gl_scene/scene.cpp:166 puts every light among the objects too, and
+  // light.cpp:77-105 makes an area light two triangles facing its direction
+  // with EmissionBSDF(radiance / area, direction).
+  std::map<uint32_t, uint32_t> quadMaterial;
+  for (const auto& [material, area] : lightArea) {
+    SceneMaterial quad = scene.materials[material];
+    const glm::vec3 radiance = scene.textures[quad.emission].color;
+    quad.emission = add_texture(scene, constant_texture(radiance / float(area)));
+    quad.params.x = 1.0f;  // emission times the cosine (FEATURE_COSINE_EMISSION)
+    scene.materials.push_back(quad);
+    quadMaterial[material] = uint32_t(scene.materials.size() - 1);
+  }
+  // The quad lies in its light's plane, where the course's Cornell files
+  // also put the lamp mesh (to 5e-8): which of the two a ray meets would be
+  // rounding's choice, one on the CPU and another on the GPU (the course's
+  // renderer shows them fighting). Moved 4e-5 of its size-or-distance
+  // scale towards where it faces, the quad is in front wherever they overlap.
+  for (SceneTriangle t : scene.lightOnlyTriangles) {
+    t.material = quadMaterial[t.material];
+    const glm::vec3 facing = glm::normalize(glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]));
+    float scale = 1.0f;
+    for (const glm::vec3& v : t.v) scale = std::max(scale, std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))));
+    for (glm::vec3& v : t.v) v += facing * (4e-5f * scale);
+    scene.triangles.push_back(t);
+  }
+  scene.cs184Skeleton = 32;
 }
 
 void use_consistent_lights(Scene& scene) {

@@ -41,6 +41,7 @@ class DartsImporter {
     parse_document();
     scene_.sourcePath = file_;
     scene_.background = glm::vec3(0.2f);  // darts' default (scene.h of darts-2022)
+    scene_.eightBitCurve = EightBitCurve::DartsSrgb;  // darts truncates to 8 bits (src/image.cpp:250)
     JsonCursor root(doc_, "", file_);
     root.expect_object();
     if (holds_tests(doc_)) root["type"].fail("this file holds darts tests (\"type\": \"tests\"), not a scene: run it with wavepath test");

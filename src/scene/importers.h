@@ -32,4 +32,11 @@ void apply_cs184_camera_settings(const std::string& path, Camera& camera);
 // the scene, and the estimator is wavepath's own (docs/scene-format.md).
 void use_consistent_lights(Scene& scene);
 
+// CS184 scenes as the 3-2 skeleton builds them (render --cs184 3-2), the
+// course's renderer students of project 3-2 compare against: emissive meshes
+// emit nothing, and every area light is also a one-sided quad that rays
+// meet, emitting its radiance over its area times the cosine and absorbing
+// what reaches it (docs/scene-format.md cites the skeleton's lines).
+void use_cs184_3_2_skeleton(Scene& scene);
+
 }  // namespace wp

@@ -16,6 +16,7 @@
 
 #include "../../shaders/shared/common.glsl"
 #include "../../shaders/shared/limits.glsl"
+#include "image/image_file.h"
 #include "scene/kinds.h"
 #include "scene/texture_image.h"
 
@@ -231,7 +232,8 @@ struct Scene {
   // only the camera and specular bounces see them.
   bool cs184Estimator = false;
   bool cs184LatLong = false;  // the environment map in CS184's lat-long layout
-  bool cs184Png = false;      // PNGs in CS184's tone curve (write_png)
+  int cs184Skeleton = 0;      // CS184 scenes: the skeleton whose scene conventions are followed, 31 (3-1) or 32 (3-2)
+  EightBitCurve eightBitCurve = EightBitCurve::Srgb;  // how its 8-bit images encode radiance, as its format's renderer writes them
 };
 
 // Finite inputs can still be placed past the range of floats by the product

@@ -77,6 +77,13 @@ CompareResult compare_images(const ImageStats& a, const ImageStats& b, const Com
   // independent, but the channels of one path sample are not (one path carries
   // all three), so the image-mean test is done per channel.
   double sumA[3] = {}, sumB[3] = {}, varA[3] = {}, varB[3] = {};
+  // The floor of a pixel's difference is relative to the pixel, and never
+  // below the same fraction of the image's mean: a pixel a million times
+  // darker than the image (a glossy lobe's far tail, 1e-24) keeps too few
+  // bits of variance in floats to be tested, and no bias there can matter.
+  glm::dvec3 imageLevel(0.0);
+  for (size_t p = 0; p < a.pixels(); ++p) imageLevel += 0.5 * (glm::abs(a.mean(p)) + glm::abs(b.mean(p)));
+  imageLevel /= double(std::max<size_t>(a.pixels(), 1));
   r.zMap.assign(a.pixels(), 0.0f);
   for (size_t p = 0; p < a.pixels(); ++p) {
     glm::dvec3 ma = a.mean(p), mb = b.mean(p);
@@ -84,7 +91,7 @@ CompareResult compare_images(const ImageStats& a, const ImageStats& b, const Com
     double na = std::max(a.count[p], 1.0), nb = std::max(b.count[p], 1.0);
     for (int c = 0; c < 3; ++c) {
       double seA = va[c] / na, seB = vb[c] / nb;
-      double floor = s.relativeFloor * 0.5 * (std::fabs(ma[c]) + std::fabs(mb[c]));
+      double floor = s.relativeFloor * std::max(0.5 * (std::fabs(ma[c]) + std::fabs(mb[c])), imageLevel[c]);
       double se2 = std::max(seA + seB, floor * floor) + 1e-300;
       double z = (ma[c] - mb[c]) / std::sqrt(se2);
       if (two_sided_p(z) < alphaPixel) ++r.failingPixelChannels;

@@ -19,7 +19,8 @@ namespace wp {
 struct CompareSettings {
   double alpha = 0.01;                // family-wise significance of each test
   double minPixelPassFraction = 0.9975;
-  double relativeFloor = 1e-4;        // differences below this fraction of the mean are never significant
+  double relativeFloor = 1e-4;        // differences below this fraction of the mean (a pixel's: of the pixel,
+                                      // or of the image where that is more) are never significant
   int tileSize = 16;
 };
 

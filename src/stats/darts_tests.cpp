@@ -178,7 +178,8 @@ class TestRunner {
   }
 
   void write_pair(const std::string& name, const char* what, const std::vector<double>& values, double exposure, const DartsTest& t) const {
-    write_image(output_path(file_, name, (std::string("-") + what + ".png").c_str()), heatmap_image(values, t.imageSize, t.upSamples, exposure));
+    write_image(output_path(file_, name, (std::string("-") + what + ".png").c_str()), heatmap_image(values, t.imageSize, t.upSamples, exposure),
+                EightBitCurve::DartsSrgb);
     write_image(output_path(file_, name, (std::string("-") + what + ".exr").c_str()), graymap_image(values, t.imageSize, t.upSamples));
   }
 
