@@ -359,6 +359,8 @@ TEST(Collada, Cs184PngToneCurve) {
   EXPECT_EQ(encode_8bit_value(7.0, EightBitCurve::Cs184), 255);
   EXPECT_EQ(encode_8bit_value(0.5), 188);  // against sRGB, rounded
   EXPECT_EQ(encode_8bit_value(0.5, EightBitCurve::DartsSrgb), 187);  // and truncated, as darts writes (0.7354 * 255 = 187.5)
+  EXPECT_EQ(encode_8bit_value(1.0, EightBitCurve::DartsSrgb), 254);  // darts' float curve gives 1.0 as 0.99999994
+  EXPECT_EQ(encode_8bit_value(1.0), 255);
 }
 
 TEST(Collada, BadInputNamesFileLineAndColumn) {

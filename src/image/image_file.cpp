@@ -130,9 +130,16 @@ uint8_t encode_8bit_value(double linear, EightBitCurve curve) {
     const double v = std::max(0.0, std::min(std::pow(linear * exposure, double(oneOverGamma)), 1.0));
     return uint8_t(uint32_t(float(v) * 255));
   }
+  if (curve == EightBitCurve::DartsSrgb) {
+    // darts' to_sRGB in floats (include/darts/math.h:254-257), clamped, times
+    // 255, truncated: 1.0 comes out as 254, as in its references.
+    const float c = float(linear);
+    const float s = c <= 0.0031308f ? c * 12.92f : (1.0f + 0.055f) * std::pow(c, 1.0f / 2.4f) - 0.055f;
+    return uint8_t(std::clamp(s, 0.0f, 1.0f) * 255.0f);
+  }
   const double c = std::clamp(linear, 0.0, 1.0);
   const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return curve == EightBitCurve::DartsSrgb ? uint8_t(float(s) * 255.0f) : uint8_t(std::lround(s * 255.0));
+  return uint8_t(std::lround(s * 255.0));
 }
 
 const char* eight_bit_curve_name(EightBitCurve curve) {
