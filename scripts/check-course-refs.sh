@@ -83,6 +83,7 @@ run_file() {
   mkdir -p "$work"
   cp -r "$root/$(dirname "$file")/." "$work/"
   local name base rc
+  [ -n "$root" ] && [ -d "$root/$(dirname "$file")" ] || { problem="no folder $(dirname "$file") in the $course checkout"; ran[$key]=$problem; return; }
   name=$(basename "$file")
   base=${name%.*}
   (
@@ -103,10 +104,22 @@ run_file() {
   ran[$key]=$problem
 }
 
+# The table, read whole and checked before anything runs (a row naming
+# another course, or a short row, stops the run: it would copy from nowhere).
+mapfile -t rows < <(grep -v -e '^#' -e '^[[:space:]]*$' "$table")
+for r in "${!rows[@]}"; do
+  IFS=$'\t' read -r course file image reference meanTol blockTol region why <<<"${rows[$r]}"
+  if [[ $course != darts && $course != cs184 ]] || [ -z "$why" ] || ! [[ $meanTol =~ ^[0-9.]+$ && $blockTol =~ ^[0-9.]+$ ]] ||
+     [[ $file == /* || $file == *..* ]]; then
+    echo "check-course-refs.sh: $table: row $((r + 1)) is not COURSE FILE IMAGE REFERENCE MEAN BLOCK REGION WHY (tab-separated)" >&2
+    exit 2
+  fi
+done
+
 within=0 beyond=0 skipped=0
 say "course references: $(date -u +%Y-%m-%d), $("$wavepath" devices 2>/dev/null | sed -n 2p | sed 's/^ *//')${spp:+, $spp spp}"
-while IFS=$'\t' read -r course file image reference meanTol blockTol region why; do
-  case $course in '#'*|'') continue ;; esac
+for row in "${rows[@]}"; do
+  IFS=$'\t' read -r course file image reference meanTol blockTol region why <<<"$row"
   [ -z "$only" ] || [[ $file == *"$only"* ]] || continue
   if { [ "$course" = darts ] && [ -z "$darts" ]; } || { [ "$course" = cs184 ] && [ -z "$cs184" ]; }; then continue; fi
   run_file "$course" "$file"
@@ -125,6 +138,6 @@ while IFS=$'\t' read -r course file image reference meanTol blockTol region why;
   if [ $rc -eq 0 ]; then within=$((within + 1)); tag=WITHIN; elif [ $rc -eq 1 ]; then beyond=$((beyond + 1)); tag=BEYOND; else
     skipped=$((skipped + 1)); tag=SKIP; fi
   say "$(printf '%-6s' $tag) $course $file: $image: ${verdict#*: }"
-done <"$table"
+done
 say "summary: $within within their tolerances, $beyond beyond, $skipped skipped"
 [ $beyond -eq 0 ]
