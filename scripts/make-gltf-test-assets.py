@@ -21,6 +21,10 @@ third-party asset, no licence to track):
                   mirrored wrapping, alphaMode MASK (an RGBA PNG) and
                   BLEND, a one-sided wall seen from behind, thin-walled
                   transmission; a point light and a sun.
+  mirror-bumps.glb  a white mirror sphere (metallic 1, roughness 0) under
+                  a strongly tilted normal map, and no light: the white sky.
+                  A white furnace: every pixel's radiance is 1 unless
+                  mapped normals lose light.
 
 Run it from the repository root: python3 scripts/make-gltf-test-assets.py
 """
@@ -480,6 +484,57 @@ def surface():
         out.write(glb(doc, buf.data))
 
 
+# ---- mirror-bumps.glb --------------------------------------------------------
+
+def steep_bumps(x, y):
+    """Dimples whose slopes reach 1.5 (56 degrees) in both directions."""
+    sx = 1.5 * math.sin(2 * math.pi * (x + 0.5) / 8)
+    sy = 1.5 * math.sin(2 * math.pi * (y + 0.5) / 8)
+    n = [sx, sy, 1.0]
+    length = math.sqrt(sum(c * c for c in n))
+    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
+
+
+def uv_sphere(rings=24, segments=48):
+    """A unit sphere: positions, normals, UVs, tangents (along u) and indices."""
+    pos, nrm, uv, tan, idx = [], [], [], [], []
+    for r in range(rings + 1):
+        theta = math.pi * r / rings
+        for s in range(segments + 1):
+            phi = 2 * math.pi * s / segments
+            p = [math.sin(theta) * math.cos(phi), math.cos(theta), -math.sin(theta) * math.sin(phi)]
+            pos.append(p)
+            nrm.append(p)
+            uv.append([s / segments * 4, r / rings * 2])
+            tan.append([-math.sin(phi), 0.0, -math.cos(phi), 1.0])
+    for r in range(rings):
+        for s in range(segments):
+            a, b = r * (segments + 1) + s, (r + 1) * (segments + 1) + s
+            idx += [a, b, a + 1, a + 1, b, b + 1]
+    return pos, nrm, uv, tan, idx
+
+
+def mirror_bumps():
+    buf = Buffer()
+    pos, nrm, uv, tan, idx = uv_sphere()
+    attrs = {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm),
+             "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", uv), "TANGENT": buf.accessor("f", FLOAT, "VEC4", tan)}
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "bumpy mirror", "primitives": [
+            {"attributes": attrs, "indices": buf.accessor("H", USHORT, "SCALAR", idx), "material": 0}]}],
+        "materials": [{"name": "white mirror", "normalTexture": {"index": 0},
+                       "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 1.0, "roughnessFactor": 0.0}}],
+        "textures": [{"source": 0}],
+        "images": [{"bufferView": buf.view(png(16, 16, steep_bumps)), "mimeType": "image/png"}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "mirror-bumps.glb"), "wb") as out:
+        out.write(glb(doc, buf.data))
+
+
 def main():
     os.makedirs(os.path.join(OUT, "external"), exist_ok=True)
     darts = box_room()
@@ -487,6 +542,7 @@ def main():
     textured()
     external()
     surface()
+    mirror_bumps()
 
 
 if __name__ == "__main__":

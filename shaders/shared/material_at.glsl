@@ -45,13 +45,39 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, Surfa
 }
 
 // The least cosine between wo and a normal-mapped shading normal.
-#define NORMAL_MAP_MIN_COS 0.05f
 
 // The shading normal at s under normal map `tex` (glTF's convention): the
 // map's colour c is the tangent-space normal 2 c - 1, scaled by the
 // texture's factor (scale, scale, 1), in the frame of s's tangent, its
 // handedness and the interpolated normal. Where the frame degenerates or the
 // mapped normal turns away from the geometric one, the interpolated normal.
+// A mapped normal n can mirror the view direction v below the surface
+// (geometric normal ng, v on its side), where a path tracer finds no light
+// and a normal-mapped metal goes black at its rims. This returns n itself
+// where its reflection of v stays at least t = min(0.9 cos(v), 0.01) above
+// the surface, else the normal nearest to n, in the plane of ng and n, whose
+// reflection just does (the remedy Cycles applies to shading normals). With
+// n' = cos(a) ng + sin(a) x, x the unit tangential part of n, the
+// reflection r' of v has dot(ng, r') = vz cos(2a) + vx sin(2a) =
+// A cos(2a - phi), A = |(vz, vx)|, phi = atan(vx, vz): valid for 2a within
+// acos(t / A) of phi; the bound nearest n's own angle is taken.
+vec3 valid_reflection_normal(vec3 ng, vec3 v, vec3 n) {
+  float vz = dot(v, ng);
+  float t = min(0.9f * vz, 0.01f);
+  if (dot(ng, 2.0f * dot(n, v) * n - v) >= t) return n;
+  vec3 x = n - ng * dot(n, ng);
+  float xl = length(x);
+  if (!(xl > 0.0f)) return ng;
+  x /= xl;
+  float vx = dot(v, x);
+  float a = sqrt(vz * vz + vx * vx);
+  if (!(a > 0.0f)) return ng;
+  float phi = atan(vx, vz);
+  float delta = acos(clamp(t / a, -1.0f, 1.0f));
+  float angle = 2.0f * atan(xl, dot(n, ng)) > phi ? 0.5f * (phi + delta) : 0.5f * (phi - delta);
+  return ng * cos(angle) + x * sin(angle);
+}
+
 vec3 normal_mapped(SurfaceHit s, uint tex) {
   Texture t = load_texture(tex);
   vec4 c = image_lookup(t, texture_point(t, s.uv, s.p));
@@ -86,12 +112,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   vec3 ns = s.ns;
   b.front = dot(s.ng, wo) >= 0.0f;
   if (FEATURE_COMPILED(FEATURE_NORMAL_MAPS) && TEXTURE_COMPILED(TEX_IMAGE) && m.children.z != WP_INVALID) {
-    ns = normal_mapped(s, m.children.z);
-    // A mapped normal that turns away from wo would leave the surface black
-    // there: tilt it towards wo until wo is just above its horizon.
-    vec3 v = b.front ? wo : -wo;
-    float c = dot(v, ns);
-    if (c < NORMAL_MAP_MIN_COS) ns = normalize(ns + v * (NORMAL_MAP_MIN_COS - c));
+    ns = valid_reflection_normal(s.ng, b.front ? wo : -wo, normal_mapped(s, m.children.z));
   }
   b.ng = b.front ? s.ng : -s.ng;
   b.ns = b.front ? ns : -ns;
