@@ -371,6 +371,12 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
     return doc.dump();
   };
   expect_gltf_error("syntax.gltf", "{\"asset\": ", {"cannot read glTF"});
+  // What tinygltf passes without a word, named where it is.
+  expect_gltf_error("version.gltf", with({{"asset", {{"version", "1.0"}}}}), {"/asset/version", "glTF 1.0 is not supported"});
+  json primitivesObject = good;
+  primitivesObject["meshes"][0]["primitives"] = good["meshes"][0]["primitives"][0];
+  expect_gltf_error("primitives.gltf", primitivesObject.dump(), {"/meshes/0/primitives", "must be an array of primitives, not object"});
+  expect_gltf_error("version1.glb", std::string("glTF\1\0\0\0\24\0\0\0\0\0\0\0\0\0\0\0", 20), {"glTF 1.0 is not supported"});
   expect_gltf_error("nan.gltf", one_triangle({0, 0, 0, NAN, 0, 0, 0, 1, 0}).dump(), {"/attributes/POSITION", "finite"});
   expect_gltf_error("count.gltf", with({{"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}}}}}),
                     {"/accessors/0", "past the end of buffer view 0"});
@@ -436,6 +442,30 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
   longChunk[12] = char(0xff);
   longChunk[13] = char(0xff);
   expect_gltf_error("chunk.glb", longChunk, {"cannot read glTF"});
+}
+
+// The default light: a model without punctual lights is lit by the white
+// sky, emissive surfaces or not (a label lights little); one with a
+// punctual light is not. Animations are named in the warning.
+TEST(Gltf, WhiteSkyUnlessTheModelBringsPunctualLights) {
+  json glow = one_triangle({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  glow["meshes"][0]["primitives"][0]["material"] = 0;
+  glow["materials"] = json::parse(R"([{"emissiveFactor": [1, 0.5, 0.2]}])");
+  Scene s = load_scene(write_scene("glow.gltf", glow.dump()));
+  EXPECT_EQ(s.background, glm::vec3(1.0f)) << "an emissive label switched the sky off";
+  json lit = glow;
+  lit["extensionsUsed"] = {"KHR_lights_punctual"};
+  lit["extensions"] = json::parse(R"({"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 100}]}})");
+  lit["nodes"].push_back(json::parse(R"({"translation": [0, 0, 2], "extensions": {"KHR_lights_punctual": {"light": 0}}})"));
+  lit["scenes"][0]["nodes"].push_back(1);
+  EXPECT_EQ(load_scene(write_scene("lit.gltf", lit.dump())).background, glm::vec3(0.0f));
+  json animated = glow;
+  animated["animations"] = json::parse(R"([{"channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}}],
+                                           "samplers": [{"input": 0, "output": 0}]}])");
+  testing::internal::CaptureStderr();
+  load_scene(write_scene("animated.gltf", animated.dump()));
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("not read yet, rendered without: animations (the model renders at rest)"), std::string::npos) << said;
 }
 
 }  // namespace

@@ -349,7 +349,8 @@ Command add_render(CLI::App& app) {
   render->add_option("-a,--adaptive", r->adaptive,
                      "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
       ->expected(2);
-  render->add_option("-e,--env", r->environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e)");
+  render->add_option("-e,--env", r->environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e); none: no environment, a black "
+                     "background (a glTF model without lights is otherwise lit by a white sky)");
   render->add_option("--camera", r->camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
   render->add_option("-c,--camera-settings", r->cameraSettings, "a CS184 camera settings file, as its viewer writes with D (CS184: -c)");
   render->add_option("-p,--cell", r->cell, "render one cell X Y DX DY of the frame, rows counted from the bottom (CS184: -p)")

@@ -73,7 +73,12 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   }
   if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
   if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
-  if (!a.environment.empty()) scene.environment = add_image_texture(scene, a.environment, "given by --env");
+  if (a.environment == "none") {  // no environment: a black background
+    scene.environment = WP_INVALID;
+    scene.background = glm::vec3(0.0f);
+  } else if (!a.environment.empty()) {
+    scene.environment = add_image_texture(scene, a.environment, "given by --env");
+  }
   return scene;
 }
 

@@ -11,6 +11,7 @@
 // own decoder (texture_image.h) decodes each with its checks, in the colour
 // space of the texture slot that uses it.
 #include <tiny_gltf.h>
+#include <nlohmann/json.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -118,6 +119,7 @@ class GltfImporter {
     scene_.sourcePath = path_;
     load_model();
     check_extensions();
+    if (!model_.animations.empty()) unread_.insert("animations (the model renders at rest)");
     scene_.integrator.maxBounces = 16;
     scene_.samplesPerPixel = 64;
     scene_.background = glm::vec3(0.0f);
@@ -133,8 +135,11 @@ class GltfImporter {
     default_camera();
     if (!unread_.empty())
       std::fprintf(stderr, "wavepath: warning: %s: not read yet, rendered without: %s\n", path_.c_str(), joined(unread_).c_str());
-    // A model without lights is lit by a white sky, as viewers light it.
-    if (scene_.pointLights.empty() && !has_emission()) scene_.background = glm::vec3(1.0f);
+    // A model without punctual lights is lit by a white sky, as viewers
+    // light it (the Khronos sample viewer, model-viewer, Blender's default
+    // world); emissive surfaces do not count: labels and LEDs light little.
+    // `--env none` takes the sky away, `--env MAP` replaces it.
+    if (scene_.pointLights.empty()) scene_.background = glm::vec3(1.0f);
     for (const std::string& f : sandbox_.read) scene_.inputFiles.push_back(f);
     return std::move(scene_);
   }
@@ -157,6 +162,7 @@ class GltfImporter {
     std::string err, warn;
     const std::string base = sandbox_.root.string();
     const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    check_what_tinygltf_passes(bytes, binary);
     bool ok;
     if (binary) {
       ok = loader.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(), unsigned(std::min<size_t>(bytes.size(), UINT32_MAX)), base);
@@ -168,6 +174,41 @@ class GltfImporter {
       if (!sandbox_.refused.empty()) throw InputError(path_ + ": refused " + sandbox_.refused + ": a model may only read files inside its own folder");
       std::string reason = first_line(err.empty() ? warn : err);
       throw InputError(path_ + ": cannot read glTF: " + (reason.empty() ? "unknown error" : reason));
+    }
+  }
+
+  // What tinygltf reads without a word, so that the model would render
+  // empty or wrong further on: a glTF 1.0 file, a mesh whose primitives are
+  // not an array. Anything else wrong with the JSON, tinygltf names.
+  void check_what_tinygltf_passes(const std::vector<unsigned char>& bytes, bool binary) const {
+    std::string text;
+    if (binary) {
+      uint32_t version = 0, length = 0;
+      if (bytes.size() >= 8) std::memcpy(&version, bytes.data() + 4, 4);
+      if (version == 1) fail("the binary header", "glTF 1.0 is not supported: wavepath reads glTF 2.0 (convert the model, e.g. with Blender)");
+      if (bytes.size() < 20) return;
+      std::memcpy(&length, bytes.data() + 12, 4);
+      if (size_t(length) > bytes.size() - 20) return;
+      text.assign(reinterpret_cast<const char*>(bytes.data() + 20), length);
+    } else {
+      text.assign(bytes.begin(), bytes.end());
+    }
+    const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+    if (doc.is_discarded() || !doc.is_object()) return;
+    const auto asset = doc.find("asset");
+    if (asset != doc.end() && asset->is_object()) {
+      const auto version = asset->find("version");
+      if (version != asset->end() && version->is_string() && version->get<std::string>().rfind("1.", 0) == 0)
+        fail("/asset/version", "glTF " + version->get<std::string>() + " is not supported: wavepath reads glTF 2.0 (convert the model, e.g. with Blender)");
+    }
+    const auto meshes = doc.find("meshes");
+    if (meshes == doc.end() || !meshes->is_array()) return;
+    for (size_t i = 0; i < meshes->size(); ++i) {
+      const nlohmann::json& mesh = (*meshes)[i];
+      if (!mesh.is_object()) continue;
+      const auto primitives = mesh.find("primitives");
+      if (primitives != mesh.end() && !primitives->is_array())
+        fail("/meshes/" + std::to_string(i) + "/primitives", std::string("must be an array of primitives, not ") + primitives->type_name());
     }
   }
 
@@ -534,10 +575,6 @@ class GltfImporter {
     const uint32_t id = uint32_t(scene_.images.size() - 1);
     images_[key] = id;
     return id;
-  }
-
-  bool has_emission() const {
-    return std::any_of(scene_.materials.begin(), scene_.materials.end(), [](const SceneMaterial& m) { return m.emission != WP_INVALID; });
   }
 
   // ---- cameras and lights --------------------------------------------------
