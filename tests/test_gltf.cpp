@@ -126,26 +126,50 @@ TEST(Gltf, BinaryModelWithTexturesSparseAndNormalizedAccessors) {
   const glm::vec4 mapped = mapping * glm::vec4(0.3f, 0.8f, 0.0f, 1.0f);
   EXPECT_NEAR(mapped.x, 1.1f, 1e-5f);
   EXPECT_NEAR(mapped.y, 1.35f, 1e-5f);
-  // Two cameras: the orthographic one is listed but not chosen.
+  // Two cameras, the first of the tree orthographic: xmag = ymag = 2, the
+  // image square; its rays are parallel, down its -Z, from the points of a
+  // 4 x 4 window around its node at (0, 1, 5).
   ASSERT_EQ(s.cameras.size(), 2u);
-  EXPECT_EQ(s.camera.name, "persp");
-  EXPECT_EQ(s.camera.height, 600);  // no aspect ratio: 4:3
+  EXPECT_EQ(s.camera.name, "ortho");
+  EXPECT_EQ(s.camera.orthoHalfHeight, 2.0f);
+  EXPECT_EQ(s.camera.width, s.camera.height);
   EXPECT_EQ(s.background, glm::vec3(1.0f)) << "a model without lights is lit by a white sky";
-  Scene copy = s;
-  try {
-    choose_camera(copy, "ortho");
-    ADD_FAILURE() << "an orthographic camera was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("perspective cameras only"), std::string::npos) << e.what();
+  {
+    Scene small = s;
+    set_resolution(small.camera, 8, 8);
+    CompiledScene cs = compile_scene(small, RenderOptions{});
+    shader::SceneView view = cs.view();
+    for (uint32_t pixel : {0u, 7u, 56u, 63u, 27u}) {
+      glm::vec3 lo(INFINITY), hi(-INFINITY);
+      for (uint32_t k = 0; k < 64; ++k) {
+        shader::PathState ps;
+        view.path_begin(ps, pixel, k);
+        EXPECT_NEAR(glm::distance(ps.dir, glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
+        lo = glm::min(lo, ps.origin);
+        hi = glm::max(hi, ps.origin);
+      }
+      // Within the pixel's 0.5 x 0.5 square of the window (y up, rows down).
+      const float x0 = -2.0f + 0.5f * float(pixel % 8), y1 = 3.0f - 0.5f * float(pixel / 8);
+      EXPECT_GE(lo.x, x0 - 1e-5f);
+      EXPECT_LE(hi.x, x0 + 0.5f + 1e-5f);
+      EXPECT_GE(lo.y, y1 - 0.5f - 1e-5f);
+      EXPECT_LE(hi.y, y1 + 1e-5f);
+      EXPECT_NEAR(lo.z, 5.0f, 1e-6f);
+      EXPECT_NEAR(hi.z, 5.0f, 1e-6f);
+    }
   }
+  Scene copy = s;
+  choose_camera(copy, "persp");
+  EXPECT_EQ(copy.camera.orthoHalfHeight, 0.0f);
+  EXPECT_EQ(copy.camera.height, 600);  // no aspect ratio: 4:3
   try {
     choose_camera(copy, "side");
     ADD_FAILURE() << "a missing camera was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("1 \"persp\""), std::string::npos) << e.what();
   }
-  choose_camera(copy, "1");
-  EXPECT_EQ(copy.camera.name, "persp");
+  choose_camera(copy, "0");
+  EXPECT_EQ(copy.camera.name, "ortho");
 }
 
 // Loading `path` fails with one line that names it and holds every part.

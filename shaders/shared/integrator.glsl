@@ -59,13 +59,21 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   uvec2 xy = pixel_xy(pixel);
   float fx = scene.camWindow.x + (float(xy.x) + jitter.x) / float(width) * scene.camWindow.z;
   float fy = scene.camWindow.y + (float(xy.y) + jitter.y) / float(height) * scene.camWindow.w;
-  float tanHalf = scene.camLens.x;
-  vec3 dirCam = vec3((2.0f * fx - 1.0f) * tanHalf * scene.camLens.y, (1.0f - 2.0f * fy) * tanHalf, -1.0f);
+  // The point of the frame, in units of its half-height.
+  vec2 frame = vec2((2.0f * fx - 1.0f) * scene.camLens.y, 1.0f - 2.0f * fy);
+  vec3 dirCam = vec3(0.0f, 0.0f, -1.0f);
   vec3 originCam = vec3(0.0f);
-  if (scene.camLens.z > 0.0f) {
-    vec2 lens = square_to_disk_concentric(lensU) * scene.camLens.z;
-    originCam = vec3(lens.x, lens.y, 0.0f);
-    dirCam = dirCam * scene.camLens.w - originCam;  // through the point in focus
+  if (scene.camLens.x < 0.0f) {
+    // Orthographic (camLens.x: minus the half-height seen): parallel rays
+    // from the frame's point; a lens means nothing to it.
+    originCam = vec3(frame.x * -scene.camLens.x, frame.y * -scene.camLens.x, 0.0f);
+  } else {
+    dirCam = vec3(frame.x * scene.camLens.x, frame.y * scene.camLens.x, -1.0f);
+    if (scene.camLens.z > 0.0f) {
+      vec2 lens = square_to_disk_concentric(lensU) * scene.camLens.z;
+      originCam = vec3(lens.x, lens.y, 0.0f);
+      dirCam = dirCam * scene.camLens.w - originCam;  // through the point in focus
+    }
   }
   p.origin = xform_point(scene.camToWorld0, scene.camToWorld1, scene.camToWorld2, originCam);
   p.dir = normalize(xform_vector(scene.camToWorld0, scene.camToWorld1, scene.camToWorld2, dirCam));

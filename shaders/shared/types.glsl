@@ -276,7 +276,8 @@ struct SceneParams {
   vec4 camToWorld0;  // camera-to-world 3x4, rows; camera looks down -Z
   vec4 camToWorld1;
   vec4 camToWorld2;
-  vec4 camLens;      // x: tan(vfov/2), y: aspect w/h, z: lens radius, w: focus distance
+  vec4 camLens;      // x: tan(vfov/2), or minus the half-height an orthographic camera sees; y: aspect w/h,
+                     // z: lens radius, w: focus distance
   vec4 background;   // rgb radiance of escaped rays
   uvec4 image;       // x: width, y: height, z: max bounces, w: Russian roulette start depth
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*

@@ -601,7 +601,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   int maxBounces = options.maxBounces >= 0 ? options.maxBounces : scene.integrator.maxBounces;
   shader::SceneParams& p = out.params;
   rows_3x4(cam.toWorld, p.camToWorld0, p.camToWorld1, p.camToWorld2);
-  p.camLens = glm::vec4(std::tan(glm::radians(cam.vfovDegrees) * 0.5f),
+  p.camLens = glm::vec4(cam.orthoHalfHeight > 0.0f ? -cam.orthoHalfHeight : std::tan(glm::radians(cam.vfovDegrees) * 0.5f),
                         cam.aspect > 0.0f ? cam.aspect : float(cam.width) / float(cam.height),
                         cam.apertureRadius, cam.focusDistance);
   p.background = glm::vec4(scene.background, 0.0f);

@@ -586,14 +586,25 @@ class GltfImporter {
     NamedCamera nc;
     nc.name = c.name.empty() ? std::to_string(index) : c.name;
     nc.index = index;
-    if (c.type != "perspective") {
-      nc.problem = at + "/type: wavepath renders perspective cameras only, not \"" + c.type + "\"";
+    if (c.type != "perspective" && c.type != "orthographic") {
+      nc.problem = at + "/type: wavepath renders perspective and orthographic cameras, not \"" + c.type + "\"";
     } else {
-      const double yfov = c.perspective.yfov;
-      if (!(yfov > 0.0 && yfov < M_PI)) fail(at + "/perspective/yfov", "must lie between 0 and pi radians");
-      const double aspect = c.perspective.aspectRatio > 0.0 ? c.perspective.aspectRatio : 4.0 / 3.0;
-      if (!(aspect > 1e-3 && aspect < 1e3)) fail(at + "/perspective/aspectRatio", "must lie between 0.001 and 1000");
-      nc.camera.vfovDegrees = float(glm::degrees(yfov));
+      double aspect = 4.0 / 3.0;
+      if (c.type == "perspective") {
+        const double yfov = c.perspective.yfov;
+        if (!(yfov > 0.0 && yfov < M_PI)) fail(at + "/perspective/yfov", "must lie between 0 and pi radians");
+        if (c.perspective.aspectRatio > 0.0) aspect = c.perspective.aspectRatio;
+        nc.camera.vfovDegrees = float(glm::degrees(yfov));
+      } else {
+        // xmag and ymag: half the width and height it sees (the image's
+        // aspect follows them).
+        const double xmag = c.orthographic.xmag, ymag = c.orthographic.ymag;
+        if (!(xmag > 0.0 && xmag < 1e9)) fail(at + "/orthographic/xmag", "must be a positive number");
+        if (!(ymag > 0.0 && ymag < 1e9)) fail(at + "/orthographic/ymag", "must be a positive number");
+        nc.camera.orthoHalfHeight = float(ymag);
+        aspect = xmag / ymag;
+      }
+      if (!(aspect > 1e-3 && aspect < 1e3)) fail(at + "/" + c.type + (c.type == "perspective" ? "/aspectRatio" : "/xmag"), "gives an aspect ratio outside 0.001 to 1000");
       nc.camera.width = kDefaultWidth;
       nc.camera.height = std::max(1, int(std::lround(kDefaultWidth / aspect)));
       // The node's rotation and translation; a camera ignores scale.
@@ -639,7 +650,7 @@ class GltfImporter {
     scene_.pointLights.push_back(p);
   }
 
-  // The camera the render uses: the first perspective camera of the tree,
+  // The camera the render uses: the first camera of the tree,
   // or one framing the scene's bounds (the command line may pick another).
   void default_camera() {
     for (const NamedCamera& c : scene_.cameras)

@@ -26,6 +26,7 @@ struct Camera {
   std::string name;         // a glTF camera's (--camera picks it; empty: the scene's only camera)
   glm::mat4 toWorld{1.0f};  // camera looks down its -Z axis
   float vfovDegrees = 90.0f;
+  float orthoHalfHeight = 0.0f;  // > 0: an orthographic camera seeing this half-height (glTF's ymag); 0: perspective
   int width = 512;
   int height = 512;
   float focusDistance = 1.0f;
