@@ -5,6 +5,8 @@
 // COLLADA and as darts JSON rendering alike.
 #include "test_support.h"
 
+#include <set>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "image/image.h"
@@ -146,9 +148,9 @@ TEST(Collada, Cs184Skeleton32LightsAsThatSkeletonBuildsThem) {
   EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(FEATURE_COSINE_EMISSION));
   for (uint32_t i = 12; i < 14; ++i) {
     const SceneTriangle& t = s.triangles[i];
-    // The light's triangle, a hair in front of its plane (below it: the light faces down).
+    // The light's triangle, a hair behind its plane (above it: the light faces down).
     EXPECT_NEAR(glm::distance(t.v[0], s.lightOnlyTriangles[i - 12].v[0]), 4e-5f * 1.48f, 1e-6f);
-    EXPECT_LT(t.v[0].y, s.lightOnlyTriangles[i - 12].v[0].y);
+    EXPECT_GT(t.v[0].y, s.lightOnlyTriangles[i - 12].v[0].y);
     const SceneMaterial& quad = s.materials[t.material];
     EXPECT_EQ(quad.kind, uint32_t(MAT_LIGHT));
     EXPECT_NEAR(glm::distance(s.textures[quad.emission].color, glm::vec3(6.0f / 0.25f)), 0.0f, 1e-4f);
@@ -157,18 +159,36 @@ TEST(Collada, Cs184Skeleton32LightsAsThatSkeletonBuildsThem) {
   // degrees from it, half; from above nothing, under the course's both-sided
   // estimator too.
   shader::SceneView view = cs.view();
-  int quads = 0;
+  std::set<uint32_t> quads;
   for (uint32_t i = 0; i < cs.triangles.size(); ++i) {
     const uint32_t material = cs.triangles[i].material;  // WP_INVALID: a sphere's placeholder
     if (material == WP_INVALID || cs.materials[material & TRIANGLE_MATERIAL_MASK].params.x != 1.0f) continue;
-    ++quads;
+    quads.insert(i);
     const shader::SceneView::SurfaceHit hit = view.triangle_surface(i, 0.25f, 0.25f);
     const glm::vec3 down(0.0f, -1.0f, 0.0f), slant = glm::normalize(glm::vec3(std::sqrt(3.0f), -1.0f, 0.0f));
     EXPECT_NEAR(view.emitted_radiance(hit, down).x, 24.0f, 1e-3f);
     EXPECT_NEAR(view.emitted_radiance(hit, slant).x, 12.0f, 1e-3f);
     EXPECT_EQ(view.emitted_radiance(hit, -down).x, 0.0f);
   }
-  EXPECT_EQ(quads, 2);
+  EXPECT_EQ(quads.size(), 2u);
+  // The quad does not shadow its own light: no shadow ray from the room to
+  // a point sampled on the light meets it (it once did, moved in front of
+  // the light's plane, and the room went black).
+  uint32_t state = 5, blocked = 0, samples = 0;
+  for (int i = 0; i < 400; ++i) {
+    const glm::vec3 p(view.rng_next(state) * 1.6f - 0.8f, 0.02f + view.rng_next(state) * 1.2f, view.rng_next(state) * 1.6f - 0.8f);
+    shader::SceneView::LightSample ls;
+    if (!view.sample_emitter(p, glm::vec3(view.rng_next(state), view.rng_next(state), view.rng_next(state)), ls)) continue;
+    glm::vec3 origin, dir;
+    float tmax;
+    view.aim_shadow_ray(p, glm::normalize(ls.wi), ls, origin, dir, tmax);
+    shader::Hit h;
+    ASSERT_EQ(view.trace_ray(origin, dir, tmax, true, h), TRACE_OK);
+    blocked += quads.count(h.prim);
+    ++samples;
+  }
+  EXPECT_GT(samples, 300u);
+  EXPECT_EQ(blocked, 0u) << "of " << samples << " shadow rays to the area light met its quad";
 }
 
 // The camera as application.cpp places it, computed here from the course's

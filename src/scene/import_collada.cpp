@@ -806,14 +806,17 @@ void use_cs184_3_2_skeleton(Scene& scene) {
   // The quad lies in its light's plane, where the course's Cornell files
   // also put the lamp mesh (to 5e-8): which of the two a ray meets would be
   // rounding's choice, one on the CPU and another on the GPU (the course's
-  // renderer shows them fighting). Moved 4e-5 of its size-or-distance
-  // scale towards where it faces, the quad is in front wherever they overlap.
+  // renderer shows them fighting). Moved back 4e-5 of its scale, away from
+  // where it faces, the quad is behind the lamp mesh wherever they overlap,
+  // and behind the end of every shadow ray aimed at its own light (which
+  // stops a few hundred ulps short of the light's plane): in front of it,
+  // it would shadow its own light.
   for (SceneTriangle t : scene.lightOnlyTriangles) {
     t.material = quadMaterial[t.material];
     const glm::vec3 facing = glm::normalize(glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]));
     float scale = 1.0f;
     for (const glm::vec3& v : t.v) scale = std::max(scale, std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))));
-    for (glm::vec3& v : t.v) v += facing * (4e-5f * scale);
+    for (glm::vec3& v : t.v) v -= facing * (4e-5f * scale);
     scene.triangles.push_back(t);
   }
   scene.cs184Skeleton = 32;
