@@ -370,21 +370,22 @@ def external():
 
 # ---- surface.glb ------------------------------------------------------------
 
+def normal_texel(n):
+    """A tangent-space normal, normalised, as 8-bit RGB."""
+    length = math.sqrt(sum(c * c for c in n))
+    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
+
+
 def ripples(x, y):
     """A tangent-space normal map of ridges across u (x), strong enough to see."""
-    slope = 0.9 * math.cos(2 * math.pi * (x + 0.5) / 8)
-    n = [-slope, 0.0, 1.0]
-    length = math.sqrt(sum(c * c for c in n))
-    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
+    return normal_texel([-0.9 * math.cos(2 * math.pi * (x + 0.5) / 8), 0.0, 1.0])
 
 
-def bumps(x, y):
-    """Dimples in both directions, so the bitangent's sign shows too."""
-    sx = 0.7 * math.sin(2 * math.pi * (x + 0.5) / 8)
-    sy = 0.7 * math.sin(2 * math.pi * (y + 0.5) / 8)
-    n = [sx, sy, 1.0]
-    length = math.sqrt(sum(c * c for c in n))
-    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
+def dimples(slope):
+    """A normal map of dimples in both directions (so the bitangent's sign
+    shows too), their slopes reaching `slope`."""
+    return lambda x, y: normal_texel([slope * math.sin(2 * math.pi * (x + 0.5) / 8),
+                                      slope * math.sin(2 * math.pi * (y + 0.5) / 8), 1.0])
 
 
 def fence(x, y):
@@ -437,7 +438,7 @@ def surface():
     # Thin-walled transmission on a second cube.
     glass = prim(pos, idx, 5, NORMAL=f("VEC3", nrm))
     normal_png = buf.view(png(16, 16, ripples))
-    bumps_png = buf.view(png(16, 16, bumps))
+    bumps_png = buf.view(png(16, 16, dimples(0.7)))
     fence_png = buf.view(png(16, 16, fence, alpha=True))
     stripes_png = buf.view(png(16, 16, stripes))
     sun_rotation = quat_from_matrix(look_at_matrix([0, 0, 0], [0.4, -1.0, -0.5], [0, 1, 0]))
@@ -486,15 +487,6 @@ def surface():
 
 # ---- mirror-bumps.glb --------------------------------------------------------
 
-def steep_bumps(x, y):
-    """Dimples whose slopes reach 1.5 (56 degrees) in both directions."""
-    sx = 1.5 * math.sin(2 * math.pi * (x + 0.5) / 8)
-    sy = 1.5 * math.sin(2 * math.pi * (y + 0.5) / 8)
-    n = [sx, sy, 1.0]
-    length = math.sqrt(sum(c * c for c in n))
-    return tuple(int(round(255 * (c / length * 0.5 + 0.5))) for c in n)
-
-
 def uv_sphere(rings=24, segments=48):
     """A unit sphere: positions, normals, UVs, tangents (along u) and indices."""
     pos, nrm, uv, tan, idx = [], [], [], [], []
@@ -528,7 +520,7 @@ def mirror_bumps():
         "materials": [{"name": "white mirror", "normalTexture": {"index": 0},
                        "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 1.0, "roughnessFactor": 0.0}}],
         "textures": [{"source": 0}],
-        "images": [{"bufferView": buf.view(png(16, 16, steep_bumps)), "mimeType": "image/png"}],
+        "images": [{"bufferView": buf.view(png(16, 16, dimples(1.5))), "mimeType": "image/png"}],
         "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
     }
     with open(os.path.join(OUT, "mirror-bumps.glb"), "wb") as out:
