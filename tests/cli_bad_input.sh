@@ -126,7 +126,7 @@ check "and without it the sky lights the model" \
   $(python3 -c "import struct,sys; d=open('$work/sky.pfm','rb').read(); h=d.split(b'\n',3); v=struct.unpack('<%df' % (8*6*3), h[3][:8*6*3*4]); sys.exit(not all(x > 0 for x in v))"; echo $?)
 generator="$(cd "$(dirname "$0")/.." && pwd)/scripts/make-gltf-test-assets.py"
 models="$(cd "$data/gltf" && pwd)"
-(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb surface.glb \
+(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb surface.glb mirror-bumps.glb \
   external/scene.gltf external/scene.bin external/checker.png; do cmp -s "tests/data/gltf/$f" "$models/$f" || exit 1; done)
 check "make-gltf-test-assets.py writes the models the repository holds" $?
 # The README's glTF example: its generator writes what the repository holds, and it renders.
