@@ -25,6 +25,8 @@ third-party asset, no licence to track):
                   a strongly tilted normal map, and no light: the white sky.
                   A white furnace: every pixel's radiance is 1 unless
                   mapped normals lose light.
+  layers.glb      KHR_materials_clearcoat, _sheen and _specular, each with
+                  its textures (the channels each reads), under a sun.
 
 Run it from the repository root: python3 scripts/make-gltf-test-assets.py
 """
@@ -527,6 +529,54 @@ def mirror_bumps():
         out.write(glb(doc, buf.data))
 
 
+# ---- layers.glb ----------------------------------------------------------------
+
+def layers():
+    """Three spheres in the PBR extensions Blender exports, under a sun: a
+    clear coat with textured factor (R), roughness (G) and its own normal map;
+    a sheen with a textured colour and an RGBA roughness texture (A); a tinted
+    specular layer with textured factor (A) and colour."""
+    buf = Buffer()
+    pos, nrm, uv, tan, idx = uv_sphere(16, 32)
+    attrs = {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm),
+             "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", uv), "TANGENT": buf.accessor("f", FLOAT, "VEC4", tan)}
+    indices = buf.accessor("H", USHORT, "SCALAR", idx)
+    # Red: the texel's column half (0 or 255); green: 64; blue: row bands;
+    # alpha: 255 in the left half, 64 in the right.
+    stripes_rgba = png(8, 8, lambda x, y: (255 if x < 4 else 0, 64, 30 * y, 255 if x < 4 else 64), alpha=True)
+    base = {"baseColorFactor": [0.7, 0.15, 0.1, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_specular", "KHR_lights_punctual"],
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+        "nodes": [{"mesh": 0, "translation": [-2.2, 0, 0]}, {"mesh": 1}, {"mesh": 2, "translation": [2.2, 0, 0]},
+                  {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": [-0.3826834, 0, 0, 0.9238795]},
+                  {"camera": 0, "translation": [0, 0, 8]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "aspectRatio": 1.6, "znear": 0.1}}],
+        "meshes": [{"name": "coated", "primitives": [{"attributes": attrs, "indices": indices, "material": 0}]},
+                   {"name": "sheen", "primitives": [{"attributes": attrs, "indices": indices, "material": 1}]},
+                   {"name": "specular", "primitives": [{"attributes": attrs, "indices": indices, "material": 2}]}],
+        "materials": [
+            {"name": "lacquer", "pbrMetallicRoughness": base, "extensions": {"KHR_materials_clearcoat": {
+                "clearcoatFactor": 0.9, "clearcoatTexture": {"index": 0}, "clearcoatRoughnessFactor": 0.5,
+                "clearcoatRoughnessTexture": {"index": 0}, "clearcoatNormalTexture": {"index": 1, "scale": 0.7}}}},
+            {"name": "velvet", "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.05, 0.2, 1], "metallicFactor": 0.0, "roughnessFactor": 0.9},
+             "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.6, 0.8], "sheenColorTexture": {"index": 2},
+                                                    "sheenRoughnessFactor": 0.8, "sheenRoughnessTexture": {"index": 0}}}},
+            {"name": "tinted", "pbrMetallicRoughness": base, "extensions": {"KHR_materials_specular": {
+                "specularFactor": 0.8, "specularTexture": {"index": 0}, "specularColorFactor": [2.0, 1.5, 1.0],
+                "specularColorTexture": {"index": 2}}}}],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 2.5 * 683}]}},
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2}],
+        "images": [{"bufferView": buf.view(stripes_rgba), "mimeType": "image/png"},
+                   {"bufferView": buf.view(png(16, 16, dimples(0.8))), "mimeType": "image/png"},
+                   {"bufferView": buf.view(png(4, 4, checker)), "mimeType": "image/png"}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "layers.glb"), "wb") as out:
+        out.write(glb(doc, buf.data))
+
+
 def main():
     os.makedirs(os.path.join(OUT, "external"), exist_ok=True)
     darts = box_room()
@@ -535,6 +585,7 @@ def main():
     external()
     surface()
     mirror_bumps()
+    layers()
 
 
 if __name__ == "__main__":

@@ -101,17 +101,7 @@ ShaderMath::Bsdf bsdf_of(const Config& c, glm::vec3 n) {
   return make_bsdf(n, c.lobes, c.front);
 }
 
-// Normal and incident direction pairs: normal incidence, oblique, grazing,
-// around normals that are not +Z.
-struct Geometry {
-  glm::vec3 n;
-  glm::vec3 wo;
-};
-const Geometry kGeometries[] = {
-    {{0, 0, 1}, {0, 0, 1}},
-    {{0, 0, 1}, {0.6f, 0.0f, 0.8f}},
-    {{0.48f, -0.6f, 0.64f}, {0.9f, 0.1f, 0.1f}},
-};
+const auto& kGeometries = kBsdfGeometries;
 
 constexpr int kChi2Samples = 300000;
 const int kChi2Tests = int(std::size(kGeometries)) * 18;  // smooth_configs().size() configurations
@@ -137,7 +127,7 @@ TEST(Bsdf, EverySmoothLobeSamplesItsPdf) {
   ASSERT_EQ(smooth_configs().size() * std::size(kGeometries), size_t(kChi2Tests));
   uint32_t seed = 100;
   for (const Config& c : smooth_configs()) {
-    for (const Geometry& g : kGeometries) {
+    for (const BsdfGeometry& g : kGeometries) {
       glm::vec3 n = unit(g.n);
       glm::vec3 wo = unit(g.wo);
       if (glm::dot(wo, n) <= 0.0f) wo = -wo;

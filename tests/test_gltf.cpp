@@ -283,6 +283,43 @@ TEST(Gltf, SurfaceDetailsNormalMapsVertexDataAlphaAndSides) {
   EXPECT_EQ(derived.w, 1.0f);
 }
 
+// KHR_materials_clearcoat, _sheen and _specular (layers.glb): a coat and a
+// sheen become layers over the metal-rough base, which carries the specular
+// factor and colour; each texture is read in its extension's channel (the
+// image's left half has red 1 and alpha 1, its right half red 0 and alpha 64/255).
+TEST(Gltf, PbrExtensionsBecomeLayersReadingTheirChannels) {
+  const Scene s = load_scene(gltf_path("layers.glb"));
+  auto named = [&](const std::string& name) {
+    for (const SceneMaterial& m : s.materials)
+      if (m.name == name) return m;
+    ADD_FAILURE() << "no material " << name;
+    return SceneMaterial{};
+  };
+  const SceneMaterial coat = named("lacquer (clear coat)"), sheen = named("velvet (sheen)"), tinted = named("tinted");
+  ASSERT_EQ(coat.kind, MAT_CLEARCOAT);
+  ASSERT_EQ(sheen.kind, MAT_SHEEN);
+  EXPECT_EQ(s.materials.at(coat.a).kind, MAT_METAL_ROUGH);
+  EXPECT_EQ(s.materials.at(coat.a).normalMap, WP_INVALID);  // the coat's normal map is not the base's
+  ASSERT_NE(coat.normalMap, WP_INVALID);
+  EXPECT_EQ(s.textures[coat.normalMap].color, glm::vec3(0.7f, 0.7f, 1.0f));
+  EXPECT_EQ(coat.params.x, 1.5f);
+  EXPECT_EQ(tinted.kind, MAT_METAL_ROUGH);
+  EXPECT_NEAR(glm::distance(tinted.params2, glm::vec4(1.0f, 0.5f, 0.0f, -0.2f)), 0.0f, 1e-6f);
+  const CompiledScene cs = compile_scene(s, RenderOptions{});
+  EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(FEATURE_SPECULAR_TINT));
+  shader::SceneView view = cs.view();
+  const glm::vec3 p(0.0f);
+  auto at = [&](uint32_t tex, float u) { return view.texture_eval(tex, glm::vec4(u, 0.5f, 0.0f, 0.0f), p); };
+  const float left = 1.0f / 16.0f, right = 9.0f / 16.0f, quarter = 64.0f / 255.0f;
+  EXPECT_NEAR(at(coat.albedo, left).x, 0.9f, 1e-3f);  // clearcoatTexture: red
+  EXPECT_NEAR(at(coat.albedo, right).x, 0.0f, 1e-3f);
+  EXPECT_NEAR(at(coat.amount, left).y, 0.5f * quarter, 2e-3f);  // clearcoatRoughnessTexture: green
+  EXPECT_NEAR(at(sheen.amount, left).y, 0.8f, 1e-3f);  // sheenRoughnessTexture: alpha
+  EXPECT_NEAR(at(sheen.amount, right).y, 0.8f * quarter, 2e-3f);
+  EXPECT_NEAR(at(tinted.specular, right).x, quarter, 2e-3f);  // specularTexture: alpha
+  EXPECT_NE(tinted.specularColor, WP_INVALID);
+}
+
 // A normal-mapped mesh without TANGENT (the README's spot.glb) gets smooth
 // tangents: unit, orthogonal to each corner's normal, and turned as the
 // UVs run on the triangles around it.
@@ -441,6 +478,17 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
   expect_gltf_error("cutoff.gltf", with_material(R"({"alphaMode": "MASK", "alphaCutoff": 1.5})"), {"/materials/0/alphaCutoff", "[0, 1]"});
   expect_gltf_error("transmission.gltf", with_material(R"({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 2}}})"),
                     {"/materials/0/extensions/KHR_materials_transmission/transmissionFactor", "[0, 1]"});
+  // The PBR extensions' values.
+  expect_gltf_error("clearcoat.gltf", with_material(R"({"extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.2}}})"),
+                    {"/materials/0/extensions/KHR_materials_clearcoat/clearcoatFactor", "[0, 1]"});
+  expect_gltf_error("sheen.gltf", with_material(R"({"extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1, 0.5]}}})"),
+                    {"/materials/0/extensions/KHR_materials_sheen/sheenColorFactor", "3 numbers"});
+  expect_gltf_error("specular.gltf", with_material(R"({"extensions": {"KHR_materials_specular": {"specularColorFactor": [1, -1, 1]}}})"),
+                    {"/materials/0/extensions/KHR_materials_specular/specularColorFactor/1"});
+  expect_gltf_error("volume.gltf", with_material(R"({"extensions": {"KHR_materials_volume": {"thicknessFactor": 1, "attenuationDistance": 0}}})"),
+                    {"/materials/0/extensions/KHR_materials_volume/attenuationDistance", "above 0"});
+  expect_gltf_error("coat-texture.gltf", with_material(R"({"extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatTexture": {"index": 4}}}})"),
+                    {"/materials/0/extensions/KHR_materials_clearcoat/clearcoatTexture/index", "texture 4"});
   expect_gltf_error("alpha-factor.gltf", with_material(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, -1]}})"),
                     {"/materials/0/pbrMetallicRoughness/baseColorFactor/3", "[0, 1]"});
   json sampled = json::parse(with_material(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 2}}})"));

@@ -602,6 +602,13 @@ const FeatureCase kFeatureCases[] = {
     {"microfacet.json", IntegratorKind::PathMixture, "the GGX materials, path tracer mixture"},
     {"punctual.json", IntegratorKind::PathMis, "a spot light between its cones and a directional light (mis)"},
     {"microfacet.json", IntegratorKind::PathMats, "the GGX materials, path tracer mats"},
+    {"layers.json", IntegratorKind::PathMis,
+     "glTF's layers: clear coats (textured factor, own ior) over metal-rough, a sheen over metal-rough and under a coat, "
+     "KHR_materials_specular's factor and colour, constant and textured (mis)"},
+    {"layers.json", IntegratorKind::PathMixture, "glTF's layers, path tracer mixture"},
+    {"volume.json", IntegratorKind::PathMis,
+     "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, and a "
+     "thin-walled pane (mis)"},
     {"../gltf/surface.glb", IntegratorKind::PathMis,
      "glTF surfaces: normal maps (given and derived tangents), vertex colours, a second UV set with clamped and mirrored "
      "wrapping, MASK and BLEND alpha, a one-sided wall, thin-walled transmission",
@@ -613,6 +620,9 @@ const FeatureCase kFeatureCases[] = {
     {"../collada/cornell.dae", std::nullopt,
      "CS184 3-2's scene: the lamp mesh black, the area light a visible quad of cosine emission seen in the mirror ball",
      40, use_cs184_3_2_skeleton},
+    {"../gltf/layers.glb", IntegratorKind::PathMis,
+     "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness) and specular (textured) under a sun",
+     40},
 };
 
 // CS184's scenes (tests/data/collada): the course's estimator (lights no

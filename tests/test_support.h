@@ -198,6 +198,18 @@ struct DirectionalChi2 {
   }
 };
 
+// Normal and incident direction pairs for BSDF tests: normal incidence,
+// oblique, grazing, around normals that are not +Z.
+struct BsdfGeometry {
+  glm::vec3 n;
+  glm::vec3 wo;
+};
+inline const BsdfGeometry kBsdfGeometries[] = {
+    {{0, 0, 1}, {0, 0, 1}},
+    {{0, 0, 1}, {0.6f, 0.0f, 0.8f}},
+    {{0.48f, -0.6f, 0.64f}, {0.9f, 0.1f, 0.1f}},
+};
+
 // Chi-square over `grid`'s cells of n directions bsdf_sample draws from
 // `sampled` at wo against the pdf `claimed` reports (the same BSDF, unless a
 // test plants an error). Samples the BSDF absorbs are not counted; the
@@ -298,6 +310,37 @@ inline void expect_furnace_is_analytic(const std::function<ImageStats(const Comp
       expect_mean(img, 1.0 - std::pow(0.5, bounces + 1), what.c_str());
     }
   }
+}
+
+// Single-scattering GGX with F = 1, computed here without the shared code:
+// E(mu) = integral over wi of D G2 / (4 cos_o), taken over the microfacet
+// normals h instead (d wi = 4 |wo.h| d h) and there in the variable s that
+// GGX's D cos(h) makes uniform (tan^2 = alpha^2 s / (1 - s)), so that narrow
+// lobes are resolved as well as wide ones: E = integral over s and phi of
+// G2 |wo.h| / (cos_o cos_h) / (2 pi), where wi lies above the surface.
+inline double ggx_albedo(double alpha, double cosO) {
+  auto lambda = [&](double c) {
+    double t2 = (1.0 - c * c) / (c * c);
+    return 0.5 * (std::sqrt(1.0 + alpha * alpha * t2) - 1.0);
+  };
+  glm::dvec3 wo(std::sqrt(1.0 - cosO * cosO), 0.0, cosO);
+  const int ns = 4000, nphi = 2000;
+  double sum = 0.0;
+  for (int i = 0; i < ns; ++i) {
+    double s = (i + 0.5) / ns;
+    double cosH = std::sqrt((1.0 - s) / (1.0 + (alpha * alpha - 1.0) * s));
+    double sinH = std::sqrt(std::max(0.0, 1.0 - cosH * cosH));
+    for (int j = 0; j < nphi; ++j) {
+      double phi = (j + 0.5) / nphi * 2.0 * M_PI;
+      glm::dvec3 h(sinH * std::cos(phi), sinH * std::sin(phi), cosH);
+      double woH = glm::dot(wo, h);
+      if (woH <= 0.0) continue;
+      glm::dvec3 wi = 2.0 * woH * h - wo;
+      if (wi.z <= 0.0) continue;
+      sum += woH / (cosO * cosH) / (1.0 + lambda(cosO) + lambda(wi.z));
+    }
+  }
+  return sum / (double(ns) * nphi);
 }
 
 }  // namespace wp::test

@@ -21,7 +21,7 @@
 #define BINDING_TEXELS 14
 #define BINDING_TRIANGLE_SHADING 15
 #define BINDING_POINT_LIGHTS 16
-#define BINDING_ENVIRONMENT_CDF 17
+#define BINDING_FLOAT_TABLES 17
 #define BINDING_PIXEL_LIST 18
 #define BINDING_WIDE_NODES 19
 #define BINDING_SORT 20
@@ -35,6 +35,11 @@
 #define BINDING_AOV_ACCUM 26
 #define BINDING_VERTEX_DATA 27
 #define BINDING_COUNT 28
+
+// Where each table starts in the float tables (BINDING_FLOAT_TABLES).
+#include "sheen_albedo.glsl"
+#define FLOAT_TABLE_SHEEN 0
+#define FLOAT_TABLE_ENVIRONMENT (SHEEN_TABLE_SIZE * SHEEN_TABLE_SIZE)
 
 // Specialization constants of the kernels, by id: kernel.glsl declares them
 // (SPEC_ANY_HIT in raycast.comp, SPEC_SHADE_KEY in shade.comp), and the host
@@ -105,10 +110,11 @@ layout(set = 0, binding = BINDING_POINT_LIGHTS) uniform usamplerBuffer pointLigh
 // Image texels, RG32UI: RGBA half floats (linear), all images back to back
 // (lavapipe has no descriptor indexing, so one buffer holds every image).
 layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;
-// The environment map's sampling distribution, R32F: the CDF over rows
-// (height + 1 values), then one CDF over the columns of each row (width + 1
-// values each).
-layout(set = 0, binding = BINDING_ENVIRONMENT_CDF) uniform samplerBuffer environmentCdf;
+// Tables of floats, R32F: the sheen's albedo table (sheen_albedo.glsl) from
+// FLOAT_TABLE_SHEEN, then from FLOAT_TABLE_ENVIRONMENT the environment map's
+// sampling distribution: the CDF over rows (height + 1 values), then one CDF
+// over the columns of each row (width + 1 values each).
+layout(set = 0, binding = BINDING_FLOAT_TABLES) uniform samplerBuffer floatTables;
 // Work buffers, written by the kernels. Paths, hits and shadow rays are also
 // read through texel-buffer views of the same memory (read_path, read_hit,
 // read_shadow_ray in kernel.glsl): on lavapipe a storage-buffer read at a

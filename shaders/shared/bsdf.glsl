@@ -17,7 +17,7 @@
 #define WP_BSDF_GLSL
 
 // Lobes a BSDF of this scene can have: one unless it has blend materials.
-#define BSDF_LOBES_OF_SCENE (MATERIAL_COMPILED(MAT_BLEND) ? BSDF_MAX_LOBES : 1u)
+#define BSDF_LOBES_OF_SCENE (COMPOSITE_MATERIALS_COMPILED ? BSDF_MAX_LOBES : 1u)
 
 struct Bsdf {
   vec3 ns;  // shading normal, on wo's side of the geometric surface
@@ -33,6 +33,11 @@ struct Bsdf {
   vec3 lobeParamYzw[BSDF_MAX_LOBES];    // params.yzw
   vec4 lobeParams2[BSDF_MAX_LOBES];     // params2
   float lobeWeight[BSDF_MAX_LOBES];
+  // A sheen layer (MAT_SHEEN): x max3 of its colour (0: none), y its
+  // roughness, z x times its bounded albedo at wo; and the lobes under it
+  // (bit i: lobe i), which sheen_cover_scale scales.
+  vec4 sheen;
+  uint sheenCovers;
 };
 
 // What one lobe's functions read: its colour and parameters, and which side
@@ -92,6 +97,21 @@ float fresnel_dielectric(float cosI, float eta) {
 #include "materials/metal_rough.glsl"
 #include "materials/beckmann_conductor.glsl"
 #include "materials/cs184_glass.glsl"
+#include "materials/clearcoat.glsl"
+#include "materials/sheen.glsl"
+
+// The albedo scaling of the lobes under a sheen at wi, KHR_materials_sheen's
+// 1 - s max(E(cos_o), E(cos_i)) (s the sheen colour's largest channel, E
+// bounded by 1), over the share of the weight bsdf_at gave them, 1 - s E(cos_o).
+float sheen_cover_scale(Bsdf b, vec3 wi) {
+  float ei = b.sheen.x * sheen_albedo_bounded(abs(dot(wi, b.ns)), b.sheen.y);
+  return (1.0f - max(b.sheen.z, ei)) / max(1.0f - b.sheen.z, 1e-6f);
+}
+
+// The factor sheen_cover_scale gives lobe i at wi (1 for lobes no sheen covers).
+float lobe_cover_scale(Bsdf b, uint i, float coverScale) {
+  return MATERIAL_COMPILED(MAT_SHEEN) && ((b.sheenCovers >> i) & 1u) != 0u ? coverScale : 1.0f;
+}
 
 // The lobe functions of a lobe of kind `type`, dispatched through the kind
 // table: one branch per kind, each compiled only where the scene has the kind.
@@ -182,11 +202,12 @@ vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
   vec3 f = vec3(0.0f);
   bool reflects = bsdf_reflects(b, wi);
   bool transmits = bsdf_transmits(b, wi);
+  float coverScale = MATERIAL_COMPILED(MAT_SHEEN) && b.sheenCovers != 0u ? sheen_cover_scale(b, wi) : 1.0f;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     Lobe l = lobe_of(b, i);
     uint type = b.lobeType[i];
     if (i < b.lobeCount && !lobe_is_delta(type, l) && (reflects || (transmits && lobe_transmits(type, l))))
-      f += lobe_eval(type, l, b.ns, wo, wi) * b.lobeWeight[i];
+      f += lobe_eval(type, l, b.ns, wo, wi) * (b.lobeWeight[i] * lobe_cover_scale(b, i, coverScale));
   }
   return f;
 }
@@ -219,6 +240,7 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
   // constant indices.
   uint type = b.lobeType[0];
   Lobe l = lobe_of(b, 0u);
+  uint picked = 0u;
   float uPick = clamp(u.z / b.lobeWeight[0], 0.0f, 0.99999994f);
   float below = 0.0f;
   for (uint i = 1u; i < BSDF_LOBES_OF_SCENE; ++i) {
@@ -226,12 +248,15 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
     if (i < b.lobeCount && u.z >= below) {
       type = b.lobeType[i];
       l = lobe_of(b, i);
+      picked = i;
       uPick = clamp((u.z - below) / b.lobeWeight[i], 0.0f, 0.99999994f);
     }
   }
   if (lobe_is_delta(type, l)) {
     isDelta = true;
-    return lobe_sample_delta(type, l, b.ns, b.ng, wo, uPick, wi);
+    vec3 weight = lobe_sample_delta(type, l, b.ns, b.ng, wo, uPick, wi);
+    if (MATERIAL_COMPILED(MAT_SHEEN) && ((b.sheenCovers >> picked) & 1u) != 0u) weight *= sheen_cover_scale(b, wi);
+    return weight;
   }
   wi = lobe_sample(type, l, b.ns, wo, vec3(u.x, u.y, u.w));
   pdf = bsdf_pdf(b, wo, wi);

@@ -26,6 +26,17 @@ using uint = std::uint32_t;
 #define INOUT(T) inout T
 #endif
 
+// A constant table of n floats, written WP_TABLE(NAME, n) v0, v1, ... WP_TABLE_END
+// (generated tables: sheen_albedo.glsl). In C++ it is a static member of the
+// struct the shared code compiles into.
+#ifdef __cplusplus
+#define WP_TABLE(name, n) static constexpr float name[n] = {
+#define WP_TABLE_END };
+#else
+#define WP_TABLE(name, n) const float name[n] = float[n](
+#define WP_TABLE_END );
+#endif
+
 #define WP_PI 3.14159265358979323846f
 #define WP_INV_PI 0.31830988618379067154f
 #define WP_INF 3.402823466e+38f

@@ -174,6 +174,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   SurfaceHit s = surface_at(p.origin, p.dir, h);
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
+  // A segment that ends on the inside of a volume's boundary crossed the
+  // volume, which absorbed some of the light along it.
+  if (FEATURE_COMPILED(FEATURE_VOLUME) && !b.front) p.throughput *= volume_transmittance(s.material, h.t);
   if (preview) {
     shade_preview(p, s, b, srs.ray[0]);
     return false;

@@ -30,6 +30,7 @@
 #define LOBE_COMPOSITE 0x20u    // mixes other materials, which bsdf_at flattens into their lobes
 #define LOBE_PARAMS_YZW 0x40u   // reads Material.params beyond x
 #define LOBE_PARAMS2 0x80u      // reads Material.params2
+#define LOBE_LAYER 0x100u       // a layer over a base material (Material.children.x): bsdf_at adds its lobe and the base's
 
 // Material kinds (Material.info.x). Columns: id; the kind's name (darts scene
 // files use it); the prefix of its lobe functions in materials/*.glsl (kinds
@@ -49,6 +50,8 @@
 #define MAT_METAL_ROUGH 9u       // glTF 2.0 metal-rough: GGX over a Lambertian base, mixed with a metal
 #define MAT_BECKMANN_CONDUCTOR 10u  // CS184's microfacet conductor: Beckmann, the course's G and Fresnel
 #define MAT_CS184_GLASS 11u         // CS184's glass: Schlick's Fresnel, tinted reflection and refraction, eta^2
+#define MAT_CLEARCOAT 12u  // glTF's KHR_materials_clearcoat: an untinted GGX coat with its own normal over a base material
+#define MAT_SHEEN 13u      // glTF's KHR_materials_sheen: a Charlie sheen over a base material, which it scales by its albedo
 #define WP_MATERIAL_KINDS(X)                                                                                            \
   X(MAT_LAMBERTIAN, "lambertian", lambertian, LOBE_DIFFUSE)                                                             \
   X(MAT_LIGHT, "diffuse_light", no_lobe, LOBE_EMISSIVE)                                                                 \
@@ -62,7 +65,9 @@
     LOBE_GLOSSY | LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW)                                                     \
   X(MAT_METAL_ROUGH, "metal_rough", metal_rough, LOBE_DIFFUSE | LOBE_GLOSSY | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW) \
   X(MAT_BECKMANN_CONDUCTOR, "beckmann_conductor", beckmann_conductor, LOBE_GLOSSY | LOBE_PARAMS_YZW | LOBE_PARAMS2)        \
-  X(MAT_CS184_GLASS, "cs184_glass", cs184_glass, LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW | LOBE_PARAMS2)
+  X(MAT_CS184_GLASS, "cs184_glass", cs184_glass, LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW | LOBE_PARAMS2)        \
+  X(MAT_CLEARCOAT, "clearcoat", clearcoat, LOBE_GLOSSY | LOBE_LAYER | LOBE_PARAMS2)                                          \
+  X(MAT_SHEEN, "sheen", sheen, LOBE_GLOSSY | LOBE_LAYER)
 
 // Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
 // solid mapping. Columns: id, name.
@@ -107,12 +112,15 @@
 #define FEATURE_ONE_SIDED 7u            // triangles seen from behind are not there (TRIANGLE_ONE_SIDED)
 #define FEATURE_CUTOUTS 8u              // triangles cut out by their material's alpha (TRIANGLE_CUTOUT)
 #define FEATURE_COSINE_EMISSION 9u      // a light material emitting in proportion to the cosine (params.x; CS184 3-2's light quads)
+#define FEATURE_SPECULAR_TINT 10u       // metal-rough with a specular factor or colour other than 1 (KHR_materials_specular; params2)
+#define FEATURE_VOLUME 11u              // metal-rough whose transmission refracts into an absorbing volume (KHR_materials_volume)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
   X(FEATURE_VERTEX_DATA, "tangents, vertex colours or a second UV set") X(FEATURE_NORMAL_MAPS, "normal maps")    \
   X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
-  X(FEATURE_COSINE_EMISSION, "cosine emission")
+  X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
+  X(FEATURE_VOLUME, "volumes")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the
@@ -136,6 +144,14 @@
 #define WP_READS_PARAMS_YZW(id, name, prefix, lobes) | (((lobes) & LOBE_PARAMS_YZW) != 0u ? KIND_BIT(id) : 0u)
 #define WP_READS_PARAMS2(id, name, prefix, lobes) | (((lobes) & LOBE_PARAMS2) != 0u ? KIND_BIT(id) : 0u)
 #define MATERIAL_PARAMS_YZW_COMPILED ((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_READS_PARAMS_YZW))) != 0u)
-#define MATERIAL_PARAMS2_COMPILED ((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_READS_PARAMS2))) != 0u)
+// (One test of two masks: Mesa 22.3 refuses a logical or of specialization constants.)
+#define MATERIAL_PARAMS2_COMPILED \
+  (((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_READS_PARAMS2))) | (FEATURES_OF_SCENE & KIND_BIT(FEATURE_SPECULAR_TINT))) != 0u)
+// Whether a compiled kind is a layer or a blend, which bsdf_at flattens into
+// several lobes.
+#define WP_IS_COMPOSITE(id, name, prefix, lobes) | (((lobes) & (LOBE_COMPOSITE | LOBE_LAYER)) != 0u ? KIND_BIT(id) : 0u)
+#define WP_IS_LAYER(id, name, prefix, lobes) | (((lobes) & LOBE_LAYER) != 0u ? KIND_BIT(id) : 0u)
+#define COMPOSITE_MATERIALS_COMPILED ((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_IS_COMPOSITE))) != 0u)
+#define LAYER_MATERIALS_COMPILED ((MATERIAL_KINDS_OF_SCENE & (0u WP_MATERIAL_KINDS(WP_IS_LAYER))) != 0u)
 
 #endif  // WP_KINDS_GLSL

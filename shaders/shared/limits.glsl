@@ -10,6 +10,9 @@
 // Lobes a BSDF holds at most: a blend tree flattens to at most this many
 // leaves (the loaders refuse more), so bsdf_at's loops are bounded.
 #define BSDF_MAX_LOBES 4
+// Layers (clearcoat, sheen) lie at most this deep over a base material, and
+// a material holds at most one sheen (the loaders refuse more).
+#define LAYERS_MAX 2
 // The narrowest GGX lobe (alpha, roughness squared) the microfacet
 // materials take: below it a conductor or dielectric is a smooth delta lobe,
 // and glTF's metal-rough (which has no delta lobe) is widened to it.

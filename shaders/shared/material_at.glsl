@@ -19,6 +19,10 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
   // Seen from the front only, or from both sides under CS184's conventions.
   if (tex == WP_INVALID || (dot(s.ng, wo) <= 0.0f && (scene.counts.w & SCENE_FLAG_CS184) == 0u)) return vec3(0.0f);
   float scale = FEATURE_COMPILED(FEATURE_COSINE_EMISSION) && m.info.x == MAT_LIGHT && m.params.x != 0.0f ? max(dot(s.ng, wo), 0.0f) : 1.0f;
+  // Under a clear coat, what the coat does not reflect (KHR_materials_clearcoat's
+  // coated_emission; at the interpolated normal, not a coat normal map's).
+  if (MATERIAL_COMPILED(MAT_CLEARCOAT) && m.info.x == MAT_CLEARCOAT)
+    scale = 1.0f - clearcoat_weight(texture_eval(m.info.y, s.uv, s.p).x, clearcoat_f0(m.params.x), dot(s.ns, wo));
   if (!FEATURE_COMPILED(FEATURE_EMISSION_TEXTURES)) {
     vec4 c = load_texture(tex).color0;
     return vec3(c.x, c.y, c.z) * scale;
@@ -30,21 +34,31 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
 // Parameters are the material's, except metal-rough's, which its
 // metallic-roughness texture scales (glTF: roughness in G, metallic in B)
 // and its transmission texture (children.y; R) scales the transmission of.
+// Its specular factor and colour (KHR_materials_specular), as metal_rough.glsl
+// reads them: params2 less 1, times their textures.
 void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, SurfaceHit s) {
   b.lobeType[k] = m.info.x;
   b.lobeColor[k] = color;
   b.lobeWeight[k] = w;
   vec4 params = m.params;
+  vec4 params2 = m.params2;
   if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && m.info.x == MAT_METAL_ROUGH) {
     vec3 mr = m.info.w != WP_INVALID ? texture_eval(m.info.w, s.uv, s.p) : vec3(1.0f);
     float roughness = clamp(m.params.x * mr.y, 0.0f, 1.0f);
     float transmission = m.children.y != WP_INVALID ? m.params.w * texture_eval(m.children.y, s.uv, s.p).x : m.params.w;
     params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), m.params.z, clamp(transmission, 0.0f, 1.0f));
+    // A transmission that refracts into a volume is stored negated (metal_rough.glsl).
+    if (FEATURE_COMPILED(FEATURE_VOLUME) && m.volume.w > 0.0f) params.w = -params.w;
+    if (FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) {
+      float weight = 1.0f + m.params2.w;
+      vec3 tint = vec3(1.0f + m.params2.x, 1.0f + m.params2.y, 1.0f + m.params2.z);
+      if (m.moreTextures.x != WP_INVALID) weight *= texture_eval(m.moreTextures.x, s.uv, s.p).x;
+      if (m.moreTextures.y != WP_INVALID) tint *= texture_eval(m.moreTextures.y, s.uv, s.p);
+      params2 = vec4(tint.x - 1.0f, tint.y - 1.0f, tint.z - 1.0f, clamp(weight, 0.0f, 1.0f) - 1.0f);
+    }
   }
-  bsdf_set_params(b, k, params, m.params2);
+  bsdf_set_params(b, k, params, params2);
 }
-
-// The least cosine between wo and a normal-mapped shading normal.
 
 // The shading normal at s under normal map `tex` (glTF's convention): the
 // map's colour c is the tangent-space normal 2 c - 1, scaled by the
@@ -106,14 +120,59 @@ bool material_needs_no_texture(Material m) {
 // The BSDF at s seen from wo: textures looked up, blends flattened into
 // weighted lobes (depth-first, bounded: the loader allows at most
 // BSDF_MAX_LOBES leaves per material).
+// The fraction of light a path keeps over a segment of length t inside the
+// volume that material `material` bounds (KHR_materials_volume's
+// Beer-Lambert law, T = exp(-sigma t)), 1 for other materials.
+vec3 volume_transmittance(uint material, float t) {
+  vec4 v = surface_material(load_material(material)).volume;
+  if (!(v.w > 0.0f)) return vec3(1.0f);
+  return vec3(exp(-v.x * t), exp(-v.y * t), exp(-v.z * t));
+}
+
+// The shading normal at s under a normal map (FEATURE_NORMAL_MAPS) or the
+// interpolated one, on wo's side or not, valid for reflecting wo.
+vec3 mapped_normal(SurfaceHit s, uint normalMap, vec3 wo, bool front) {
+  if (!FEATURE_COMPILED(FEATURE_NORMAL_MAPS) || !TEXTURE_COMPILED(TEX_IMAGE) || normalMap == WP_INVALID) return s.ns;
+  return valid_reflection_normal(s.ng, front ? wo : -wo, normal_mapped(s, normalMap));
+}
+
+// A clear coat's lobe (MAT_CLEARCOAT) at lobe k, of weight w times the coat's
+// (clearcoat_weight); returns that weight. Its factor is `factor`, its
+// roughness r.
+float bsdf_add_clearcoat(INOUT(Bsdf) b, uint k, Material m, SurfaceHit s, vec3 wo, float w, float factor, float r) {
+  vec3 nc = mapped_normal(s, m.children.z, wo, b.front);
+  nc = b.front ? nc : -nc;
+  float wc = w * clearcoat_weight(clamp(factor, 0.0f, 1.0f), clearcoat_f0(m.params.x), dot(wo, nc));
+  b.lobeType[k] = MAT_CLEARCOAT;
+  b.lobeColor[k] = vec3(1.0f);
+  b.lobeWeight[k] = wc;
+  float alpha = clamp(r, 0.0f, 1.0f);
+  bsdf_set_params(b, k, vec4(max(alpha * alpha, GGX_MIN_ALPHA), 0.0f, 0.0f, 0.0f), vec4(nc.x, nc.y, nc.z, 0.0f));
+  return wc;
+}
+
+// A sheen's lobe (MAT_SHEEN) at lobe k: weight w times its albedo at wo, the
+// colour scaled to match; records the albedo scaling of the lobes it covers
+// (b.sheen). Returns the lobe's weight (0 where it adds none).
+float bsdf_add_sheen(INOUT(Bsdf) b, uint k, vec3 color, float r, vec3 wo, float w) {
+  float roughness = clamp(r, SHEEN_MIN_ROUGHNESS, 1.0f);
+  float strength = max(max(color.x, color.y), color.z);
+  float albedo = strength * sheen_albedo_bounded(dot(wo, b.ns), roughness);
+  b.sheen = vec4(strength, roughness, albedo, 0.0f);
+  if (!(albedo > 1e-6f)) return 0.0f;
+  b.lobeType[k] = MAT_SHEEN;
+  b.lobeColor[k] = color / albedo;
+  b.lobeWeight[k] = w * albedo;
+  bsdf_set_params(b, k, vec4(roughness, 0.0f, 0.0f, 0.0f), vec4(0.0f));
+  return w * albedo;
+}
+
 Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   Bsdf b;
   Material m = load_material(s.material);
-  vec3 ns = s.ns;
   b.front = dot(s.ng, wo) >= 0.0f;
-  if (FEATURE_COMPILED(FEATURE_NORMAL_MAPS) && TEXTURE_COMPILED(TEX_IMAGE) && m.children.z != WP_INVALID) {
-    ns = valid_reflection_normal(s.ng, b.front ? wo : -wo, normal_mapped(s, m.children.z));
-  }
+  // A layer's normal map is its coat's; the surface's is its base's.
+  vec3 ns = mapped_normal(s, surface_material(m).children.z, wo, b.front);
   b.ng = b.front ? s.ng : -s.ng;
   b.ns = b.front ? ns : -ns;
   b.lobeCount = 0u;
@@ -123,10 +182,12 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
     bsdf_set_params(b, i, vec4(0.0f), vec4(0.0f));
     b.lobeWeight[i] = 0.0f;
   }
+  b.sheen = vec4(0.0f);
+  b.sheenCovers = 0u;
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter (never compiled out: one comparison)
   // Vertex colours tint every lobe (glTF: they multiply the base colour).
   vec3 tint = FEATURE_COMPILED(FEATURE_VERTEX_DATA) ? vec3(s.color.x, s.color.y, s.color.z) : vec3(1.0f);
-  if (!MATERIAL_COMPILED(MAT_BLEND)) {  // one lobe
+  if (!COMPOSITE_MATERIALS_COMPILED) {  // one lobe
     vec3 color = tint * (material_needs_no_texture(m) ? vec3(1.0f) : texture_eval(m.info.y, s.uv, s.p));
     bsdf_set_lobe(b, 0u, m, color, 1.0f, s);
     b.lobeCount = 1u;
@@ -143,13 +204,39 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   stackWeight[0] = 1.0f;
   uint sp = 1u;
   float total = 0.0f;
+  // The stack slot a sheen's base took: lobes from entries popped at or
+  // above it lie under the sheen (a material holds at most one sheen).
+  uint sheenFloor = BSDF_MAX_LOBES;
   for (uint iter = 0u; iter < 2u * BSDF_MAX_LOBES && sp > 0u; ++iter) {
     sp -= 1u;
     m = load_material(stackMaterial[sp]);
     float w = stackWeight[sp];
-    bool blend = m.info.x == MAT_BLEND;
+    if (sp < sheenFloor) sheenFloor = BSDF_MAX_LOBES;
+    bool underSheen = MATERIAL_COMPILED(MAT_SHEEN) && sheenFloor < BSDF_MAX_LOBES;
+    bool blend = MATERIAL_COMPILED(MAT_BLEND) && m.info.x == MAT_BLEND;
     bool untextured = material_needs_no_texture(m);
     vec3 color = untextured ? vec3(1.0f) : texture_eval(blend ? m.info.w : m.info.y, s.uv, s.p);
+    if (LAYER_MATERIALS_COMPILED && (m.info.x == MAT_CLEARCOAT || m.info.x == MAT_SHEEN)) {
+      // A layer: its own lobe, and its base in the rest of the weight. Its
+      // albedo texture is the coat's factor (red) or the sheen's colour;
+      // info.w its roughness (green).
+      float r = texture_eval(m.info.w, s.uv, s.p).y;
+      float layer = 0.0f;
+      if (b.lobeCount < BSDF_MAX_LOBES && w > 0.0f) {
+        if (MATERIAL_COMPILED(MAT_CLEARCOAT) && m.info.x == MAT_CLEARCOAT) layer = bsdf_add_clearcoat(b, b.lobeCount, m, s, wo, w, color.x, r);
+        if (MATERIAL_COMPILED(MAT_SHEEN) && m.info.x == MAT_SHEEN) layer = bsdf_add_sheen(b, b.lobeCount, color, r, wo, w);
+      }
+      if (layer > 0.0f) {
+        if (underSheen) b.sheenCovers |= 1u << b.lobeCount;
+        b.lobeCount += 1u;
+        total += layer;
+      }
+      stackMaterial[sp] = m.children.x;
+      stackWeight[sp] = w - layer;
+      if (MATERIAL_COMPILED(MAT_SHEEN) && m.info.x == MAT_SHEEN) sheenFloor = sp;
+      sp += 1u;
+      continue;
+    }
     if (blend) {
       // The amount: a texture's mean, or the Fresnel reflectance at the hit.
       float ior = untextured ? load_texture(m.info.w).color0.x : 1.0f;
@@ -166,6 +253,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
     }
     if (m.info.x == MAT_LIGHT || w <= 0.0f || b.lobeCount >= BSDF_MAX_LOBES) continue;
     bsdf_set_lobe(b, b.lobeCount, m, tint * color, w, s);
+    if (underSheen) b.sheenCovers |= 1u << b.lobeCount;
     b.lobeCount += 1u;
     total += w;
   }

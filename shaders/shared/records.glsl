@@ -113,6 +113,20 @@ Material load_material(uint i) {
   m.children = texelFetch(materialTexels, at + 1);
   m.params = texel_vec4(texelFetch(materialTexels, at + 2));
   m.params2 = MATERIAL_PARAMS2_COMPILED ? texel_vec4(texelFetch(materialTexels, at + 3)) : vec4(0.0f);
+  m.moreTextures = FEATURE_COMPILED(FEATURE_SPECULAR_TINT) ? texelFetch(materialTexels, at + 4) : uvec4(WP_INVALID);
+  m.volume = FEATURE_COMPILED(FEATURE_VOLUME) ? texel_vec4(texelFetch(materialTexels, at + 5)) : vec4(0.0f);
+  return m;
+}
+
+// The material whose surface a layer (clearcoat, sheen) covers: its base,
+// followed down through at most LAYERS_MAX layers; any other material is
+// its own. The surface's alpha (its albedo texture's) and normal map are
+// this material's.
+Material surface_material(Material m) {
+  uint layers = LAYER_MATERIALS_COMPILED ? (0u WP_MATERIAL_KINDS(WP_IS_LAYER)) : 0u;
+  for (uint k = 0u; k < LAYERS_MAX; ++k) {
+    if (LAYER_MATERIALS_COMPILED && m.info.x < 32u && (KIND_BIT(m.info.x) & layers) != 0u) m = load_material(m.children.x);
+  }
   return m;
 }
 
@@ -149,7 +163,7 @@ Emitter load_emitter(uint i) {
 
 // Entry i of the environment map's sampling distribution.
 float cdf_at(uint i) {
-  return texelFetch(environmentCdf, int(i)).x;
+  return texelFetch(floatTables, FLOAT_TABLE_ENVIRONMENT + int(i)).x;
 }
 
 #endif  // WP_RECORDS_GLSL

@@ -28,7 +28,7 @@ bool triangle_is_there(uint i, Triangle tri, vec3 o, vec3 d, float b1, float b2)
     return false;
   if (!FEATURE_COMPILED(FEATURE_CUTOUTS) || (tri.material & TRIANGLE_CUTOUT) == 0u) return true;
   SurfaceHit s = triangle_surface_of(tri, b1, b2);
-  Material m = load_material(s.material);
+  Material m = surface_material(load_material(s.material));
   float alpha = texture_alpha(m.info.y, s.uv, s.p) * s.color.w;
   float cutoff = material_alpha_cutoff(m);
   if (cutoff >= 0.0f) return alpha >= cutoff;

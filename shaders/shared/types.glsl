@@ -144,7 +144,7 @@ struct WideNode {
 #define TRIANGLE_SHADING_TEXELS 4
 #define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
-#define MATERIAL_TEXELS 4
+#define MATERIAL_TEXELS 6
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
@@ -231,6 +231,11 @@ struct Material {
                    // w: its sort key, shade class + 1 (SORT_KEYS; compile_scene)
   vec4 params;     // the kind's parameters, as kinds.glsl lists them
   vec4 params2;
+  uvec4 moreTextures;  // metal-rough: x its specular texture (read in red: glTF's alpha, as grey), y its
+                       // specular colour texture, scaling params2's w and xyz (FEATURE_SPECULAR_TINT);
+                       // zw unused. WP_INVALID: none
+  vec4 volume;         // metal-rough (KHR_materials_volume, FEATURE_VOLUME): xyz the attenuation coefficient
+                       // inside (per unit length), w 1 where its transmission refracts into a volume, 0 thin-walled
 };
 
 // A texture; checker textures refer to two other textures. 96 bytes.

@@ -84,7 +84,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_TEXTURES:
     case BINDING_POINT_LIGHTS:
     case BINDING_TEXELS:
-    case BINDING_ENVIRONMENT_CDF:
+    case BINDING_FLOAT_TABLES:
     case BINDING_PATH_TEXELS:
     case BINDING_HIT_TEXELS:
     case BINDING_SHADOW_RAY_TEXELS:
@@ -129,7 +129,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_TEXTURES, scene.textures, "textures");
   add_texels(BINDING_POINT_LIGHTS, scene.pointLights, "point lights");
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
-  add_texels(BINDING_ENVIRONMENT_CDF, scene.environmentCdf, "environment map distribution", vk::Format::eR32Sfloat);
+  add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
   add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
   add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
   add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * sizeof(shader::Hit));

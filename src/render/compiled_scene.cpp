@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "bvh/wide_bvh.h"
+#include "scene/kinds.h"
 #include "image/image.h"
 #include "scene/transform.h"
 #include "util/error.h"
@@ -63,6 +64,9 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
     if (m.children.z != WP_INVALID) k.w |= KIND_BIT(FEATURE_NORMAL_MAPS);
     if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) k.w |= KIND_BIT(FEATURE_EMISSION_TEXTURES);
     if (m.info.x == MAT_LIGHT && m.params.x != 0.0f) k.w |= KIND_BIT(FEATURE_COSINE_EMISSION);
+    if (m.info.x == MAT_METAL_ROUGH && (m.params2 != glm::vec4(0.0f) || m.moreTextures != glm::uvec4(WP_INVALID)))
+      k.w |= KIND_BIT(FEATURE_SPECULAR_TINT);
+    if (m.info.x == MAT_METAL_ROUGH && m.volume.w > 0.0f) k.w |= KIND_BIT(FEATURE_VOLUME);
   }
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (uint32_t prim : emitters) {
@@ -100,10 +104,12 @@ glm::uvec2 bsdf_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
   const shader::Material& mat = cs.materials[m];
   glm::uvec2 k(KIND_BIT(mat.info.x),
                lookup_kinds(cs.textures, mat.info.y) | lookup_kinds(cs.textures, mat.info.w) | lookup_kinds(cs.textures, mat.children.z));
-  if (mat.info.x == MAT_METAL_ROUGH) k.y |= lookup_kinds(cs.textures, mat.children.y);  // its transmission texture
+  if (mat.info.x == MAT_METAL_ROUGH)  // its transmission and specular textures
+    k.y |= lookup_kinds(cs.textures, mat.children.y) | lookup_kinds(cs.textures, mat.moreTextures.x) | lookup_kinds(cs.textures, mat.moreTextures.y);
   // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
   if (mat.info.x == MAT_BLEND && depth < int(BSDF_MAX_LOBES))
     k |= bsdf_kinds(cs, mat.children.x, depth + 1) | bsdf_kinds(cs, mat.children.y, depth + 1);
+  if (is_layer(mat.info.x) && depth < int(BSDF_MAX_LOBES)) k |= bsdf_kinds(cs, mat.children.x, depth + 1);  // its base
   return k;
 }
 
@@ -156,7 +162,7 @@ shader::SceneView CompiledScene::view() const {
   v.textureTexels = texels_of(textures);
   v.pointLightTexels = texels_of(pointLights);
   v.imageTexels = texels.data();
-  v.environmentCdf = environmentCdf.data();
+  v.floatTables = floatTables.data();
   return v;
 }
 
@@ -179,7 +185,7 @@ size_t CompiledScene::gpu_bytes() const {
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
-         pointLights.size() * sizeof(shader::PointLight) + environmentCdf.size() * sizeof(float);
+         pointLights.size() * sizeof(shader::PointLight) + floatTables.size() * sizeof(float);
 }
 
 std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels) {
@@ -324,8 +330,10 @@ static shader::Material pack_material(const SceneMaterial& in) {
   shader::Material m{};
   m.info = glm::uvec4(in.kind, in.albedo, in.emission, in.amount);
   m.children = glm::uvec4(in.a, in.b, in.normalMap, WP_INVALID);  // w: the sort key (shade_classes)
-  if (in.kind != MAT_BLEND) m.children.x = glm::floatBitsToUint(in.alphaCutoff);
+  if (in.kind != MAT_BLEND && !is_layer(in.kind)) m.children.x = glm::floatBitsToUint(in.alphaCutoff);
   if (in.kind == MAT_METAL_ROUGH) m.children.y = in.transmission;
+  m.moreTextures = glm::uvec4(in.specular, in.specularColor, WP_INVALID, WP_INVALID);
+  m.volume = glm::vec4(in.attenuation, in.volume ? 1.0f : 0.0f);
   m.params = in.params;
   m.params2 = in.params2;
   return m;
@@ -489,6 +497,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
 
   for (const SceneMaterial& m : scene.materials) out.materials.push_back(pack_material(m));
+  // The float tables start with the sheen's albedo (bindings.glsl).
+  out.floatTables.assign(std::begin(shader::SHEEN_ALBEDO), std::end(shader::SHEEN_ALBEDO));
   out.textures = std::move(packed.textures);
   out.texels = std::move(packed.texels);
   for (const ScenePointLight& l : scene.pointLights) {
@@ -540,7 +550,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   uint32_t environmentEmitter = WP_INVALID;
   if (scene.environment != WP_INVALID) {
     const shader::Texture& env = out.textures[scene.environment];
-    out.environmentCdf = environment_cdf(env, out.texels);
+    const std::vector<float> cdf = environment_cdf(env, out.texels);
+    out.floatTables.insert(out.floatTables.end(), cdf.begin(), cdf.end());
     double p = luminance(texture_mean(out.textures, out.texels, scene.environment)) * WP_PI * WP_PI * sceneRadius * sceneRadius * 4.0;
     if (p > 0.0) {
       environmentEmitter = uint32_t(prims.size());
@@ -587,7 +598,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (out.triangleShading.empty()) out.triangleShading.push_back(shader::TriangleShading{});
   if (out.triangleVertexData.empty()) out.triangleVertexData.push_back(shader::TriangleVertexData{});
   if (out.pointLights.empty()) out.pointLights.push_back(shader::PointLight{});
-  if (out.environmentCdf.empty()) out.environmentCdf.push_back(0.0f);
 
   const Camera& cam = scene.camera;
   out.cameraName = cam.name;

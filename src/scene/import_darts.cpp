@@ -335,14 +335,63 @@ class DartsImporter {
       m.albedo = tint_param(j);
       m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, smooth_or_ggx_alpha(j), 0.0f, 0.0f);
     } else if (type == "metal_rough") {
-      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "transmission", "emit"});
+      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "transmission", "emit", "specular",
+                    "specular_color", "volume"});
       m.kind = MAT_METAL_ROUGH;
+      // KHR_materials_specular: a factor in [0, 1] and a colour from 0, each a
+      // number or a texture (params2 holds the numbers less 1).
+      if (j.has("specular")) {
+        glm::vec3 c(1.0f);
+        const uint32_t t = texture_param(j["specular"], 0, &c);
+        if (j["specular"].is_object()) m.specular = t;
+        else if (c.x > 1.0f) j["specular"].fail("specular must lie in [0, 1]");
+        else m.params2.w = c.x - 1.0f;
+      }
+      // KHR_materials_volume: the transmission refracts into a volume whose
+      // absorption takes the light to `attenuation_color` (default 1) after
+      // `attenuation_distance` (default: none).
+      if (j.has("volume")) {
+        const JsonCursor v = j["volume"].expect_object();
+        v.allow_only({"attenuation_color", "attenuation_distance"});
+        glm::vec3 color(1.0f);
+        if (v.has("attenuation_color")) {
+          color = v["attenuation_color"].vec3();
+          if (!(glm::all(glm::greaterThan(color, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(color, glm::vec3(1.0f)))))
+            v["attenuation_color"].fail("attenuation_color must lie in (0, 1] in every channel");
+        }
+        const float distance = v.has("attenuation_distance") ? v["attenuation_distance"].positive_number() : 1e30f;
+        m.volume = true;
+        m.attenuation = -glm::log(color) / distance;
+      }
+      if (j.has("specular_color")) {
+        glm::vec3 c(1.0f);
+        const uint32_t t = texture_param(j["specular_color"], 0, &c);
+        if (j["specular_color"].is_object()) m.specularColor = t;
+        else m.params2 = glm::vec4(c - glm::vec3(1.0f), m.params2.w);
+      }
       if (j.has("emit")) m.emission = texture_param(j["emit"]);  // as glTF's emissive materials, which also scatter
       // As glTF's metallicRoughnessTexture: green scales roughness, blue metallic.
       if (j.has("metallic_roughness")) m.amount = texture_param(j["metallic_roughness"]);
       m.albedo = j.has("base_color") ? albedo_param(j, "base_color") : add_texture(constant_texture(glm::vec3(1.0f)));
       m.params = glm::vec4(unit_number(j, "roughness", 1.0f), unit_number(j, "metallic", 1.0f),
                            j.has("ior") ? j["ior"].positive_number() : 1.5f, unit_number(j, "transmission", 0.0f));
+    } else if (type == "clearcoat" || type == "sheen") {
+      // glTF's layers (KHR_materials_clearcoat, KHR_materials_sheen) over a
+      // base material, each parameter a number or a texture: a coat's factor
+      // and roughness (default 1 and 0) and ior (1.5); a sheen's colour and
+      // roughness (default white and 0.5).
+      const bool coat = type == "clearcoat";
+      if (coat) j.allow_only({"type", "name", "base", "factor", "roughness", "ior", "emit"});
+      else j.allow_only({"type", "name", "base", "color", "roughness", "emit"});
+      m.kind = coat ? MAT_CLEARCOAT : MAT_SHEEN;
+      if (j.has("emit")) m.emission = texture_param(j["emit"]);
+      m.a = layer_base(j["base"], name + "/base");
+      m.albedo = unit_texture(j, coat ? "factor" : "color", 1.0f);
+      m.amount = unit_texture(j, "roughness", coat ? 0.0f : 0.5f);
+      if (coat) m.params.x = j.has("ior") ? j["ior"].positive_number() : 1.5f;
+      if (leaves_[m.a] + 1 > int(BSDF_MAX_LOBES)) j.fail("a material may combine at most " + std::to_string(BSDF_MAX_LOBES) + " lobes in all");
+      if (layers_[m.a] + 1 > LAYERS_MAX) j.fail("layers may lie at most " + std::to_string(LAYERS_MAX) + " deep over a base material");
+      if (!coat && sheens_[m.a] > 0) j.fail("a material may hold at most one sheen");
     } else if (type == "blend") {
       j.allow_only({"type", "name", "amount", "a", "b"});
       m.kind = MAT_BLEND;
@@ -352,6 +401,7 @@ class DartsImporter {
       if (leaves_[m.a] + leaves_[m.b] > BSDF_MAX_LOBES) {
         j.fail("a blend may combine at most " + std::to_string(BSDF_MAX_LOBES) + " materials in all");
       }
+      if (sheens_[m.a] + sheens_[m.b] > 1) j.fail("a material may hold at most one sheen");
     } else {
       std::vector<std::string> kinds;
       for (const KindInfo& k : material_kinds()) kinds.push_back(k.name);
@@ -359,8 +409,28 @@ class DartsImporter {
       j["type"].fail("unknown material type \"" + type + "\"" + (hint.empty() ? " (expected " + kind_list(material_kinds()) + ")" : hint));
     }
     scene_.materials.push_back(m);
-    leaves_.push_back(m.kind == MAT_BLEND ? leaves_[m.a] + leaves_[m.b] : 1);
+    const bool layer = m.kind == MAT_CLEARCOAT || m.kind == MAT_SHEEN;
+    leaves_.push_back(m.kind == MAT_BLEND ? leaves_[m.a] + leaves_[m.b] : layer ? leaves_[m.a] + 1 : 1);
+    layers_.push_back(layer ? layers_[m.a] + 1 : 0);
+    sheens_.push_back(m.kind == MAT_BLEND ? sheens_[m.a] + sheens_[m.b] : (layer ? sheens_[m.a] : 0) + (m.kind == MAT_SHEEN ? 1 : 0));
     return uint32_t(scene_.materials.size() - 1);
+  }
+
+  // A layer's parameter in [0, 1]: a number, or a texture, `fallback` if absent.
+  uint32_t unit_texture(const JsonCursor& j, const char* key, float fallback) {
+    if (!j.has(key)) return add_texture(constant_texture(glm::vec3(fallback)));
+    glm::vec3 c(0.0f);
+    const uint32_t tex = texture_param(j[key], 0, &c);
+    if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) j[key].fail(std::string(key) + " must lie in [0, 1]");
+    return tex;
+  }
+
+  // The base a layer covers: a material name or an inline material; not a
+  // light, and not emitting (the layer carries the surface's emission).
+  uint32_t layer_base(const JsonCursor& j, const std::string& name) {
+    const uint32_t m = blend_child(j, name);
+    if (scene_.materials[m].emission != WP_INVALID) j.fail("a layer's base cannot emit: give \"emit\" to the layer");
+    return m;
   }
 
   uint32_t blend_amount(const JsonCursor& j) {
@@ -390,7 +460,7 @@ class DartsImporter {
     } else {
       m = add_material(j.expect_object(), name);
     }
-    if (scene_.materials[m].kind == MAT_LIGHT) j.fail("a blend cannot contain a diffuse_light");
+    if (scene_.materials[m].kind == MAT_LIGHT) j.fail("a blend or a layer cannot contain a diffuse_light");
     return m;
   }
 
@@ -608,6 +678,8 @@ class DartsImporter {
       if (is_nonzero(om.emission) && !is_nonzero(om.diffuse)) m.kind = MAT_LIGHT;
       scene_.materials.push_back(m);
       leaves_.push_back(1);
+      layers_.push_back(0);
+      sheens_.push_back(0);
       mtlToScene[i] = uint32_t(scene_.materials.size() - 1);
     }
     if (!override && std::find(mesh.materials.begin(), mesh.materials.end(), WP_INVALID) != mesh.materials.end())
@@ -760,6 +832,8 @@ class DartsImporter {
       t.childMaterials.push_back(uint32_t(scene_.materials.size()));
       scene_.materials.push_back(m);
       leaves_.push_back(1);
+      layers_.push_back(0);
+      sheens_.push_back(0);
     }
   }
 
@@ -769,6 +843,8 @@ class DartsImporter {
   std::map<std::string, ObjFile> meshes_;  // parsed OBJ files by path
   std::map<std::string, uint32_t> named_;
   std::vector<int> leaves_;  // per material: the lobes it flattens to (blends: the sum of their children's)
+  std::vector<int> layers_;  // per material: the layers over its base (0: not a layer)
+  std::vector<int> sheens_;  // per material: the sheens in its tree
 };
 
 }  // namespace

@@ -25,6 +25,7 @@
 #include <set>
 
 #include "scene/gltf_accessors.h"
+#include "scene/kinds.h"
 #include "scene/importers.h"
 #include "util/error.h"
 #include "util/files.h"
@@ -101,8 +102,9 @@ std::string joined(const std::set<std::string>& names) {
 
 // The extensions wavepath reads. Others are named once in a warning, or
 // refused when the file requires them.
-const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
-                                                    "KHR_materials_transmission", "KHR_texture_transform"};
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",      "KHR_materials_clearcoat",    "KHR_materials_emissive_strength",
+                                                    "KHR_materials_ior",        "KHR_materials_sheen",        "KHR_materials_specular",
+                                                    "KHR_materials_transmission", "KHR_materials_volume",     "KHR_texture_transform"};
 
 // The most nodes a scene's tree may visit (a DAG can share subtrees, which
 // multiplies what a walk visits).
@@ -359,7 +361,7 @@ class GltfImporter {
       m.materials.assign(corners.size() / 3, 0u);
       const uint32_t material = material_for(prim.material, pat + "/material");
       // A normal map without TANGENT: smooth tangents from its UV set.
-      const uint32_t normalMap = scene_.materials[material].normalMap;
+      const uint32_t normalMap = any_normal_map(material);
       if (normalMap != WP_INVALID && m.tangents.empty())
         m.tangents = smooth_tangents(m, scene_.textures[normalMap].secondUvSet ? m.uvs1 : m.uvs);
       out.push_back(Primitive{std::move(m), material, pat});
@@ -421,14 +423,8 @@ class GltfImporter {
         if (!t.Get("transmissionFactor").IsNumber()) fail(tat + "/transmissionFactor", "expected a number");
         transmission = unit(t.Get("transmissionFactor").GetNumberAsDouble(), tat + "/transmissionFactor");
       }
-      if (t.Has("transmissionTexture")) {
-        tinygltf::TextureInfo info;
-        const tinygltf::Value& ti = t.Get("transmissionTexture");
-        if (!ti.IsObject() || !ti.Has("index") || !ti.Get("index").IsInt()) fail(tat + "/transmissionTexture", "expected a textureInfo with an index");
-        info.index = ti.Get("index").GetNumberAsInt();
-        if (ti.Has("texCoord")) info.texCoord = ti.Get("texCoord").IsInt() ? ti.Get("texCoord").GetNumberAsInt() : -1;
-        m.transmission = texture_times(TextureRef(info), glm::vec4(1.0f), ColorEncoding::Linear, tat + "/transmissionTexture");
-      }
+      if (t.Has("transmissionTexture"))
+        m.transmission = extension_texture(t, "transmissionTexture", glm::vec4(1.0f), ColorEncoding::Linear, tat);
     }
     m.params = glm::vec4(roughness, metallic, ior, transmission);
     m.doubleSided = g.doubleSided;
@@ -453,10 +449,181 @@ class GltfImporter {
     const glm::vec3 emissive = factor3(g.emissiveFactor, glm::vec3(0.0f), at + "/emissiveFactor") * strength;
     if (emissive != glm::vec3(0.0f))
       m.emission = texture_times(TextureRef(g.emissiveTexture), glm::vec4(emissive, 1.0f), ColorEncoding::Srgb, at + "/emissiveTexture");
+    read_specular(g, at, m);
+    read_volume(g, at, m);
+    // The layers, each over what lies below (the extensions' order): the
+    // base, a sheen, a clear coat. The top carries the surface's emission,
+    // sidedness and cut-out; the base its alpha texture and normal map.
+    const uint32_t emission = m.emission;
+    m.emission = WP_INVALID;
     scene_.materials.push_back(m);
-    const uint32_t id = uint32_t(scene_.materials.size() - 1);
+    uint32_t id = uint32_t(scene_.materials.size() - 1);
+    id = sheen_over(g, at, id);
+    id = clearcoat_over(g, at, id);
+    scene_.materials[id].emission = emission;
+    scene_.materials[id].doubleSided = m.doubleSided;
+    scene_.materials[id].alphaCutoff = m.alphaCutoff;
     materials_[index] = id;
     return id;
+  }
+
+  // A normal map of material m's surface or of a coat over it (the first
+  // found), which needs tangents; WP_INVALID if none.
+  uint32_t any_normal_map(uint32_t m) const {
+    for (int depth = 0; depth <= LAYERS_MAX; ++depth) {
+      const SceneMaterial& mat = scene_.materials[m];
+      if (mat.normalMap != WP_INVALID) return mat.normalMap;
+      if (!is_layer(mat.kind)) break;
+      m = mat.a;
+    }
+    return WP_INVALID;
+  }
+
+  // A number of an extension's object in [lo, hi], or `fallback` if absent.
+  float extension_number(const tinygltf::Value& ext, const char* key, float fallback, float lo, float hi, const std::string& at) const {
+    if (!ext.Has(key)) return fallback;
+    const tinygltf::Value& v = ext.Get(key);
+    if (!v.IsNumber()) fail(at + "/" + key, "expected a number");
+    const double x = v.GetNumberAsDouble();
+    if (!(x >= lo && x <= hi)) fail(at + "/" + key, "must lie in [" + number_text(lo) + ", " + number_text(hi) + "]");
+    return float(x);
+  }
+
+  // A colour of an extension's object (3 numbers in [0, hi]), or `fallback`.
+  glm::vec3 extension_color(const tinygltf::Value& ext, const char* key, glm::vec3 fallback, float hi, const std::string& at) const {
+    if (!ext.Has(key)) return fallback;
+    const tinygltf::Value& v = ext.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 3) fail(at + "/" + key, "expected 3 numbers");
+    glm::vec3 c;
+    for (int i = 0; i < 3; ++i) {
+      if (!v.Get(i).IsNumber()) fail(at + "/" + key + "/" + std::to_string(i), "expected a number");
+      c[i] = float(v.Get(i).GetNumberAsDouble());
+      if (!(c[i] >= 0.0f && c[i] <= hi)) fail(at + "/" + key + "/" + std::to_string(i), "must lie in [0, " + number_text(hi) + "]");
+    }
+    return c;
+  }
+
+  static std::string number_text(float v) {
+    if (v > 1e30f) return "infinity";
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(v));
+    return text;
+  }
+
+  // An extension's texture (a textureInfo, or a normalTextureInfo, whose
+  // scale multiplies the factor's first two channels) times `factor`.
+  uint32_t extension_texture(const tinygltf::Value& ext, const char* key, glm::vec4 factor, ColorEncoding encoding, const std::string& at,
+                             bool normal = false) {
+    const std::string where = at + "/" + key;
+    const tinygltf::Value& ti = ext.Get(key);
+    if (!ti.IsObject() || !ti.Has("index") || !ti.Get("index").IsInt()) fail(where, "expected a textureInfo with an index");
+    tinygltf::TextureInfo info;
+    info.index = ti.Get("index").GetNumberAsInt();
+    if (ti.Has("texCoord")) info.texCoord = ti.Get("texCoord").IsInt() ? ti.Get("texCoord").GetNumberAsInt() : -1;
+    if (ti.Has("extensions") && ti.Get("extensions").IsObject() && ti.Get("extensions").Has("KHR_texture_transform"))
+      info.extensions["KHR_texture_transform"] = ti.Get("extensions").Get("KHR_texture_transform");
+    if (normal && ti.Has("scale")) {
+      if (!ti.Get("scale").IsNumber()) fail(where + "/scale", "expected a number");
+      const float scale = float(ti.Get("scale").GetNumberAsDouble());
+      if (!std::isfinite(scale) || std::fabs(scale) > 1e3f) fail(where + "/scale", "must be a finite number of at most 1000");
+      factor.x *= scale;
+      factor.y *= scale;
+    }
+    return texture_times(TextureRef(info), factor, encoding, where);
+  }
+
+  // KHR_materials_specular on metal-rough m: params2 holds the factor and
+  // colour less 1 (metal_rough.glsl), the textures scale them.
+  void read_specular(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) {
+    auto found = g.extensions.find("KHR_materials_specular");
+    if (found == g.extensions.end()) return;
+    const tinygltf::Value& e = found->second;
+    const std::string eat = at + "/extensions/KHR_materials_specular";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    const float specular = extension_number(e, "specularFactor", 1.0f, 0.0f, 1.0f, eat);
+    const glm::vec3 color = extension_color(e, "specularColorFactor", glm::vec3(1.0f), 1e3f, eat);
+    m.params2 = glm::vec4(color - glm::vec3(1.0f), specular - 1.0f);
+    if (e.Has("specularTexture")) m.specular = extension_texture(e, "specularTexture", glm::vec4(1.0f), ColorEncoding::AlphaAsGrey, eat);
+    if (e.Has("specularColorTexture"))
+      m.specularColor = extension_texture(e, "specularColorTexture", glm::vec4(1.0f), ColorEncoding::Srgb, eat);
+  }
+
+  // KHR_materials_volume on metal-rough m: a thickness above 0 makes its
+  // transmission refract into a volume (0, the default, is thin-walled);
+  // the attenuation colour c reached after attenuationDistance d gives the
+  // absorption coefficient -ln(c) / d (README.md:150). The thickness
+  // texture is a rasterizer's stand-in for the distance a path tracer
+  // traces, and is not read (README.md:125).
+  void read_volume(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) const {
+    auto found = g.extensions.find("KHR_materials_volume");
+    if (found == g.extensions.end()) return;
+    const tinygltf::Value& e = found->second;
+    const std::string eat = at + "/extensions/KHR_materials_volume";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    const float thickness = extension_number(e, "thicknessFactor", 0.0f, 0.0f, 1e30f, eat);
+    const float distance = extension_number(e, "attenuationDistance", 1e30f, 0.0f, 1e30f, eat);
+    if (!(distance > 0.0f)) fail(eat + "/attenuationDistance", "must be above 0");
+    const glm::vec3 color = extension_color(e, "attenuationColor", glm::vec3(1.0f), 1.0f, eat);
+    m.volume = thickness > 0.0f;
+    m.attenuation = -glm::log(glm::max(color, glm::vec3(1e-6f))) / distance;
+    // "doubleSided has no effect on volume boundaries" (README.md:110-115):
+    // paths inside meet the boundary from behind.
+    if (m.volume) m.doubleSided = true;
+  }
+
+  // A layer of `kind` over material `base`: its albedo (the coat factor or the
+  // sheen colour) and its roughness texture (read in green).
+  uint32_t add_layer(uint32_t kind, const std::string& name, uint32_t base, uint32_t albedo, uint32_t roughness) {
+    SceneMaterial layer;
+    layer.kind = kind;
+    layer.name = name;
+    layer.a = base;
+    layer.albedo = albedo;
+    layer.amount = roughness;
+    scene_.materials.push_back(layer);
+    return uint32_t(scene_.materials.size() - 1);
+  }
+
+  // KHR_materials_sheen over `base`, or base itself where the sheen is black.
+  uint32_t sheen_over(const tinygltf::Material& g, const std::string& at, uint32_t base) {
+    auto found = g.extensions.find("KHR_materials_sheen");
+    if (found == g.extensions.end()) return base;
+    const tinygltf::Value& e = found->second;
+    const std::string eat = at + "/extensions/KHR_materials_sheen";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    const glm::vec3 color = extension_color(e, "sheenColorFactor", glm::vec3(0.0f), 1.0f, eat);
+    const float roughness = extension_number(e, "sheenRoughnessFactor", 0.0f, 0.0f, 1.0f, eat);
+    if (color == glm::vec3(0.0f)) return base;  // "If sheenColorFactor is zero, the whole sheen layer is disabled."
+    const uint32_t colorTexture = e.Has("sheenColorTexture")
+                                      ? extension_texture(e, "sheenColorTexture", glm::vec4(color, 1.0f), ColorEncoding::Srgb, eat)
+                                      : add_texture(scene_, constant_texture(color));
+    const uint32_t roughnessTexture =
+        e.Has("sheenRoughnessTexture") ? extension_texture(e, "sheenRoughnessTexture", glm::vec4(roughness), ColorEncoding::AlphaAsGrey, eat)
+                                       : add_texture(scene_, constant_texture(glm::vec3(roughness)));
+    return add_layer(MAT_SHEEN, scene_.materials[base].name + " (sheen)", base, colorTexture, roughnessTexture);
+  }
+
+  // KHR_materials_clearcoat over `base`, or base itself where the coat is 0.
+  uint32_t clearcoat_over(const tinygltf::Material& g, const std::string& at, uint32_t base) {
+    auto found = g.extensions.find("KHR_materials_clearcoat");
+    if (found == g.extensions.end()) return base;
+    const tinygltf::Value& e = found->second;
+    const std::string eat = at + "/extensions/KHR_materials_clearcoat";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    const float factor = extension_number(e, "clearcoatFactor", 0.0f, 0.0f, 1.0f, eat);
+    const float roughness = extension_number(e, "clearcoatRoughnessFactor", 0.0f, 0.0f, 1.0f, eat);
+    if (factor == 0.0f) return base;  // "If clearcoatFactor = 0, the clearcoat layer is disabled."
+    const uint32_t factorTexture = e.Has("clearcoatTexture")
+                                       ? extension_texture(e, "clearcoatTexture", glm::vec4(factor), ColorEncoding::Linear, eat)
+                                       : add_texture(scene_, constant_texture(glm::vec3(factor)));
+    const uint32_t roughnessTexture =
+        e.Has("clearcoatRoughnessTexture") ? extension_texture(e, "clearcoatRoughnessTexture", glm::vec4(roughness), ColorEncoding::Linear, eat)
+                                           : add_texture(scene_, constant_texture(glm::vec3(roughness)));
+    const uint32_t coat = add_layer(MAT_CLEARCOAT, scene_.materials[base].name + " (clear coat)", base, factorTexture, roughnessTexture);
+    scene_.materials[coat].params.x = 1.5f;  // the extension's coat ior
+    if (e.Has("clearcoatNormalTexture"))
+      scene_.materials[coat].normalMap = extension_texture(e, "clearcoatNormalTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat, true);
+    return coat;
   }
 
   // A colour factor (its first three numbers; a fourth, alpha, is not used).

@@ -26,6 +26,12 @@ const std::vector<KindInfo>& texture_kinds() { return tables().textures; }
 const std::vector<KindInfo>& light_kinds() { return tables().lights; }
 const std::vector<KindInfo>& feature_kinds() { return tables().features; }
 
+bool is_layer(uint32_t kind) {
+  for (const KindInfo& k : material_kinds())
+    if (k.id == kind) return (k.lobes & LOBE_LAYER) != 0u;
+  return false;
+}
+
 std::optional<uint32_t> kind_named(const std::vector<KindInfo>& table, const std::string& name) {
   for (const KindInfo& k : table)
     if (name == k.name) return k.id;

@@ -26,6 +26,10 @@ const std::vector<KindInfo>& texture_kinds();
 const std::vector<KindInfo>& light_kinds();
 const std::vector<KindInfo>& feature_kinds();
 
+// Whether material kind `kind` is a layer over a base material (LOBE_LAYER:
+// clearcoat, sheen).
+bool is_layer(uint32_t kind);
+
 // The kind of a table named `name`, if any.
 std::optional<uint32_t> kind_named(const std::vector<KindInfo>& table, const std::string& name);
 

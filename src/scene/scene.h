@@ -141,10 +141,21 @@ struct SceneMaterial {
   glm::vec4 params{0.0f};          // the kind's parameters, as kinds.glsl lists them (Material.params)
   glm::vec4 params2{0.0f};
   uint32_t amount = WP_INVALID;    // blend: the weight of b (a texture's mean, or a fresnel texture);
-                                   // metal-rough: its metallic-roughness texture (WP_INVALID: none)
-  uint32_t a = WP_INVALID;         // blend: its two materials
+                                   // metal-rough: its metallic-roughness texture (WP_INVALID: none);
+                                   // clearcoat, sheen: their roughness (green)
+  uint32_t a = WP_INVALID;         // blend: its two materials; clearcoat, sheen: a, the base they cover
   uint32_t b = WP_INVALID;
   uint32_t transmission = WP_INVALID;  // metal-rough: a texture whose red channel scales its transmission (params.w)
+  // metal-rough (KHR_materials_specular): textures scaling its specular factor
+  // (red) and colour, which params2 holds less 1 (metal_rough.glsl)
+  uint32_t specular = WP_INVALID;
+  uint32_t specularColor = WP_INVALID;
+  // metal-rough (KHR_materials_volume): its transmission refracts into a
+  // volume (else thin-walled) that absorbs sigma per unit length
+  bool volume = false;
+  glm::vec3 attenuation{0.0f};
+  // For a clearcoat or sheen, `albedo` is the coat's factor (red) or the
+  // sheen's colour, `normalMap` the coat's own, params.x the coat's ior.
 };
 
 // A punctual light (PointLight in types.glsl): a point light's radiant

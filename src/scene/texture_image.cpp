@@ -147,6 +147,10 @@ LinearImage decode_linear_image(const std::vector<unsigned char>& bytes, const s
     if (format == StbFormat::None) throw InputError(name + ": not a PNG, JPEG, BMP, TGA, Radiance HDR or OpenEXR image");
     img = decode_stb(bytes, name, format, encoding);
   }
+  if (encoding == ColorEncoding::AlphaAsGrey) {
+    for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(img.alpha.empty() ? 1.0f : img.alpha[i]);
+    img.alpha.clear();
+  }
   for (const glm::vec3& p : img.pixels) {
     if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) || p.x < 0.0f || p.y < 0.0f || p.z < 0.0f) {
       throw InputError(name + ": image has negative or non-finite pixels");

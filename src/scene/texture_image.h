@@ -17,9 +17,11 @@ struct LinearImage {
   std::vector<float> alpha;       // opacity per pixel where the file has an alpha channel, else empty (opaque)
 };
 
-// What 8-bit values mean: sRGB-encoded colours (decoded to linear), or
-// linear data (glTF's metallic-roughness and normal textures).
-enum class ColorEncoding { Srgb, Linear };
+// What 8-bit values mean: sRGB-encoded colours (decoded to linear), linear
+// data (glTF's metallic-roughness and normal textures), or linear data in the
+// alpha channel, decoded to grey (glTF's sheen roughness and specular
+// textures; opaque where the file has no alpha).
+enum class ColorEncoding { Srgb, Linear, AlphaAsGrey };
 
 // Throws InputError naming the file and the decoder's reason.
 LinearImage load_linear_image(const std::string& path);

@@ -7,10 +7,18 @@
 // factor t a thin-walled specular transmission (the extension without
 // KHR_materials_volume): the GGX lobe mirrored through the surface, tinted
 // by the base colour:
-//   reflection:   f = (1 - m) [(1 - F_d)(1 - t) base / pi + F_d S] + m F_m S,
-//   transmission: f = (1 - m)(1 - F_d) t base S(wo, wi'),  wi' = wi mirrored to wo's side,
+//   reflection:   f = (1 - m) [(1 - max3 F_d)(1 - t) base / pi + F_d S] + m F_m S,
+//   transmission: f = (1 - m)(1 - max3 F_d) t base S(wo, wi'),  wi' = wi mirrored to wo's side,
 // S = D G2 / (4 cos_o cos_i), both F at wo.h, h the half vector of wo and
 // wi (wi'). The mirrored lobe keeps S's reciprocity: f(wo, wi) = f(wi, wo).
+// KHR_materials_specular scales and tints F_d (metal_rough_dielectric_fresnel:
+// params2, FEATURE_SPECULAR_TINT), which is why the base takes 1 - max3 F_d.
+// With KHR_materials_volume (FEATURE_VOLUME; params.w negated) the
+// transmission refracts instead, through the GGX microfacets into a volume
+// of index ior (Walter et al. 2007):
+//   transmission: f = (1 - m)(1 - max3 F_d) t base BTDF(wo, wi),
+// F_d taken at the transmitted angle on the way out, 1 beyond the critical
+// angle; the volume's absorption is the integrator's (volume_transmittance).
 // color is the base colour, params at the hit: x alpha (roughness squared,
 // at least GGX_MIN_ALPHA), y metallic, z ior, w transmission (bsdf_at
 // resolves them from the material's factors and its metallic-roughness
@@ -26,13 +34,67 @@ float metal_rough_f0(Lobe l) {
   return r * r;
 }
 
+// The dielectric's Fresnel term at Schlick weight w (KHR_materials_specular):
+// mix(f0, f90, w) with f0 = min(f0(ior) specularColor, 1) specular and
+// f90 = specular. Without the extension (specular and its colour 1) it is
+// Schlick's f0 + (1 - f0) w. params2 holds specularColor - 1 and
+// specular - 1, so that a material without the extension has zeros there.
+vec3 metal_rough_dielectric_fresnel(Lobe l, float w) {
+  float f0 = metal_rough_f0(l);
+  if (!FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) return vec3(f0 + (1.0f - f0) * w);
+  float specular = 1.0f + l.params2.w;
+  vec3 tinted = min(f0 * vec3(1.0f + l.params2.x, 1.0f + l.params2.y, 1.0f + l.params2.z), vec3(1.0f)) * specular;
+  return tinted + (vec3(specular) - tinted) * w;
+}
+
+float metal_rough_max3(vec3 v) {
+  return max(max(v.x, v.y), v.z);
+}
+
+// Whether the transmission refracts into a volume (KHR_materials_volume),
+// which bsdf_at says by storing it negated; its magnitude is the factor.
+bool metal_rough_refracts(Lobe l) {
+  return FEATURE_COMPILED(FEATURE_VOLUME) && l.params.w < 0.0f;
+}
+
+float metal_rough_transmission(Lobe l) {
+  return abs(l.params.w);
+}
+
+// The ratio of indices, wi's side over wo's, where wi refracts (the
+// volume's inside is the back side).
+float metal_rough_eta(Lobe l) {
+  return l.front ? l.params.z : 1.0f / l.params.z;
+}
+
+// Schlick's weight of the dielectric's Fresnel term at c = wo.h. Leaving a
+// volume it is taken at the transmitted angle, and is 1 beyond the critical
+// angle (KHR_materials_volume's README.md:206-218 at acfcbe6).
+float metal_rough_fresnel_weight(Lobe l, float c) {
+  if (metal_rough_refracts(l) && !l.front) {
+    float sin2 = l.params.z * l.params.z * max(1.0f - c * c, 0.0f);
+    return sin2 >= 1.0f ? 1.0f : schlick_weight(sqrt(1.0f - sin2));
+  }
+  return schlick_weight(c);
+}
+
+// The microfacet normal that refracts wo into wi (facing ns), or a zero
+// vector where none does.
+vec3 metal_rough_refraction_normal(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  vec3 h = wo + wi * metal_rough_eta(l);
+  float len = length(h);
+  if (!(len > 0.0f)) return vec3(0.0f);
+  h = h / len;
+  if (dot(h, ns) < 0.0f) h = -h;
+  return dot(wo, h) > 0.0f && dot(wi, h) < 0.0f ? h : vec3(0.0f);
+}
+
 // Probabilities of sampling the specular layer (x) and the transmission (y)
 // rather than the diffuse base, by their estimated reflectance at wo.
 vec2 metal_rough_probabilities(Lobe l, float cosO) {
   float metallic = l.params.y;
-  float transmission = l.params.w;
-  float f0 = metal_rough_f0(l);
-  float fd = f0 + (1.0f - f0) * schlick_weight(cosO);
+  float transmission = metal_rough_transmission(l);
+  float fd = metal_rough_max3(metal_rough_dielectric_fresnel(l, schlick_weight(cosO)));
   float specular = (1.0f - metallic) * fd + metallic;
   float base = (1.0f - metallic) * (1.0f - fd) * clamp((l.color.x + l.color.y + l.color.z) * (1.0f / 3.0f), 0.0f, 1.0f);
   float total = specular + base;
@@ -49,29 +111,62 @@ float metal_rough_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosO = dot(wo, ns);
   if (cosO <= 0.0f) return 0.0f;
   vec2 p = metal_rough_probabilities(l, cosO);
+  if (dot(wi, ns) < 0.0f && metal_rough_refracts(l)) {
+    vec3 h = metal_rough_refraction_normal(l, ns, wo, wi);
+    if (h == vec3(0.0f)) return 0.0f;
+    float eta = metal_rough_eta(l);
+    float denom = dot(wo, h) + eta * dot(wi, h);
+    return p.y * ggx_visible_pdf(wo, h, ns, l.params.x) * eta * eta * abs(dot(wi, h)) / (denom * denom);
+  }
   if (dot(wi, ns) < 0.0f) return p.y * ggx_reflection_pdf(l.params.x, ns, wo, metal_rough_mirrored(ns, wi));
   return p.x * ggx_reflection_pdf(l.params.x, ns, wo, wi) + (1.0f - p.x - p.y) * lambertian_pdf(l, ns, wo, wi);
 }
 
 vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosI = dot(wi, ns);
-  if (dot(wo, ns) <= 0.0f || cosI == 0.0f) return vec3(0.0f);
+  float cosO = dot(wo, ns);
+  if (cosO <= 0.0f || cosI == 0.0f) return vec3(0.0f);
   float metallic = l.params.y;
-  float transmission = l.params.w;
-  float f0 = metal_rough_f0(l);
+  float transmission = metal_rough_transmission(l);
+  if (cosI < 0.0f && metal_rough_refracts(l)) {
+    // Walter et al.'s BTDF through the GGX microfacets, its (1 - F) the
+    // base's weight under the specular layer; as rough_dielectric.glsl,
+    // radiance is not scaled by eta^2 on crossing.
+    vec3 h = metal_rough_refraction_normal(l, ns, wo, wi);
+    if (h == vec3(0.0f)) return vec3(0.0f);
+    float eta = metal_rough_eta(l);
+    float woH = dot(wo, h);
+    float wiH = dot(wi, h);
+    float base = 1.0f - metal_rough_max3(metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, woH)));
+    float denom = woH + eta * wiH;
+    float btdf = ggx_d(h, ns, l.params.x) * ggx_g2(cosO, -cosI, l.params.x) * eta * eta * woH * abs(wiH) / (cosO * denom * denom);
+    return l.color * ((1.0f - metallic) * base * transmission * btdf);
+  }
   vec3 wr = cosI > 0.0f ? wi : metal_rough_mirrored(ns, wi);
-  float w = schlick_weight(dot(wo, normalize(wo + wr)));
-  float fd = f0 + (1.0f - f0) * w;
+  float c = dot(wo, normalize(wo + wr));
+  float w = schlick_weight(c);
+  vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
+  float base = 1.0f - metal_rough_max3(fd);  // the base's weight under the specular layer
   float specular = ggx_reflection_eval(l.params.x, ns, wo, wr);  // S |cos_i|
-  if (cosI < 0.0f) return l.color * ((1.0f - metallic) * (1.0f - fd) * transmission * specular);
+  if (cosI < 0.0f) return l.color * ((1.0f - metallic) * base * transmission * specular);
   vec3 fm = l.color + (vec3(1.0f) - l.color) * w;
-  vec3 dielectric = l.color * ((1.0f - fd) * (1.0f - transmission) * cosI * WP_INV_PI) + vec3(fd * specular);
+  vec3 dielectric = l.color * (base * (1.0f - transmission) * cosI * WP_INV_PI) + fd * specular;
   return dielectric * (1.0f - metallic) + fm * (metallic * specular);
 }
 
 vec3 metal_rough_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
   vec2 p = metal_rough_probabilities(l, dot(wo, ns));
   if (u.z < p.x) return ggx_reflection_sample(l.params.x, ns, wo, vec2(u.x, u.y));
+  if (u.z < p.x + p.y && metal_rough_refracts(l)) {
+    vec3 h = ggx_visible_normal(l.params.x, ns, wo, vec2(u.x, u.y));
+    if (dot(h, ns) <= 0.0f) return vec3(0.0f);
+    float eta = metal_rough_eta(l);
+    float woH = dot(wo, h);
+    float sin2 = (1.0f - woH * woH) / (eta * eta);
+    if (sin2 >= 1.0f) return vec3(0.0f);  // beyond the critical angle: nothing refracts
+    vec3 wi = normalize(h * (woH / eta - sqrt(1.0f - sin2)) - wo / eta);
+    return dot(wi, ns) < 0.0f ? wi : vec3(0.0f);
+  }
   if (u.z < p.x + p.y) {
     vec3 wr = ggx_reflection_sample(l.params.x, ns, wo, vec2(u.x, u.y));
     return wr == vec3(0.0f) ? wr : metal_rough_mirrored(ns, wr);

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# The cost of glTF's PBR extensions on the kernels: a sphere filling most of
+# the frame on a floor under an area light, in plain metal-rough and in each
+# layer or parameter the extensions add (KHR_materials_specular's tint, a
+# clear coat, a sheen, a coat over a sheen; thin-walled transmission and
+# KHR_materials_volume's refraction into an absorbing volume), 320x240, 64 spp, at most 8
+# bounces, on the default Vulkan device (or --cpu). ROUNDS interleaved
+# rounds, medians of the render time; samples per second and the ratio to
+# plain metal-rough.
+# Usage: scripts/bench-layers.sh [BUILD_DIR] [ROUNDS] [extra render options]   (default: build 3)
+set -euo pipefail
+build=${1:-build}
+rounds=${2:-3}
+shift $(( $# > 2 ? 2 : $# ))
+cd "$(dirname "$0")/.."
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
+"$build/wavepath" devices | sed -n 2p
+
+base='{"type": "metal_rough", "base_color": [0.7, 0.2, 0.1], "metallic": 0, "roughness": 0.5'
+declare -A material=(
+  [plain]="$base, \"name\": \"m\"}"
+  [specular]="$base, \"name\": \"m\", \"specular\": 0.7, \"specular_color\": [1.5, 1, 0.5]}"
+  [clearcoat]="{\"type\": \"clearcoat\", \"name\": \"m\", \"roughness\": 0.1, \"base\": $base}}"
+  [sheen]="{\"type\": \"sheen\", \"name\": \"m\", \"color\": [0.8, 0.6, 0.7], \"roughness\": 0.4, \"base\": $base}}"
+  [coat+sheen]="{\"type\": \"clearcoat\", \"name\": \"m\", \"roughness\": 0.1, \"base\": {\"type\": \"sheen\", \"color\": [0.8, 0.6, 0.7], \"roughness\": 0.4, \"base\": $base}}}"
+  [thin-glass]="$base, \"name\": \"m\", \"transmission\": 1}"
+  [volume]="$base, \"name\": \"m\", \"transmission\": 1, \"volume\": {\"attenuation_color\": [0.9, 0.6, 0.3], \"attenuation_distance\": 1}}"
+)
+variants="plain specular clearcoat sheen coat+sheen thin-glass volume"
+for v in $variants; do
+  cat >"$out/$v.json" <<SCENE
+{"camera": {"transform": {"from": [0, 1.2, 3.2], "at": [0, 0.5, 0], "up": [0, 1, 0]}, "vfov": 35, "resolution": [320, 240]},
+ "sampler": {"samples": 64}, "integrator": {"type": "path tracer mis", "max bounces": 8}, "background": 0.1,
+ "materials": [{"type": "lambertian", "name": "floor", "albedo": 0.5}, ${material[$v]}],
+ "surfaces": [{"type": "quad", "size": 8, "material": "floor", "transform": {"rotate": [-90, 1, 0, 0]}},
+              {"type": "sphere", "radius": 0.6, "material": "m", "transform": {"translate": [0, 0.6, 0]}},
+              {"type": "quad", "size": 2, "material": {"type": "diffuse_light", "emit": 4},
+               "transform": [{"rotate": [90, 1, 0, 0]}, {"translate": [0, 3, 0.5]}]}]}
+SCENE
+done
+
+seconds() { sed -n 's/.*max bounces, \([0-9.]*\) s on .*/\1/p'; }
+median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+for v in $variants; do "$build/wavepath" render "$out/$v.json" --spp 4 -o "$out/warm.png" "$@" >/dev/null 2>&1; done  # compile once
+for _ in $(seq "$rounds"); do
+  for v in $variants; do "$build/wavepath" render "$out/$v.json" -o "$out/r.png" "$@" 2>&1 | seconds >>"$out/$v.t"; done
+done
+samples=$((320 * 240 * 64))
+plain=$(median <"$out/plain.t")
+for v in $variants; do
+  m=$(median <"$out/$v.t")
+  printf '%-11s median %6.2f s  %6.3f Msamples/s  %5.2fx plain  (runs: %s)\n' "$v" "$m" \
+    "$(awk -v s="$samples" -v m="$m" 'BEGIN { print s / m / 1e6 }')" "$(awk -v p="$plain" -v m="$m" 'BEGIN { print m / p }')" \
+    "$(tr '\n' ' ' <"$out/$v.t")"
+done
