@@ -2,8 +2,9 @@
 # The cost of glTF's PBR extensions on the kernels: a sphere filling most of
 # the frame on a floor under an area light, in plain metal-rough and in each
 # layer or parameter the extensions add (KHR_materials_specular's tint, a
-# clear coat, a sheen, a coat over a sheen; thin-walled transmission and
-# KHR_materials_volume's refraction into an absorbing volume), 320x240, 64 spp, at most 8
+# clear coat, a sheen, a coat over a sheen; thin-walled transmission,
+# KHR_materials_volume's refraction into an absorbing volume, and
+# KHR_materials_iridescence's thin film, KHR_materials_anisotropy), 320x240, 64 spp, at most 8
 # bounces, on the default Vulkan device (or --cpu). ROUNDS interleaved
 # rounds, medians of the render time; samples per second and the ratio to
 # plain metal-rough.
@@ -27,8 +28,10 @@ declare -A material=(
   [coat+sheen]="{\"type\": \"clearcoat\", \"name\": \"m\", \"roughness\": 0.1, \"base\": {\"type\": \"sheen\", \"color\": [0.8, 0.6, 0.7], \"roughness\": 0.4, \"base\": $base}}}"
   [thin-glass]="$base, \"name\": \"m\", \"transmission\": 1}"
   [volume]="$base, \"name\": \"m\", \"transmission\": 1, \"volume\": {\"attenuation_color\": [0.9, 0.6, 0.3], \"attenuation_distance\": 1}}"
+  [iridescence]="$base, \"name\": \"m\", \"iridescence\": {\"factor\": 1, \"ior\": 1.3}}"
+  [anisotropy]="$base, \"name\": \"m\", \"anisotropy\": {\"strength\": 0.8, \"rotation\": 0.5}}"
 )
-variants="plain specular clearcoat sheen coat+sheen thin-glass volume"
+variants="plain specular clearcoat sheen coat+sheen thin-glass volume iridescence anisotropy"
 for v in $variants; do
   cat >"$out/$v.json" <<SCENE
 {"camera": {"transform": {"from": [0, 1.2, 3.2], "at": [0, 0.5, 0], "up": [0, 1, 0]}, "vfov": 35, "resolution": [320, 240]},

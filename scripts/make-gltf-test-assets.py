@@ -25,8 +25,9 @@ third-party asset, no licence to track):
                   a strongly tilted normal map, and no light: the white sky.
                   A white furnace: every pixel's radiance is 1 unless
                   mapped normals lose light.
-  layers.glb      KHR_materials_clearcoat, _sheen and _specular, each with
-                  its textures (the channels each reads), under a sun.
+  layers.glb      KHR_materials_clearcoat, _sheen, _specular, _iridescence,
+                  _anisotropy and _volume, each with its textures (the
+                  channels each reads), under a sun.
 
 Run it from the repository root: python3 scripts/make-gltf-test-assets.py
 """
@@ -532,10 +533,13 @@ def mirror_bumps():
 # ---- layers.glb ----------------------------------------------------------------
 
 def layers():
-    """Three spheres in the PBR extensions Blender exports, under a sun: a
-    clear coat with textured factor (R), roughness (G) and its own normal map;
-    a sheen with a textured colour and an RGBA roughness texture (A); a tinted
-    specular layer with textured factor (A) and colour."""
+    """Spheres in the PBR extensions Blender exports, under a sun: a clear
+    coat with textured factor (R), roughness (G) and its own normal map; a
+    sheen with a textured colour and an RGBA roughness texture (A); a tinted
+    specular layer with textured factor (A) and colour; below them a thin
+    film with textured factor (R) and thickness (G); a brushed metal whose
+    anisotropy texture turns the direction (RG) and scales the strength (B);
+    and glass refracting into an absorbing volume."""
     buf = Buffer()
     pos, nrm, uv, tan, idx = uv_sphere(16, 32)
     attrs = {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm),
@@ -547,15 +551,23 @@ def layers():
     base = {"baseColorFactor": [0.7, 0.15, 0.1, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}
     doc = {
         "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
-        "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_specular", "KHR_lights_punctual"],
-        "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
-        "nodes": [{"mesh": 0, "translation": [-2.2, 0, 0]}, {"mesh": 1}, {"mesh": 2, "translation": [2.2, 0, 0]},
+        "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_specular", "KHR_materials_iridescence",
+                           "KHR_materials_anisotropy", "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_volume",
+                           "KHR_lights_punctual"],
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3, 4, 5, 6, 7]}],
+        "nodes": [{"mesh": 0, "translation": [-2.2, 1.1, 0]}, {"mesh": 1, "translation": [0, 1.1, 0]},
+                  {"mesh": 2, "translation": [2.2, 1.1, 0]},
                   {"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": [-0.3826834, 0, 0, 0.9238795]},
-                  {"camera": 0, "translation": [0, 0, 8]}],
-        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.5, "aspectRatio": 1.6, "znear": 0.1}}],
+                  {"camera": 0, "translation": [0, 0, 10]},
+                  {"mesh": 3, "translation": [-2.2, -1.1, 0]}, {"mesh": 4, "translation": [0, -1.1, 0]},
+                  {"mesh": 5, "translation": [2.2, -1.1, 0]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.55, "aspectRatio": 1.4, "znear": 0.1}}],
         "meshes": [{"name": "coated", "primitives": [{"attributes": attrs, "indices": indices, "material": 0}]},
                    {"name": "sheen", "primitives": [{"attributes": attrs, "indices": indices, "material": 1}]},
-                   {"name": "specular", "primitives": [{"attributes": attrs, "indices": indices, "material": 2}]}],
+                   {"name": "specular", "primitives": [{"attributes": attrs, "indices": indices, "material": 2}]},
+                   {"name": "film", "primitives": [{"attributes": attrs, "indices": indices, "material": 3}]},
+                   {"name": "brushed", "primitives": [{"attributes": attrs, "indices": indices, "material": 4}]},
+                   {"name": "glass", "primitives": [{"attributes": attrs, "indices": indices, "material": 5}]}],
         "materials": [
             {"name": "lacquer", "pbrMetallicRoughness": base, "extensions": {"KHR_materials_clearcoat": {
                 "clearcoatFactor": 0.9, "clearcoatTexture": {"index": 0}, "clearcoatRoughnessFactor": 0.5,
@@ -565,7 +577,16 @@ def layers():
                                                     "sheenRoughnessFactor": 0.8, "sheenRoughnessTexture": {"index": 0}}}},
             {"name": "tinted", "pbrMetallicRoughness": base, "extensions": {"KHR_materials_specular": {
                 "specularFactor": 0.8, "specularTexture": {"index": 0}, "specularColorFactor": [2.0, 1.5, 1.0],
-                "specularColorTexture": {"index": 2}}}}],
+                "specularColorTexture": {"index": 2}}}},
+            {"name": "film", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.2, 0.25, 1], "metallicFactor": 0.5, "roughnessFactor": 0.2},
+             "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceTexture": {"index": 0}, "iridescenceIor": 1.4,
+                                                          "iridescenceThicknessMinimum": 200, "iridescenceThicknessMaximum": 500,
+                                                          "iridescenceThicknessTexture": {"index": 0}}}},
+            {"name": "brushed", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.85, 0.8, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35},
+             "extensions": {"KHR_materials_anisotropy": {"anisotropyStrength": 0.9, "anisotropyRotation": 0.4, "anisotropyTexture": {"index": 0}}}},
+            {"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0.0, "roughnessFactor": 0.1},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.5},
+                            "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationDistance": 0.8, "attenuationColor": [0.9, 0.4, 0.2]}}}],
         "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 2.5 * 683}]}},
         "textures": [{"source": 0}, {"source": 1}, {"source": 2}],
         "images": [{"bufferView": buf.view(stripes_rgba), "mimeType": "image/png"},

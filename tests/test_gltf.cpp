@@ -283,10 +283,11 @@ TEST(Gltf, SurfaceDetailsNormalMapsVertexDataAlphaAndSides) {
   EXPECT_EQ(derived.w, 1.0f);
 }
 
-// KHR_materials_clearcoat, _sheen and _specular (layers.glb): a coat and a
-// sheen become layers over the metal-rough base, which carries the specular
-// factor and colour; each texture is read in its extension's channel (the
-// image's left half has red 1 and alpha 1, its right half red 0 and alpha 64/255).
+// glTF's PBR extensions (layers.glb): a coat and a sheen become layers over
+// the metal-rough base, which carries the specular factor and colour, the
+// thin film, the anisotropy and the volume; each texture is read in its
+// extension's channel (the image's left half has red 1 and alpha 1, its
+// right half red 0 and alpha 64/255).
 TEST(Gltf, PbrExtensionsBecomeLayersReadingTheirChannels) {
   const Scene s = load_scene(gltf_path("layers.glb"));
   auto named = [&](const std::string& name) {
@@ -318,6 +319,18 @@ TEST(Gltf, PbrExtensionsBecomeLayersReadingTheirChannels) {
   EXPECT_NEAR(at(sheen.amount, right).y, 0.8f * quarter, 2e-3f);
   EXPECT_NEAR(at(tinted.specular, right).x, quarter, 2e-3f);  // specularTexture: alpha
   EXPECT_NE(tinted.specularColor, WP_INVALID);
+  // KHR_materials_iridescence, _anisotropy and _volume on the lower row.
+  const SceneMaterial film = named("film"), brushed = named("brushed"), glass = named("glass");
+  EXPECT_EQ(film.iridescence, glm::vec4(1.0f, 1.4f, 200.0f, 500.0f));
+  EXPECT_NE(film.iridescenceTexture, WP_INVALID);
+  EXPECT_NE(film.iridescenceThickness, WP_INVALID);
+  EXPECT_FLOAT_EQ(brushed.anisotropy, 0.9f);
+  EXPECT_FLOAT_EQ(brushed.anisotropyRotation, 0.4f);
+  EXPECT_NE(brushed.anisotropyTexture, WP_INVALID);
+  EXPECT_TRUE(glass.volume);
+  EXPECT_TRUE(glass.doubleSided);  // a volume's boundary is there from inside
+  EXPECT_NEAR(glm::distance(glass.attenuation, -glm::log(glm::vec3(0.9f, 0.4f, 0.2f)) / 0.8f), 0.0f, 1e-5f);
+  for (uint32_t f : {FEATURE_IRIDESCENCE, FEATURE_ANISOTROPY, FEATURE_VOLUME}) EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(f)) << f;
 }
 
 // A normal-mapped mesh without TANGENT (the README's spot.glb) gets smooth

@@ -571,6 +571,7 @@ struct FeatureCase {
   const char* what;
   int size = 0;  // rendered size x size, or 0: the scene's own
   void (*adjust)(Scene&) = nullptr;  // a reading of the scene a render option selects
+  int spp = 64;  // per side: more where small bright reflections make the image's mean heavy-tailed
 };
 
 // A feature case's scene, as its options read it.
@@ -604,8 +605,10 @@ const FeatureCase kFeatureCases[] = {
     {"microfacet.json", IntegratorKind::PathMats, "the GGX materials, path tracer mats"},
     {"layers.json", IntegratorKind::PathMis,
      "glTF's layers: clear coats (textured factor, own ior) over metal-rough, a sheen over metal-rough and under a coat, "
-     "KHR_materials_specular's factor and colour, constant and textured (mis)"},
-    {"layers.json", IntegratorKind::PathMixture, "glTF's layers, path tracer mixture"},
+     "KHR_materials_specular's factor and colour, constant and textured, a thin film of textured thickness "
+     "(KHR_materials_iridescence), an anisotropic metal (KHR_materials_anisotropy) (mis)",
+     0, nullptr, 256},
+    {"layers.json", IntegratorKind::PathMixture, "glTF's layers, path tracer mixture", 0, nullptr, 256},
     {"volume.json", IntegratorKind::PathMis,
      "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, and a "
      "thin-walled pane (mis)"},
@@ -621,7 +624,8 @@ const FeatureCase kFeatureCases[] = {
      "CS184 3-2's scene: the lamp mesh black, the area light a visible quad of cosine emission seen in the mirror ball",
      40, use_cs184_3_2_skeleton},
     {"../gltf/layers.glb", IntegratorKind::PathMis,
-     "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness) and specular (textured) under a sun",
+     "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness), specular (textured), thin "
+     "film, anisotropy and volume under a sun",
      40},
 };
 
@@ -672,7 +676,7 @@ TEST_F(Gpu, EveryFeatureAgreesWithTheCpuReference) {
   for (const FeatureCase& c : kFeatureCases) {
     RenderOptions o;
     o.integrator = c.integrator;
-    o.spp = 64;
+    o.spp = c.spp;
     CompareResult r = gpu_against_cpu(feature_scene(c), o);
     EXPECT_TRUE(r.passed()) << c.what << ": " << r.summary();
   }

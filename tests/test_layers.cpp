@@ -56,8 +56,17 @@ const char* const kRoughGlass =
     R"({"type": "metal_rough", "name": "m", "base_color": [0.9, 0.8, 0.7], "metallic": 0.1, "roughness": 0.5, "transmission": 0.8,
         "ior": 1.4, "volume": {"attenuation_color": [0.5, 0.6, 0.7], "attenuation_distance": 2}})";
 
+const char* const kIridescent =
+    R"({"type": "metal_rough", "name": "m", "base_color": [0.3, 0.3, 0.35], "metallic": 0.4, "roughness": 0.35,
+        "iridescence": {"factor": 0.9, "ior": 1.45, "thickness_minimum": 200, "thickness_maximum": 450}})";
+
+const char* const kBrushed =
+    R"({"type": "metal_rough", "name": "m", "base_color": [0.9, 0.8, 0.6], "metallic": 0.8, "roughness": 0.3,
+        "anisotropy": {"strength": 0.8, "rotation": 0.5}})";
+
 const char* const kChi2Materials[] = {kClearcoatOverPlastic, kPatchyCoatOverMetal, kSheenOverLambertian, kRoughSheenOverMetalRough,
-                                      kCoatOverSheen,        kTintedSpecular,      kRoughGlass};
+                                      kCoatOverSheen,        kTintedSpecular,      kRoughGlass,          kIridescent,
+                                      kBrushed};
 
 const auto& kGeometries = kBsdfGeometries;
 
@@ -194,8 +203,9 @@ TEST(Layers, WhiteFurnaceLossMatchesTheLayering) {
     // Planted: the base scaled by 1 - s E(mu_o) alone (the extension's
     // cheaper variant) keeps everything over a white base, and the furnace
     // tells it from the model where that differs by more than 1 %.
-    if (std::fabs(sheen_expected(cosO, sheenRoughness) - 1.0) > 0.01)
+    if (std::fabs(sheen_expected(cosO, sheenRoughness) - 1.0) > 0.01) {
       EXPECT_GT(std::fabs(mean - 1.0), 4.0 * se + 1e-3) << "the E(mu_o)-only scaling passes at cos " << cosO;
+    }
   }
   for (double roughness : {0.0, 0.5}) {
     char material[200];
@@ -336,6 +346,183 @@ TEST(Layers, SingleScatteringMatchesTheExtensionsFormulas) {
   EXPECT_GT(checked, 30);
 }
 
+// KHR_materials_iridescence's thin film, written here from the README
+// (README.md:257-405 at acfcbe6) in double precision: the film's Airy sum to
+// its second order against the eye's sensitivity.
+glm::dvec3 film_reflectance(double filmIor, double thickness, glm::dvec3 baseF0, double c) {
+  auto schlick = [](double f0, double cos) { return f0 + (1.0 - f0) * std::pow(1.0 - cos, 5.0); };
+  double r12 = std::pow((filmIor - 1.0) / (filmIor + 1.0), 2.0);
+  r12 = schlick(r12, c);
+  const double t121 = 1.0 - r12;
+  const double cos2 = std::sqrt(1.0 - (1.0 - c * c) / (filmIor * filmIor));
+  const double opd = 2.0 * filmIor * thickness * cos2;
+  glm::dvec3 intensity;
+  for (int ch = 0; ch < 3; ++ch) {
+    const double f0 = std::min(baseF0[ch], 0.9999), baseIor = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
+    const double r23 = schlick(std::pow((baseIor - filmIor) / (baseIor + filmIor), 2.0), cos2);
+    const double r123 = std::clamp(r12 * r23, 1e-5, 0.9999), rs = t121 * t121 * r23 / (1.0 - r123);
+    intensity[ch] = r12 + rs;
+  }
+  glm::dvec3 cm = glm::dvec3(0.0);
+  for (int ch = 0; ch < 3; ++ch) {
+    const double f0 = std::min(baseF0[ch], 0.9999), baseIor = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
+    const double r23 = schlick(std::pow((baseIor - filmIor) / (baseIor + filmIor), 2.0), cos2);
+    const double r123 = std::clamp(r12 * r23, 1e-5, 0.9999);
+    cm[ch] = t121 * t121 * r23 / (1.0 - r123) - t121;
+  }
+  for (int m = 1; m <= 2; ++m) {
+    glm::dvec3 shift, xyz;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double f0 = std::min(baseF0[ch], 0.9999), baseIor = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
+      shift[ch] = m * ((filmIor < 1.0 ? 0.0 : M_PI) + (baseIor < filmIor ? M_PI : 0.0));
+      const double r23 = schlick(std::pow((baseIor - filmIor) / (baseIor + filmIor), 2.0), cos2);
+      cm[ch] *= std::sqrt(std::clamp(r12 * r23, 1e-5, 0.9999));
+    }
+    const double phase = 2.0 * M_PI * m * opd * 1e-9;
+    const double val[3] = {5.4856e-13, 4.4201e-13, 5.2481e-13}, pos[3] = {1.6810e+06, 1.7953e+06, 2.2084e+06},
+                 var[3] = {4.3278e+09, 9.3046e+09, 6.6121e+09};
+    for (int k = 0; k < 3; ++k)
+      xyz[k] = val[k] * std::sqrt(2.0 * M_PI * var[k]) * std::cos(pos[k] * phase + shift[k]) * std::exp(-phase * phase * var[k]);
+    xyz.x += 9.7470e-14 * std::sqrt(2.0 * M_PI * 4.5282e+09) * std::cos(2.2399e+06 * phase + shift.x) * std::exp(-4.5282e+09 * phase * phase);
+    xyz /= 1.0685e-7;
+    const glm::dvec3 rgb(3.2404542 * xyz.x - 1.5371385 * xyz.y - 0.4985314 * xyz.z, -0.9692660 * xyz.x + 1.8760108 * xyz.y + 0.0415560 * xyz.z,
+                         0.0556434 * xyz.x - 0.2040259 * xyz.y + 1.0572252 * xyz.z);
+    intensity += cm * 2.0 * rgb;
+  }
+  return glm::max(intensity, glm::dvec3(0.0));
+}
+
+// The CPU reference's render, 128 x 128 with direct light only, of a unit
+// sphere of `material` (named "m") under one sun of `irradiance` from
+// toLight, seen from far away through a narrow field of view; `feature` must
+// be compiled for it.
+ImageStats sphere_under_sun(const char* material, glm::dvec3 toLight, double irradiance, uint32_t feature) {
+  char light[256];
+  std::snprintf(light, sizeof light, R"(, {"type": "directional_light", "direction": [%g, %g, %g], "irradiance": %g})", -toLight.x, -toLight.y,
+                -toLight.z, irradiance);
+  Scene scene = load_scene(write_scene("sun.json", std::string(R"({"camera": {"transform": {"from": [0, 0, 100], "at": [0, 0, 0],
+      "up": [0, 1, 0]}, "vfov": 1.3, "resolution": [128, 128]}, "background": 0, "sampler": {"samples": 16},
+      "integrator": {"type": "path tracer nee", "max bounces": 1}, "materials": [)") + material +
+                                                       R"(], "surfaces": [{"type": "sphere", "radius": 1, "material": "m"})" + light + "]}"));
+  RenderOptions o;
+  const CompiledScene cs = compile_scene(scene, reference_options(o));
+  EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(feature));
+  Progress quiet("", 0, false);
+  return render_cpu(cs, 0, quiet);
+}
+
+// A sphere under a thin film (kIridescent, whose texture-free thickness is
+// its maximum) lit by one sun, as SingleScatteringMatchesTheExtensionsFormulas
+// renders it: metal-rough with both Fresnel terms mixed with the film's.
+TEST(Layers, ThinFilmMatchesTheExtensionsFormula) {
+  const glm::dvec3 toLight = glm::normalize(glm::dvec3(-0.3, 0.5, 0.8));
+  const double irradiance = 3.0, factor = 0.9, filmIor = 1.45, thickness = 450.0, metallic = 0.4, roughness = 0.35;
+  const glm::dvec3 base(0.3, 0.3, 0.35);
+  const ImageStats img = sphere_under_sun(kIridescent, toLight, irradiance, FEATURE_IRIDESCENCE);
+  const double tanHalf = std::tan(glm::radians(1.3 / 2.0));
+  const glm::dvec3 eye(0, 0, 100);
+  int checked = 0, plantedCaught = 0;
+  double largestChannelSpread = 0.0;
+  // Pixels half the size of the other test's: the film's colours change
+  // faster across the sphere than the layers do.
+  for (int y = 8; y < 128; y += 10) {
+    for (int x = 8; x < 128; x += 10) {
+      const glm::dvec3 d = glm::normalize(glm::dvec3((2.0 * (x + 0.5) / 128 - 1.0) * tanHalf, (1.0 - 2.0 * (y + 0.5) / 128) * tanHalf, -1.0));
+      const double b = glm::dot(eye, d), c = glm::dot(eye, eye) - 1.0, disc = b * b - c;
+      if (disc <= 0.0) continue;
+      const glm::dvec3 p = eye + d * (-b - std::sqrt(disc)), n = glm::normalize(p), v = -d;
+      const double nl = glm::dot(n, toLight);
+      if (glm::dot(n, v) < 0.35 || nl < 0.2) continue;
+      const glm::dvec3 h = glm::normalize(v + toLight);
+      const double vh = glm::dot(v, h), w = std::pow(1.0 - vh, 5.0);
+      const double spec = specular_brdf(n, v, toLight, roughness * roughness);
+      auto radiance = [&](double film) {
+        const glm::dvec3 fd = glm::mix(glm::dvec3(0.04 + 0.96 * w), film_reflectance(filmIor, film, glm::dvec3(0.04), vh), factor);
+        const glm::dvec3 fm = glm::mix(base + (1.0 - base) * w, film_reflectance(filmIor, film, base, vh), factor);
+        const double fdMax = std::max({fd.x, fd.y, fd.z});
+        return ((1.0 - metallic) * ((1.0 - fdMax) * base / M_PI + fd * spec) + metallic * fm * spec) * nl * irradiance;
+      };
+      const glm::dvec3 expected = radiance(thickness), planted = radiance(0.9 * thickness);
+      const glm::dvec3 got = img.mean(size_t(y) * 128 + size_t(x));
+      for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_NEAR(got[ch], expected[ch], 0.03 * expected[ch] + 1e-3) << "pixel " << x << ", " << y << ", channel " << ch;
+        if (std::fabs(got[ch] - planted[ch]) > 0.03 * planted[ch] + 1e-3) ++plantedCaught;
+      }
+      largestChannelSpread = std::max(largestChannelSpread, std::max({expected.x, expected.y, expected.z}) - std::min({expected.x, expected.y, expected.z}));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 30);
+  EXPECT_GT(largestChannelSpread, 0.02) << "the film colours nothing: the test would not see it";
+  EXPECT_GT(plantedCaught, 10) << "a film 10 % thinner than the material's passes";
+}
+
+// A brushed sphere (kBrushed: anisotropy 0.8 at 0.5 rad from the tangent,
+// which on a sphere runs along the parallels) under a sun, against
+// anisotropic GGX written here (README.md:90-105 at acfcbe6; Heitz 2014's
+// Lambda): alpha_t = mix(alpha, 1, strength^2) along the direction, alpha
+// across it. The isotropic formula fails the same pixels.
+TEST(Layers, AnisotropyMatchesTheExtensionsFormula) {
+  const glm::dvec3 toLight = glm::normalize(glm::dvec3(0.4, 0.7, 0.6));
+  const double irradiance = 3.0, metallic = 0.8, alpha = 0.3 * 0.3, at = alpha + (1.0 - alpha) * 0.64, rotation = 0.5;
+  const glm::dvec3 base(0.9, 0.8, 0.6);
+  const ImageStats img = sphere_under_sun(kBrushed, toLight, irradiance, FEATURE_ANISOTROPY);
+  const double tanHalf = std::tan(glm::radians(1.3 / 2.0));
+  const glm::dvec3 eye(0, 0, 100);
+  int checked = 0, isotropicCaught = 0;
+  // The pixel's mean over its area (the highlight is narrow enough that
+  // its value at the centre is not the mean): 6 x 6 points in the pixel.
+  auto pixel_mean = [&](int x, int y, double ax, double ay, bool& inside) {
+    glm::dvec3 sum(0.0);
+    inside = true;
+    for (int j = 0; j < 6; ++j) {
+      for (int i = 0; i < 6; ++i) {
+        const glm::dvec3 d = glm::normalize(
+            glm::dvec3((2.0 * (x + (i + 0.5) / 6.0) / 128 - 1.0) * tanHalf, (1.0 - 2.0 * (y + (j + 0.5) / 6.0) / 128) * tanHalf, -1.0));
+        const double b = glm::dot(eye, d), c = glm::dot(eye, eye) - 1.0, disc = b * b - c;
+        if (disc <= 0.0) {
+          inside = false;
+          return sum;
+        }
+        const glm::dvec3 p = eye + d * (-b - std::sqrt(disc)), n = glm::normalize(p), v = -d, l = toLight;
+        const double nl = glm::dot(n, l), nv = glm::dot(n, v);
+        if (nv < 0.35 || nl < 0.2) inside = false;  // away from the rim and the terminator
+        // The sphere's tangent along its parallels, turned by the rotation.
+        const glm::dvec3 t0 = glm::normalize(glm::dvec3(p.z, 0.0, -p.x)), b0 = glm::cross(n, t0);
+        const glm::dvec3 t = std::cos(rotation) * t0 + std::sin(rotation) * b0, bt = glm::cross(n, t);
+        auto local = [&](glm::dvec3 w) { return glm::dvec3(glm::dot(w, t), glm::dot(w, bt), glm::dot(w, n)); };
+        auto lambda = [&](glm::dvec3 w) { return 0.5 * (std::sqrt(1.0 + (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / (w.z * w.z)) - 1.0); };
+        const glm::dvec3 h = local(glm::normalize(v + l));
+        const double q = (h.x / ax) * (h.x / ax) + (h.y / ay) * (h.y / ay) + h.z * h.z;
+        const double spec = 1.0 / (M_PI * ax * ay * q * q) / (1.0 + lambda(local(v)) + lambda(local(l))) / (4.0 * nv * nl);
+        const double w = std::pow(1.0 - glm::dot(v, glm::normalize(v + l)), 5.0);
+        const double fd = 0.04 + 0.96 * w;
+        const glm::dvec3 fm = base + (1.0 - base) * w;
+        sum += ((1.0 - metallic) * ((1.0 - fd) * base / M_PI + fd * spec) + metallic * fm * spec) * nl * irradiance / 36.0;
+      }
+    }
+    return sum;
+  };
+  for (int y = 8; y < 128; y += 10) {
+    for (int x = 8; x < 128; x += 10) {
+      bool inside;
+      const glm::dvec3 expected = pixel_mean(x, y, at, alpha, inside), isotropic = pixel_mean(x, y, alpha, alpha, inside);
+      if (!inside) continue;
+      // Within 4 standard errors of the pixel's samples (the highlight
+      // varies across a pixel) and 2 %.
+      const size_t pixel = size_t(y) * 128 + size_t(x);
+      const glm::dvec3 got = img.mean(pixel), se = glm::sqrt(img.variance(pixel) / std::max(img.count[pixel], 1.0));
+      for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_NEAR(got[ch], expected[ch], 4.0 * se[ch] + 0.02 * expected[ch] + 1e-3) << "pixel " << x << ", " << y << ", channel " << ch;
+        if (std::fabs(got[ch] - isotropic[ch]) > 4.0 * se[ch] + 0.02 * isotropic[ch] + 1e-3) ++isotropicCaught;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 30);
+  EXPECT_GT(isotropicCaught, 10) << "the isotropic lobe passes: the test would not see the anisotropy";
+}
+
 // A smooth glass sphere of KHR_materials_volume (ior 1.5, attenuation colour
 // 0.5 after 1 unit) seen through its centre against a white background: at
 // normal incidence the camera sees the front's reflection f0, the light
@@ -382,6 +569,9 @@ TEST(Layers, DartsFilesNameTheirProblems) {
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "volume": {"attenuation_color": [0, 1, 1]}})"),
                {"/materials/0/volume/attenuation_color", "(0, 1]"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "volume": {"attenuation_distance": 0}})"), {"/materials/0/volume/attenuation_distance"});
+  expect_error(scene(R"({"type": "metal_rough", "name": "m", "iridescence": {"ior": 0.5}})"), {"/materials/0/iridescence/ior", "[1, 10]"});
+  expect_error(scene(R"({"type": "metal_rough", "name": "m", "anisotropy": {"strength": 2}})"), {"/materials/0/anisotropy/strength", "[0, 1]"});
+  expect_error(scene(R"({"type": "metal_rough", "name": "m", "iridescence": {"thickness": 300}})"), {"/materials/0/iridescence", "thickness"});
 }
 
 }  // namespace

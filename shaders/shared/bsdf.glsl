@@ -32,6 +32,8 @@ struct Bsdf {
   float lobeParam[BSDF_MAX_LOBES];      // params.x
   vec3 lobeParamYzw[BSDF_MAX_LOBES];    // params.yzw
   vec4 lobeParams2[BSDF_MAX_LOBES];     // params2
+  vec4 lobeParams3[BSDF_MAX_LOBES];     // a metal-rough lobe's thin film (FEATURE_IRIDESCENCE)
+  vec4 lobeParams4[BSDF_MAX_LOBES];     // a metal-rough lobe's anisotropy (FEATURE_ANISOTROPY)
   float lobeWeight[BSDF_MAX_LOBES];
   // A sheen layer (MAT_SHEEN): x max3 of its colour (0: none), y its
   // roughness, z x times its bounded albedo at wo; and the lobes under it
@@ -45,6 +47,8 @@ struct Bsdf {
 struct Lobe {
   vec4 params;
   vec4 params2;
+  vec4 params3;  // metal-rough's thin film: x factor, y ior, z thickness (nm); zero without FEATURE_IRIDESCENCE
+  vec4 params4;  // metal-rough's anisotropy: xyz the direction of alpha_t, w alpha_t (0: isotropic); zero without FEATURE_ANISOTROPY
   vec3 color;
   bool front;
 };
@@ -54,6 +58,17 @@ void bsdf_set_params(INOUT(Bsdf) b, uint k, vec4 params, vec4 params2) {
   b.lobeParam[k] = params.x;
   if (MATERIAL_PARAMS_YZW_COMPILED) b.lobeParamYzw[k] = vec3(params.y, params.z, params.w);
   if (MATERIAL_PARAMS2_COMPILED) b.lobeParams2[k] = params2;
+  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE)) b.lobeParams3[k] = vec4(0.0f);
+  if (FEATURE_COMPILED(FEATURE_ANISOTROPY)) b.lobeParams4[k] = vec4(0.0f);
+}
+
+// Sets lobe k's thin film and its anisotropy (after bsdf_set_params).
+void bsdf_set_params3(INOUT(Bsdf) b, uint k, vec4 params3) {
+  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE)) b.lobeParams3[k] = params3;
+}
+
+void bsdf_set_params4(INOUT(Bsdf) b, uint k, vec4 params4) {
+  if (FEATURE_COMPILED(FEATURE_ANISOTROPY)) b.lobeParams4[k] = params4;
 }
 
 Lobe lobe_of(Bsdf b, uint i) {
@@ -61,6 +76,8 @@ Lobe lobe_of(Bsdf b, uint i) {
   vec3 yzw = MATERIAL_PARAMS_YZW_COMPILED ? b.lobeParamYzw[i] : vec3(0.0f);
   l.params = vec4(b.lobeParam[i], yzw.x, yzw.y, yzw.z);
   l.params2 = MATERIAL_PARAMS2_COMPILED ? b.lobeParams2[i] : vec4(0.0f);
+  l.params3 = FEATURE_COMPILED(FEATURE_IRIDESCENCE) ? b.lobeParams3[i] : vec4(0.0f);
+  l.params4 = FEATURE_COMPILED(FEATURE_ANISOTROPY) ? b.lobeParams4[i] : vec4(0.0f);
   l.color = b.lobeColor[i];
   l.front = b.front;
   return l;

@@ -114,13 +114,16 @@
 #define FEATURE_COSINE_EMISSION 9u      // a light material emitting in proportion to the cosine (params.x; CS184 3-2's light quads)
 #define FEATURE_SPECULAR_TINT 10u       // metal-rough with a specular factor or colour other than 1 (KHR_materials_specular; params2)
 #define FEATURE_VOLUME 11u              // metal-rough whose transmission refracts into an absorbing volume (KHR_materials_volume)
+#define FEATURE_IRIDESCENCE 12u         // metal-rough under a thin film (KHR_materials_iridescence; Lobe.params3)
+#define FEATURE_ANISOTROPY 13u          // metal-rough with anisotropic roughness (KHR_materials_anisotropy; Lobe.params4)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
   X(FEATURE_VERTEX_DATA, "tangents, vertex colours or a second UV set") X(FEATURE_NORMAL_MAPS, "normal maps")    \
   X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
   X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
-  X(FEATURE_VOLUME, "volumes")
+  X(FEATURE_VOLUME, "volumes") X(FEATURE_IRIDESCENCE, "iridescence") \
+  X(FEATURE_ANISOTROPY, "anisotropy")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the
@@ -136,6 +139,8 @@
 #define PUNCTUAL_LIGHT_BITS (KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL) | KIND_BIT(LIGHT_HEMISPHERE))
 // The punctual kinds that read PointLight.direction (types.glsl).
 #define LIGHTS_READING_DIRECTION (KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_DIRECTIONAL) | KIND_BIT(LIGHT_HEMISPHERE))
+// Whether surface hits carry tangents: normal maps and anisotropy read them.
+#define TANGENTS_COMPILED ((FEATURES_OF_SCENE & (KIND_BIT(FEATURE_NORMAL_MAPS) | KIND_BIT(FEATURE_ANISOTROPY))) != 0u)
 #define ALL_KINDS 0xffffffffu
 
 // Whether a compiled material kind reads params.yzw or params2: kernels

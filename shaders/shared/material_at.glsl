@@ -34,6 +34,39 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
 // Parameters are the material's, except metal-rough's, which its
 // metallic-roughness texture scales (glTF: roughness in G, metallic in B)
 // and its transmission texture (children.y; R) scales the transmission of.
+// The anisotropy of metal-rough m at s (KHR_materials_anisotropy,
+// README.md:82-181 at acfcbe6): its texture's red and green give a direction
+// in the tangent frame (2 c - 1; the tangent without a texture) and its blue
+// scales the strength; the direction turns by the material's rotation, and
+// alpha_t = mix(alpha, 1, strength^2) along it (alpha across it). Returns the
+// direction made orthogonal to the shading normal ns, and alpha_t; zero
+// (isotropic) where the surface has no tangent.
+vec4 anisotropy_at(Material m, SurfaceHit s, vec3 ns, float alpha) {
+  float strength = m.anisotropy.x;
+  vec2 d = vec2(1.0f, 0.0f);
+  uint tex = floatBitsToUint(m.anisotropy.w);
+  if (tex != WP_INVALID) {
+    vec3 c = texture_eval(tex, s.uv, s.p);
+    d = vec2(2.0f * c.x - 1.0f, 2.0f * c.y - 1.0f);
+    strength *= c.z;
+    float len = length(d);
+    d = len > 0.0f ? d / len : vec2(1.0f, 0.0f);
+  }
+  vec2 r = vec2(m.anisotropy.y * d.x - m.anisotropy.z * d.y, m.anisotropy.z * d.x + m.anisotropy.y * d.y);
+  vec3 t = vec3(s.tangent.x, s.tangent.y, s.tangent.z);
+  t -= s.ns * dot(s.ns, t);
+  float tl = length(t);
+  if (!(tl > 0.0f) || !(strength > 0.0f)) return vec4(0.0f);
+  t /= tl;
+  vec3 dir = t * r.x + cross(s.ns, t) * (s.tangent.w * r.y);
+  dir -= ns * dot(ns, dir);
+  float dl = length(dir);
+  if (!(dl > 0.0f)) return vec4(0.0f);
+  dir /= dl;
+  strength = clamp(strength, 0.0f, 1.0f);
+  return vec4(dir.x, dir.y, dir.z, alpha + (1.0f - alpha) * strength * strength);
+}
+
 // Its specular factor and colour (KHR_materials_specular), as metal_rough.glsl
 // reads them: params2 less 1, times their textures.
 void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, SurfaceHit s) {
@@ -58,6 +91,17 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, Surfa
     }
   }
   bsdf_set_params(b, k, params, params2);
+  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE) && m.info.x == MAT_METAL_ROUGH && m.iridescence.x > 0.0f) {
+    // The film's factor (times its texture's red) and thickness (between
+    // its two bounds by its texture's green; the upper without one).
+    float factor = m.iridescence.x;
+    float along = 1.0f;
+    if (m.moreTextures.z != WP_INVALID) factor *= texture_eval(m.moreTextures.z, s.uv, s.p).x;
+    if (m.moreTextures.w != WP_INVALID) along = texture_eval(m.moreTextures.w, s.uv, s.p).y;
+    bsdf_set_params3(b, k, vec4(clamp(factor, 0.0f, 1.0f), m.iridescence.y, m.iridescence.z + (m.iridescence.w - m.iridescence.z) * along, 0.0f));
+  }
+  if (FEATURE_COMPILED(FEATURE_ANISOTROPY) && m.info.x == MAT_METAL_ROUGH && m.anisotropy.x > 0.0f)
+    bsdf_set_params4(b, k, anisotropy_at(m, s, b.ns, params.x));
 }
 
 // The shading normal at s under normal map `tex` (glTF's convention): the

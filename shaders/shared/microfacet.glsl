@@ -37,15 +37,16 @@ float ggx_g2(float cosO, float cosI, float alpha) {
   return 1.0f / (1.0f + ggx_lambda(cosO, alpha) + ggx_lambda(cosI, alpha));
 }
 
-// A microfacet normal h with density ggx_visible_pdf: the normals visible
+// A microfacet normal h with density ggx_visible_pdf (anisotropic GGX of
+// widths ax along x and ay along y: its anisotropic twin): the normals visible
 // from wo, each in proportion to its projected area seen from wo. wo and the
 // result are in the shading frame (the normal is +z, wo.z > 0). Heitz's
 // construction: stretch wo to the configuration where the GGX surface is a
 // hemisphere of radius 1, sample the visible half disk of that hemisphere
 // (a uniform disk whose lower half is squeezed by the projection), lift the
 // point onto the hemisphere and unstretch its normal.
-vec3 ggx_sample_visible(vec3 wo, float alpha, vec2 u) {
-  vec3 v = normalize(vec3(alpha * wo.x, alpha * wo.y, wo.z));
+vec3 ggx_sample_visible_anisotropic(vec3 wo, float ax, float ay, vec2 u) {
+  vec3 v = normalize(vec3(ax * wo.x, ay * wo.y, wo.z));
   float lenSq = v.x * v.x + v.y * v.y;
   vec3 t1 = lenSq > 0.0f ? vec3(-v.y, v.x, 0.0f) * (1.0f / sqrt(lenSq)) : vec3(1.0f, 0.0f, 0.0f);
   vec3 t2 = cross(v, t1);
@@ -56,7 +57,12 @@ vec3 ggx_sample_visible(vec3 wo, float alpha, vec2 u) {
   float s = 0.5f * (1.0f + v.z);
   p2 = (1.0f - s) * sqrt(max(1.0f - p1 * p1, 0.0f)) + s * p2;
   vec3 n = t1 * p1 + t2 * p2 + v * sqrt(max(1.0f - p1 * p1 - p2 * p2, 0.0f));
-  return normalize(vec3(alpha * n.x, alpha * n.y, max(n.z, 0.0f)));
+  return normalize(vec3(ax * n.x, ay * n.y, max(n.z, 0.0f)));
+}
+
+// The isotropic case.
+vec3 ggx_sample_visible(vec3 wo, float alpha, vec2 u) {
+  return ggx_sample_visible_anisotropic(wo, alpha, alpha, u);
 }
 
 // Density (solid angle of h) of ggx_sample_visible: G1(wo) max(0, wo.h) D(h) / cos(wo).
@@ -126,6 +132,80 @@ float schlick_weight(float c) {
   float m = clamp(1.0f - c, 0.0f, 1.0f);
   float m2 = m * m;
   return m2 * m2 * m;
+}
+
+// Anisotropic GGX in a frame where the normal is +z: D of widths ax along
+// x and ay along y, and Smith's Lambda for a direction w in that frame
+// (Heitz 2014, "Understanding the Masking-Shadowing Function").
+float ggx_anisotropic_d(vec3 h, float ax, float ay) {
+  if (h.z <= 0.0f) return 0.0f;
+  float x = h.x / ax;
+  float y = h.y / ay;
+  float t = x * x + y * y + h.z * h.z;
+  return 1.0f / (WP_PI * ax * ay * t * t);
+}
+
+float ggx_anisotropic_lambda(vec3 w, float ax, float ay) {
+  float z2 = max(w.z * w.z, 1e-12f);
+  return 0.5f * (sqrt(1.0f + (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / z2) - 1.0f);
+}
+
+// Reflectance at normal incidence between media of indices a and b.
+float fresnel0_of_iors(float a, float b) {
+  float r = (a - b) / (a + b);
+  return r * r;
+}
+
+// The spectral sensitivity of the XYZ matching functions to an optical path
+// difference opd (nm) with phase shift `shift`, as RGB (Belcour and Barla
+// 2017's Gaussian fit, which KHR_materials_iridescence's README.md:383-405
+// gives with its constants).
+vec3 thin_film_sensitivity(float opd, vec3 shift) {
+  float phase = 2.0f * WP_PI * opd * 1e-9f;
+  vec3 val = vec3(5.4856e-13f, 4.4201e-13f, 5.2481e-13f);
+  vec3 pos = vec3(1.6810e+06f, 1.7953e+06f, 2.2084e+06f);
+  vec3 var = vec3(4.3278e+09f, 9.3046e+09f, 6.6121e+09f);
+  vec3 xyz = val * sqrt(var * (2.0f * WP_PI)) * cos(pos * phase + shift) * exp(-(phase * phase) * var);
+  xyz.x += 9.7470e-14f * sqrt(2.0f * WP_PI * 4.5282e+09f) * cos(2.2399e+06f * phase + shift.x) * exp(-4.5282e+09f * phase * phase);
+  xyz = xyz * (1.0f / 1.0685e-7f);
+  return vec3(3.2404542f * xyz.x - 1.5371385f * xyz.y - 0.4985314f * xyz.z,
+              -0.9692660f * xyz.x + 1.8760108f * xyz.y + 0.0415560f * xyz.z,
+              0.0556434f * xyz.x - 0.2040259f * xyz.y + 1.0572252f * xyz.z);
+}
+
+// Reflectance of a thin film (index filmIor, thickness nm) over a base of
+// normal-incidence reflectance baseF0, seen from a medium of index 1 at
+// cosine c: the airy sum of the film's two interfaces to its second order,
+// each a Schlick term, integrated against the eye's sensitivity (Belcour and
+// Barla 2017, as KHR_materials_iridescence's README.md:257-377 writes it).
+// Without a film (thickness 0) it is the base's own Schlick term.
+vec3 thin_film_fresnel(float filmIor, float thickness, vec3 baseF0, float c) {
+  vec3 f0 = clamp(baseF0, vec3(0.0f), vec3(0.9999f));
+  if (!(thickness > 0.0f)) return f0 + (vec3(1.0f) - f0) * schlick_weight(c);
+  float r12 = fresnel0_of_iors(filmIor, 1.0f);
+  r12 = r12 + (1.0f - r12) * schlick_weight(c);
+  float t121 = 1.0f - r12;
+  float sin2 = (1.0f - c * c) / (filmIor * filmIor);
+  if (sin2 >= 1.0f) return vec3(1.0f);  // total internal reflection at the film
+  float cos2 = sqrt(1.0f - sin2);
+  vec3 s = sqrt(f0);
+  vec3 baseIor = (vec3(1.0f) + s) / (vec3(1.0f) - s);
+  vec3 r1 = (baseIor - vec3(filmIor)) / (baseIor + vec3(filmIor));
+  r1 = r1 * r1;
+  vec3 r23 = r1 + (vec3(1.0f) - r1) * schlick_weight(cos2);
+  float opd = 2.0f * filmIor * thickness * cos2;
+  float phi21 = filmIor < 1.0f ? 0.0f : WP_PI;  // phi12 is pi where the film is the thinner medium
+  vec3 phi = vec3(phi21) + vec3(baseIor.x < filmIor ? WP_PI : 0.0f, baseIor.y < filmIor ? WP_PI : 0.0f, baseIor.z < filmIor ? WP_PI : 0.0f);
+  vec3 r123 = clamp(r23 * r12, vec3(1e-5f), vec3(0.9999f));
+  vec3 sr123 = sqrt(r123);
+  vec3 rs = r23 * (t121 * t121) / (vec3(1.0f) - r123);
+  vec3 intensity = rs + vec3(r12);
+  vec3 cm = rs - vec3(t121);
+  for (int m = 1; m <= 2; ++m) {
+    cm = cm * sr123;
+    intensity += cm * thin_film_sensitivity(float(m) * opd, phi * float(m)) * 2.0f;
+  }
+  return max(intensity, vec3(0.0f));
 }
 
 #endif  // WP_MICROFACET_GLSL

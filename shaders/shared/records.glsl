@@ -113,8 +113,12 @@ Material load_material(uint i) {
   m.children = texelFetch(materialTexels, at + 1);
   m.params = texel_vec4(texelFetch(materialTexels, at + 2));
   m.params2 = MATERIAL_PARAMS2_COMPILED ? texel_vec4(texelFetch(materialTexels, at + 3)) : vec4(0.0f);
-  m.moreTextures = FEATURE_COMPILED(FEATURE_SPECULAR_TINT) ? texelFetch(materialTexels, at + 4) : uvec4(WP_INVALID);
+  // (One mask test: Mesa 22.3 refuses a logical or of specialization constants.)
+  bool moreTextures = (FEATURES_OF_SCENE & (KIND_BIT(FEATURE_SPECULAR_TINT) | KIND_BIT(FEATURE_IRIDESCENCE))) != 0u;
+  m.moreTextures = moreTextures ? texelFetch(materialTexels, at + 4) : uvec4(WP_INVALID);
   m.volume = FEATURE_COMPILED(FEATURE_VOLUME) ? texel_vec4(texelFetch(materialTexels, at + 5)) : vec4(0.0f);
+  m.iridescence = FEATURE_COMPILED(FEATURE_IRIDESCENCE) ? texel_vec4(texelFetch(materialTexels, at + 6)) : vec4(0.0f);
+  m.anisotropy = FEATURE_COMPILED(FEATURE_ANISOTROPY) ? texel_vec4(texelFetch(materialTexels, at + 7)) : vec4(0.0f);
   return m;
 }
 

@@ -11,7 +11,7 @@ struct SurfaceHit {
   vec3 ns;  // unit shading normal (interpolated vertex normals), on ng's side
   float pad;
   vec4 uv;       // texture coordinates: xy the first set, zw the second (glTF's TEXCOORD_1; else the first again)
-  vec4 tangent;  // for normal maps: xyz the tangent along increasing u (not unit), w the bitangent's handedness (+-1)
+  vec4 tangent;  // for normal maps and anisotropy: xyz the tangent along increasing u (not unit), w the bitangent's handedness (+-1)
   vec4 color;    // the vertex colour, RGBA (1 without)
 };
 
@@ -33,7 +33,7 @@ SurfaceHit sphere_surface_of(Sphere sp, vec3 pw) {
   vec2 uv = sphere_uv(pl);
   s.uv = vec4(uv.x, uv.y, uv.x, uv.y);
   // d p / d u of sphere_uv, along the parallels (zero at the poles).
-  vec3 t = FEATURE_COMPILED(FEATURE_NORMAL_MAPS) ? xform_vector(sp.toWorld0, sp.toWorld1, sp.toWorld2, vec3(pl.z, 0.0f, -pl.x)) : vec3(0.0f);
+  vec3 t = TANGENTS_COMPILED ? xform_vector(sp.toWorld0, sp.toWorld1, sp.toWorld2, vec3(pl.z, 0.0f, -pl.x)) : vec3(0.0f);
   s.tangent = vec4(t.x, t.y, t.z, 1.0f);
   s.color = vec4(1.0f);
   s.material = sp.material;
@@ -91,13 +91,13 @@ SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
       s.color = vd.color0 * b0 + vd.color1 * b1 + vd.color2 * b2;
       vec2 uv1 = vec2(vd.uv1_01.x, vd.uv1_01.y) * b0 + vec2(vd.uv1_01.z, vd.uv1_01.w) * b1 + vec2(vd.uv1_2.x, vd.uv1_2.y) * b2;
       s.uv = vec4(uv.x, uv.y, uv1.x, uv1.y);
-      if (FEATURE_COMPILED(FEATURE_NORMAL_MAPS)) {
+      if (TANGENTS_COMPILED) {
         vec4 t = vd.tangent0 * b0 + vd.tangent1 * b1 + vd.tangent2 * b2;
         s.tangent = vec4(t.x, t.y, t.z, vd.tangent0.w < 0.0f ? -1.0f : 1.0f);
       }
     }
   }
-  if (FEATURE_COMPILED(FEATURE_NORMAL_MAPS) && s.tangent.x == 0.0f && s.tangent.y == 0.0f && s.tangent.z == 0.0f)
+  if (TANGENTS_COMPILED && s.tangent.x == 0.0f && s.tangent.y == 0.0f && s.tangent.z == 0.0f)
     s.tangent = triangle_uv_tangent(tri, t0, t1, t2, s.ng);
   s.material = tri.material & TRIANGLE_MATERIAL_MASK;
   s.emitter = tri.emitter;

@@ -144,7 +144,7 @@ struct WideNode {
 #define TRIANGLE_SHADING_TEXELS 4
 #define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
-#define MATERIAL_TEXELS 6
+#define MATERIAL_TEXELS 8
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
@@ -233,9 +233,14 @@ struct Material {
   vec4 params2;
   uvec4 moreTextures;  // metal-rough: x its specular texture (read in red: glTF's alpha, as grey), y its
                        // specular colour texture, scaling params2's w and xyz (FEATURE_SPECULAR_TINT);
-                       // zw unused. WP_INVALID: none
+                       // z its iridescence texture (red, scaling iridescence.x), w its film thickness
+                       // texture (green, between iridescence.z and w; FEATURE_IRIDESCENCE). WP_INVALID: none
   vec4 volume;         // metal-rough (KHR_materials_volume, FEATURE_VOLUME): xyz the attenuation coefficient
                        // inside (per unit length), w 1 where its transmission refracts into a volume, 0 thin-walled
+  vec4 iridescence;    // metal-rough (KHR_materials_iridescence, FEATURE_IRIDESCENCE): x the film's factor, y its
+                       // ior, z and w its thickness (nm) where its thickness texture is 0 and 1
+  vec4 anisotropy;     // metal-rough (KHR_materials_anisotropy, FEATURE_ANISOTROPY): x strength, y and z the cosine
+                       // and sine of the direction's rotation from the tangent, w its texture (uint bits; WP_INVALID none)
 };
 
 // A texture; checker textures refer to two other textures. 96 bytes.

@@ -64,8 +64,10 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
     if (m.children.z != WP_INVALID) k.w |= KIND_BIT(FEATURE_NORMAL_MAPS);
     if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) k.w |= KIND_BIT(FEATURE_EMISSION_TEXTURES);
     if (m.info.x == MAT_LIGHT && m.params.x != 0.0f) k.w |= KIND_BIT(FEATURE_COSINE_EMISSION);
-    if (m.info.x == MAT_METAL_ROUGH && (m.params2 != glm::vec4(0.0f) || m.moreTextures != glm::uvec4(WP_INVALID)))
+    if (m.info.x == MAT_METAL_ROUGH && (m.params2 != glm::vec4(0.0f) || m.moreTextures.x != WP_INVALID || m.moreTextures.y != WP_INVALID))
       k.w |= KIND_BIT(FEATURE_SPECULAR_TINT);
+    if (m.info.x == MAT_METAL_ROUGH && m.iridescence.x > 0.0f) k.w |= KIND_BIT(FEATURE_IRIDESCENCE);
+    if (m.info.x == MAT_METAL_ROUGH && m.anisotropy.x > 0.0f) k.w |= KIND_BIT(FEATURE_ANISOTROPY);
     if (m.info.x == MAT_METAL_ROUGH && m.volume.w > 0.0f) k.w |= KIND_BIT(FEATURE_VOLUME);
   }
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
@@ -105,7 +107,9 @@ glm::uvec2 bsdf_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
   glm::uvec2 k(KIND_BIT(mat.info.x),
                lookup_kinds(cs.textures, mat.info.y) | lookup_kinds(cs.textures, mat.info.w) | lookup_kinds(cs.textures, mat.children.z));
   if (mat.info.x == MAT_METAL_ROUGH)  // its transmission and specular textures
-    k.y |= lookup_kinds(cs.textures, mat.children.y) | lookup_kinds(cs.textures, mat.moreTextures.x) | lookup_kinds(cs.textures, mat.moreTextures.y);
+    k.y |= lookup_kinds(cs.textures, mat.children.y) | lookup_kinds(cs.textures, mat.moreTextures.x) | lookup_kinds(cs.textures, mat.moreTextures.y) |
+           lookup_kinds(cs.textures, mat.moreTextures.z) | lookup_kinds(cs.textures, mat.moreTextures.w) |
+           lookup_kinds(cs.textures, glm::floatBitsToUint(mat.anisotropy.w));
   // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
   if (mat.info.x == MAT_BLEND && depth < int(BSDF_MAX_LOBES))
     k |= bsdf_kinds(cs, mat.children.x, depth + 1) | bsdf_kinds(cs, mat.children.y, depth + 1);
@@ -332,8 +336,11 @@ static shader::Material pack_material(const SceneMaterial& in) {
   m.children = glm::uvec4(in.a, in.b, in.normalMap, WP_INVALID);  // w: the sort key (shade_classes)
   if (in.kind != MAT_BLEND && !is_layer(in.kind)) m.children.x = glm::floatBitsToUint(in.alphaCutoff);
   if (in.kind == MAT_METAL_ROUGH) m.children.y = in.transmission;
-  m.moreTextures = glm::uvec4(in.specular, in.specularColor, WP_INVALID, WP_INVALID);
+  m.moreTextures = glm::uvec4(in.specular, in.specularColor, in.iridescenceTexture, in.iridescenceThickness);
   m.volume = glm::vec4(in.attenuation, in.volume ? 1.0f : 0.0f);
+  m.iridescence = in.iridescence;
+  m.anisotropy = glm::vec4(in.anisotropy, std::cos(in.anisotropyRotation), std::sin(in.anisotropyRotation),
+                           glm::uintBitsToFloat(in.anisotropyTexture));
   m.params = in.params;
   m.params2 = in.params2;
   return m;

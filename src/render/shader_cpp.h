@@ -108,8 +108,9 @@ static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof
 static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, flags) == 44 && offsetof(TriangleShading, uv12) == 48);
 static_assert(sizeof(TriangleVertexData) == 128 && offsetof(TriangleVertexData, color0) == 48 && offsetof(TriangleVertexData, uv1_2) == 112);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
-static_assert(sizeof(Material) == 96 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
-              offsetof(Material, params2) == 48 && offsetof(Material, moreTextures) == 64 && offsetof(Material, volume) == 80);
+static_assert(sizeof(Material) == 128 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
+              offsetof(Material, params2) == 48 && offsetof(Material, moreTextures) == 64 && offsetof(Material, volume) == 80 &&
+              offsetof(Material, iridescence) == 96 && offsetof(Material, anisotropy) == 112);
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 48 && offsetof(PointLight, intensity) == 16 && offsetof(PointLight, direction) == 32);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);

@@ -336,7 +336,7 @@ class DartsImporter {
       m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, smooth_or_ggx_alpha(j), 0.0f, 0.0f);
     } else if (type == "metal_rough") {
       j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "transmission", "emit", "specular",
-                    "specular_color", "volume"});
+                    "specular_color", "volume", "iridescence", "anisotropy"});
       m.kind = MAT_METAL_ROUGH;
       // KHR_materials_specular: a factor in [0, 1] and a colour from 0, each a
       // number or a texture (params2 holds the numbers less 1).
@@ -362,6 +362,39 @@ class DartsImporter {
         const float distance = v.has("attenuation_distance") ? v["attenuation_distance"].positive_number() : 1e30f;
         m.volume = true;
         m.attenuation = -glm::log(color) / distance;
+      }
+      // KHR_materials_iridescence: a thin film of `ior` (default 1.3) and a
+      // thickness in nm from `thickness_minimum` (default 100) where
+      // `thickness_texture`'s green is 0 to `thickness_maximum` (default 400)
+      // where it is 1 (the maximum without one), mixed in by `factor`.
+      if (j.has("iridescence")) {
+        const JsonCursor f = j["iridescence"].expect_object();
+        f.allow_only({"factor", "ior", "thickness_minimum", "thickness_maximum", "thickness_texture"});
+        glm::vec3 c(1.0f);
+        const bool textured = f.has("factor") && f["factor"].is_object();
+        if (f.has("factor")) {
+          const uint32_t t = texture_param(f["factor"], 0, &c);
+          if (textured) m.iridescenceTexture = t;
+          else if (c.x > 1.0f) f["factor"].fail("factor must lie in [0, 1]");
+        }
+        const float ior = f.has("ior") ? f["ior"].positive_number() : 1.3f;
+        if (!(ior >= 1.0f && ior <= 10.0f)) f["ior"].fail("ior must lie in [1, 10]");
+        const float lo = f.number_or("thickness_minimum", 100.0f), hi = f.number_or("thickness_maximum", 400.0f);
+        if (!(lo >= 0.0f && lo <= 1e5f)) f["thickness_minimum"].fail("thickness_minimum must lie in [0, 100000] nm");
+        if (!(hi >= 0.0f && hi <= 1e5f)) f["thickness_maximum"].fail("thickness_maximum must lie in [0, 100000] nm");
+        m.iridescence = glm::vec4(textured ? 1.0f : c.x, ior, lo, hi);
+        if (f.has("thickness_texture")) m.iridescenceThickness = texture_param(f["thickness_texture"]);
+      }
+      // KHR_materials_anisotropy: `strength` in [0, 1], `rotation` of the
+      // direction from the tangent (radians, default 0), `texture` of
+      // directions (red, green) and strengths (blue).
+      if (j.has("anisotropy")) {
+        const JsonCursor a = j["anisotropy"].expect_object();
+        a.allow_only({"strength", "rotation", "texture"});
+        m.anisotropy = unit_number(a, "strength", 1.0f);
+        m.anisotropyRotation = a.number_or("rotation", 0.0f);
+        if (!(std::fabs(m.anisotropyRotation) <= 1e4f)) a["rotation"].fail("rotation must be a number of radians");
+        if (a.has("texture")) m.anisotropyTexture = texture_param(a["texture"]);
       }
       if (j.has("specular_color")) {
         glm::vec3 c(1.0f);

@@ -102,8 +102,8 @@ std::string joined(const std::set<std::string>& names) {
 
 // The extensions wavepath reads. Others are named once in a warning, or
 // refused when the file requires them.
-const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",      "KHR_materials_clearcoat",    "KHR_materials_emissive_strength",
-                                                    "KHR_materials_ior",        "KHR_materials_sheen",        "KHR_materials_specular",
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",      "KHR_materials_anisotropy",      "KHR_materials_clearcoat",    "KHR_materials_emissive_strength",
+                                                    "KHR_materials_ior",        "KHR_materials_iridescence",  "KHR_materials_sheen",        "KHR_materials_specular",
                                                     "KHR_materials_transmission", "KHR_materials_volume",     "KHR_texture_transform"};
 
 // The most nodes a scene's tree may visit (a DAG can share subtrees, which
@@ -360,10 +360,9 @@ class GltfImporter {
       m.uvIndices = m.uvs.empty() ? std::vector<uint32_t>(corners.size(), WP_INVALID) : corners;
       m.materials.assign(corners.size() / 3, 0u);
       const uint32_t material = material_for(prim.material, pat + "/material");
-      // A normal map without TANGENT: smooth tangents from its UV set.
-      const uint32_t normalMap = any_normal_map(material);
-      if (normalMap != WP_INVALID && m.tangents.empty())
-        m.tangents = smooth_tangents(m, scene_.textures[normalMap].secondUvSet ? m.uvs1 : m.uvs);
+      // A normal map or anisotropy without TANGENT: smooth tangents from its UV set.
+      const int uvSet = uv_set_needing_tangents(material);
+      if (uvSet >= 0 && m.tangents.empty()) m.tangents = smooth_tangents(m, uvSet == 1 ? m.uvs1 : m.uvs);
       out.push_back(Primitive{std::move(m), material, pat});
     }
     return out;
@@ -451,6 +450,8 @@ class GltfImporter {
       m.emission = texture_times(TextureRef(g.emissiveTexture), glm::vec4(emissive, 1.0f), ColorEncoding::Srgb, at + "/emissiveTexture");
     read_specular(g, at, m);
     read_volume(g, at, m);
+    read_iridescence(g, at, m);
+    read_anisotropy(g, at, m);
     // The layers, each over what lies below (the extensions' order): the
     // base, a sheen, a clear coat. The top carries the surface's emission,
     // sidedness and cut-out; the base its alpha texture and normal map.
@@ -467,16 +468,19 @@ class GltfImporter {
     return id;
   }
 
-  // A normal map of material m's surface or of a coat over it (the first
-  // found), which needs tangents; WP_INVALID if none.
-  uint32_t any_normal_map(uint32_t m) const {
+  // The UV set (0 or 1) a mesh of material m needs tangents in: that of a
+  // normal map of its surface or of a coat over it, or of its anisotropy's
+  // texture (the first found; an anisotropy without a texture takes the
+  // first set); -1 where nothing needs tangents.
+  int uv_set_needing_tangents(uint32_t m) const {
     for (int depth = 0; depth <= LAYERS_MAX; ++depth) {
       const SceneMaterial& mat = scene_.materials[m];
-      if (mat.normalMap != WP_INVALID) return mat.normalMap;
+      if (mat.normalMap != WP_INVALID) return scene_.textures[mat.normalMap].secondUvSet ? 1 : 0;
+      if (mat.anisotropy > 0.0f) return mat.anisotropyTexture != WP_INVALID && scene_.textures[mat.anisotropyTexture].secondUvSet ? 1 : 0;
       if (!is_layer(mat.kind)) break;
       m = mat.a;
     }
-    return WP_INVALID;
+    return -1;
   }
 
   // A number of an extension's object in [lo, hi], or `fallback` if absent.
@@ -569,6 +573,37 @@ class GltfImporter {
     // "doubleSided has no effect on volume boundaries" (README.md:110-115):
     // paths inside meet the boundary from behind.
     if (m.volume) m.doubleSided = true;
+  }
+
+  // KHR_materials_iridescence on metal-rough m: a thin film's factor (times
+  // the red of its texture), ior and thickness range (nm; its texture's green
+  // picks within it, the maximum without one; README.md:61-88).
+  void read_iridescence(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) {
+    auto found = g.extensions.find("KHR_materials_iridescence");
+    if (found == g.extensions.end()) return;
+    const tinygltf::Value& e = found->second;
+    const std::string eat = at + "/extensions/KHR_materials_iridescence";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    m.iridescence = glm::vec4(extension_number(e, "iridescenceFactor", 0.0f, 0.0f, 1.0f, eat), extension_number(e, "iridescenceIor", 1.3f, 1.0f, 10.0f, eat),
+                              extension_number(e, "iridescenceThicknessMinimum", 100.0f, 0.0f, 1e5f, eat),
+                              extension_number(e, "iridescenceThicknessMaximum", 400.0f, 0.0f, 1e5f, eat));
+    if (e.Has("iridescenceTexture")) m.iridescenceTexture = extension_texture(e, "iridescenceTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat);
+    if (e.Has("iridescenceThicknessTexture"))
+      m.iridescenceThickness = extension_texture(e, "iridescenceThicknessTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat);
+  }
+
+  // KHR_materials_anisotropy on metal-rough m: strength, rotation (radians)
+  // and a texture of directions (red, green: 2 c - 1 in the tangent frame)
+  // and strengths (blue), linear (README.md:65-90).
+  void read_anisotropy(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) {
+    auto found = g.extensions.find("KHR_materials_anisotropy");
+    if (found == g.extensions.end()) return;
+    const tinygltf::Value& e = found->second;
+    const std::string eat = at + "/extensions/KHR_materials_anisotropy";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    m.anisotropy = extension_number(e, "anisotropyStrength", 0.0f, 0.0f, 1.0f, eat);
+    m.anisotropyRotation = extension_number(e, "anisotropyRotation", 0.0f, -1e4f, 1e4f, eat);
+    if (e.Has("anisotropyTexture")) m.anisotropyTexture = extension_texture(e, "anisotropyTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat);
   }
 
   // A layer of `kind` over material `base`: its albedo (the coat factor or the

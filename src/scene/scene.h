@@ -154,6 +154,18 @@ struct SceneMaterial {
   // volume (else thin-walled) that absorbs sigma per unit length
   bool volume = false;
   glm::vec3 attenuation{0.0f};
+  // metal-rough (KHR_materials_iridescence): a thin film's factor, ior and
+  // thickness (nm) where its thickness texture is 0 and 1 (factor 0: none),
+  // and textures scaling the factor (red) and placing the thickness (green)
+  glm::vec4 iridescence{0.0f, 1.3f, 100.0f, 400.0f};
+  uint32_t iridescenceTexture = WP_INVALID;
+  uint32_t iridescenceThickness = WP_INVALID;
+  // metal-rough (KHR_materials_anisotropy): strength (0: isotropic), the
+  // direction's rotation from the tangent (radians), and a texture of
+  // directions (red, green) and strengths (blue)
+  float anisotropy = 0.0f;
+  float anisotropyRotation = 0.0f;
+  uint32_t anisotropyTexture = WP_INVALID;
   // For a clearcoat or sheen, `albedo` is the coat's factor (red) or the
   // sheen's colour, `normalMap` the coat's own, params.x the coat's ior.
 };

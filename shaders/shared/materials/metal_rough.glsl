@@ -19,6 +19,11 @@
 //   transmission: f = (1 - m)(1 - max3 F_d) t base BTDF(wo, wi),
 // F_d taken at the transmitted angle on the way out, 1 beyond the critical
 // angle; the volume's absorption is the integrator's (volume_transmittance).
+// KHR_materials_iridescence (FEATURE_IRIDESCENCE; params3) lays a thin film
+// over both surfaces: metal_rough_iridescence; KHR_materials_anisotropy
+// (FEATURE_ANISOTROPY; params4) stretches the specular layer's microfacets
+// along a direction (metal_rough_specular_*); the refraction into a volume
+// stays isotropic.
 // color is the base colour, params at the hit: x alpha (roughness squared,
 // at least GGX_MIN_ALPHA), y metallic, z ior, w transmission (bsdf_at
 // resolves them from the material's factors and its metallic-roughness
@@ -45,6 +50,19 @@ vec3 metal_rough_dielectric_fresnel(Lobe l, float w) {
   float specular = 1.0f + l.params2.w;
   vec3 tinted = min(f0 * vec3(1.0f + l.params2.x, 1.0f + l.params2.y, 1.0f + l.params2.z), vec3(1.0f)) * specular;
   return tinted + (vec3(specular) - tinted) * w;
+}
+
+// A thin film over the dielectric's and the metal's surfaces
+// (KHR_materials_iridescence, params3: factor, ior, thickness): each Fresnel
+// term mixed by the factor with the film's reflectance over it at c = wo.h
+// (README.md:124-245 at acfcbe6; the specification leaves the angle open,
+// and wo.h is where the microfacet model takes its Fresnel terms).
+void metal_rough_iridescence(Lobe l, float c, INOUT(vec3) fd, INOUT(vec3) fm) {
+  if (!FEATURE_COMPILED(FEATURE_IRIDESCENCE) || !(l.params3.x > 0.0f)) return;
+  vec3 filmD = thin_film_fresnel(l.params3.y, l.params3.z, metal_rough_dielectric_fresnel(l, 0.0f), c);
+  vec3 filmM = thin_film_fresnel(l.params3.y, l.params3.z, l.color, c);
+  fd = fd + (filmD - fd) * l.params3.x;
+  fm = fm + (filmM - fm) * l.params3.x;
 }
 
 float metal_rough_max3(vec3 v) {
@@ -89,6 +107,56 @@ vec3 metal_rough_refraction_normal(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return dot(wo, h) > 0.0f && dot(wi, h) < 0.0f ? h : vec3(0.0f);
 }
 
+// The specular layer's microfacets: isotropic GGX of width alpha
+// (params.x), or with KHR_materials_anisotropy (FEATURE_ANISOTROPY)
+// alpha_t (params4.w) along the direction params4.xyz and alpha across it
+// (README.md:90-105 at acfcbe6). Its reflection term S |cos_i|, the density
+// of its samples and a sample, as ggx_reflection_* give them.
+bool metal_rough_anisotropic(Lobe l) {
+  return FEATURE_COMPILED(FEATURE_ANISOTROPY) && l.params4.w > 0.0f;
+}
+
+// w in the frame of the anisotropy's direction t, cross(ns, t) and ns.
+vec3 metal_rough_local(Lobe l, vec3 ns, vec3 w) {
+  vec3 t = vec3(l.params4.x, l.params4.y, l.params4.z);
+  return vec3(dot(w, t), dot(w, cross(ns, t)), dot(w, ns));
+}
+
+float metal_rough_specular_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  if (!metal_rough_anisotropic(l)) return ggx_reflection_eval(l.params.x, ns, wo, wi);
+  vec3 o = metal_rough_local(l, ns, wo);
+  vec3 i = metal_rough_local(l, ns, wi);
+  if (o.z <= 0.0f || i.z <= 0.0f) return 0.0f;
+  float at = l.params4.w;
+  float ab = l.params.x;
+  float g2 = 1.0f / (1.0f + ggx_anisotropic_lambda(o, at, ab) + ggx_anisotropic_lambda(i, at, ab));
+  return ggx_anisotropic_d(normalize(o + i), at, ab) * g2 / (4.0f * o.z);
+}
+
+float metal_rough_specular_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  if (!metal_rough_anisotropic(l)) return ggx_reflection_pdf(l.params.x, ns, wo, wi);
+  vec3 o = metal_rough_local(l, ns, wo);
+  vec3 i = metal_rough_local(l, ns, wi);
+  if (o.z <= 0.0f || i.z <= 0.0f) return 0.0f;
+  float at = l.params4.w;
+  float ab = l.params.x;
+  vec3 h = normalize(o + i);
+  float g1 = 1.0f / (1.0f + ggx_anisotropic_lambda(o, at, ab));
+  return g1 * ggx_anisotropic_d(h, at, ab) / (4.0f * o.z);  // G1 (wo.h) D / cos_o, over 4 wo.h
+}
+
+vec3 metal_rough_specular_sample(Lobe l, vec3 ns, vec3 wo, vec2 u) {
+  if (!metal_rough_anisotropic(l)) return ggx_reflection_sample(l.params.x, ns, wo, u);
+  vec3 t = vec3(l.params4.x, l.params4.y, l.params4.z);
+  vec3 b = cross(ns, t);
+  vec3 o = metal_rough_local(l, ns, wo);
+  if (o.z <= 0.0f) return vec3(0.0f);
+  vec3 hl = ggx_sample_visible_anisotropic(o, l.params4.w, l.params.x, u);
+  vec3 h = t * hl.x + b * hl.y + ns * hl.z;
+  vec3 wi = reflect_about(wo, h);
+  return hl.z > 0.0f && dot(wi, ns) > 0.0f ? wi : vec3(0.0f);
+}
+
 // Probabilities of sampling the specular layer (x) and the transmission (y)
 // rather than the diffuse base, by their estimated reflectance at wo.
 vec2 metal_rough_probabilities(Lobe l, float cosO) {
@@ -118,8 +186,8 @@ float metal_rough_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
     float denom = dot(wo, h) + eta * dot(wi, h);
     return p.y * ggx_visible_pdf(wo, h, ns, l.params.x) * eta * eta * abs(dot(wi, h)) / (denom * denom);
   }
-  if (dot(wi, ns) < 0.0f) return p.y * ggx_reflection_pdf(l.params.x, ns, wo, metal_rough_mirrored(ns, wi));
-  return p.x * ggx_reflection_pdf(l.params.x, ns, wo, wi) + (1.0f - p.x - p.y) * lambertian_pdf(l, ns, wo, wi);
+  if (dot(wi, ns) < 0.0f) return p.y * metal_rough_specular_pdf(l, ns, wo, metal_rough_mirrored(ns, wi));
+  return p.x * metal_rough_specular_pdf(l, ns, wo, wi) + (1.0f - p.x - p.y) * lambertian_pdf(l, ns, wo, wi);
 }
 
 vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
@@ -137,7 +205,10 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
     float eta = metal_rough_eta(l);
     float woH = dot(wo, h);
     float wiH = dot(wi, h);
-    float base = 1.0f - metal_rough_max3(metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, woH)));
+    vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, woH));
+    vec3 fm = vec3(0.0f);
+    metal_rough_iridescence(l, woH, fd, fm);
+    float base = 1.0f - metal_rough_max3(fd);
     float denom = woH + eta * wiH;
     float btdf = ggx_d(h, ns, l.params.x) * ggx_g2(cosO, -cosI, l.params.x) * eta * eta * woH * abs(wiH) / (cosO * denom * denom);
     return l.color * ((1.0f - metallic) * base * transmission * btdf);
@@ -146,17 +217,18 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float c = dot(wo, normalize(wo + wr));
   float w = schlick_weight(c);
   vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
-  float base = 1.0f - metal_rough_max3(fd);  // the base's weight under the specular layer
-  float specular = ggx_reflection_eval(l.params.x, ns, wo, wr);  // S |cos_i|
-  if (cosI < 0.0f) return l.color * ((1.0f - metallic) * base * transmission * specular);
   vec3 fm = l.color + (vec3(1.0f) - l.color) * w;
+  metal_rough_iridescence(l, c, fd, fm);
+  float base = 1.0f - metal_rough_max3(fd);  // the base's weight under the specular layer
+  float specular = metal_rough_specular_eval(l, ns, wo, wr);  // S |cos_i|
+  if (cosI < 0.0f) return l.color * ((1.0f - metallic) * base * transmission * specular);
   vec3 dielectric = l.color * (base * (1.0f - transmission) * cosI * WP_INV_PI) + fd * specular;
   return dielectric * (1.0f - metallic) + fm * (metallic * specular);
 }
 
 vec3 metal_rough_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
   vec2 p = metal_rough_probabilities(l, dot(wo, ns));
-  if (u.z < p.x) return ggx_reflection_sample(l.params.x, ns, wo, vec2(u.x, u.y));
+  if (u.z < p.x) return metal_rough_specular_sample(l, ns, wo, vec2(u.x, u.y));
   if (u.z < p.x + p.y && metal_rough_refracts(l)) {
     vec3 h = ggx_visible_normal(l.params.x, ns, wo, vec2(u.x, u.y));
     if (dot(h, ns) <= 0.0f) return vec3(0.0f);
@@ -168,7 +240,7 @@ vec3 metal_rough_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
     return dot(wi, ns) < 0.0f ? wi : vec3(0.0f);
   }
   if (u.z < p.x + p.y) {
-    vec3 wr = ggx_reflection_sample(l.params.x, ns, wo, vec2(u.x, u.y));
+    vec3 wr = metal_rough_specular_sample(l, ns, wo, vec2(u.x, u.y));
     return wr == vec3(0.0f) ? wr : metal_rough_mirrored(ns, wr);
   }
   return lambertian_sample(l, ns, wo, u);
