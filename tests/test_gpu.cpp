@@ -523,6 +523,30 @@ TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
   }
 }
 
+// The SPIR-V specialized on the host (gpu/specialize.h) against the driver
+// specializing it: the same paths, the same rays, the same sums to rounding.
+TEST_F(Gpu, SpecializingTheSpirvLeavesTheImageUnchanged) {
+  for (const char* path : {"tests/data/features/materials.json", "tests/data/features/layers.json"}) {
+    Scene scene = load_scene(source_path(path));
+    scene.camera.width = std::min(scene.camera.width, 48);
+    scene.camera.height = std::min(scene.camera.height, 48);
+    RenderOptions o;
+    o.spp = 4;
+    o.maxBounces = 4;
+    CompiledScene cs = compile_scene(scene, o);
+    Progress quiet("", 0, false);
+    WavefrontSettings byDriver;
+    byDriver.specializeSpirv = false;
+    WavefrontRenderer specialized(*ctx_, cs), unspecialized(*ctx_, cs, byDriver);
+    ImageStats a = specialized.render(quiet), b = unspecialized.render(quiet);
+    ASSERT_EQ(a.count, b.count) << path;
+    for (size_t k = 0; k < a.sum.size(); ++k)
+      ASSERT_NEAR(a.sum[k], b.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << path << ", pixel " << k / 3;
+    EXPECT_EQ(specialized.stage_times().closestHitRays, unspecialized.stage_times().closestHitRays) << path;
+    EXPECT_EQ(specialized.stage_times().shadowRays, unspecialized.stage_times().shadowRays) << path;
+  }
+}
+
 // Rays traced: every variant traces the same paths, so the same rays,
 // however it counts them (the queue sizes in prepare with compaction, per ray
 // in extend without, per path in the megakernel). Every path casts its camera

@@ -30,6 +30,7 @@ Command add_convergence(CLI::App& app);
 Command add_info(CLI::App& app);
 Command add_devices(CLI::App& app);
 Command add_test(CLI::App& app);
+Command add_view(CLI::App& app);
 
 // `wavepath test FILE` (test.cpp); `wavepath render` runs a test file this way too.
 struct TestArgs {

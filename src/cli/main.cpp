@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<cli::Command> commands = {cli::add_render(app), cli::add_merge(app), cli::add_compare(app), cli::add_bench(app),
                                               cli::add_convergence(app), cli::add_info(app), cli::add_devices(app),
-                                              cli::add_test(app)};
+                                              cli::add_test(app), cli::add_view(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

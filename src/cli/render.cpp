@@ -331,41 +331,13 @@ Command add_render(CLI::App& app) {
   render->add_option("--resume", r->resume,
                      "continue the render a checkpoint or partial EXR holds samples of, rendering only those missing (the "
                      "checkpoint's own path: resume if it exists, else start)");
-  render->add_option("-s,--spp", r->spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")
-      ->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
-  render->add_option("-m,--max-bounces", r->maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")
-      ->check(CLI::Range(0, 1024));
-  render->add_option("--integrator", r->integrator,
-                     "integrator, overriding the scene's: normals, ao, \"path tracer mats|nee|mis|mixture|hemisphere\"");
-  render->add_flag("-H,--hemisphere", *hemisphere,
-                   "uniform hemisphere sampling instead of light sampling: --integrator \"path tracer hemisphere\" (CS184: -H)");
-  render->add_option("--sampler", r->sampler, "sampler, overriding the scene's: independent or cmj");
-  render->add_option("-b,--aperture", r->aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
-  render->add_option("-d,--focus-distance", r->focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
-      ->check(CLI::PositiveNumber);
-  render->add_option("-l,--light-samples", r->lightSamples,
-                     "next-event-estimation samples per path vertex, 1 to " + std::to_string(MAX_LIGHT_SAMPLES) + " (CS184: -l)")
-      ->check(CLI::Range(1, int(MAX_LIGHT_SAMPLES)));
+  add_scene_options(*render, *r, *hemisphere);
   render->add_option("-a,--adaptive", r->adaptive,
                      "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
       ->expected(2);
-  render->add_option("-e,--env", r->environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e); none: no environment, a black "
-                     "background (a glTF model without lights is otherwise lit by a white sky)");
-  render->add_option("--camera", r->camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
-  render->add_option("-c,--camera-settings", r->cameraSettings, "a CS184 camera settings file, as its viewer writes with D (CS184: -c)");
   render->add_option("-p,--cell", r->cell, "render one cell X Y DX DY of the frame, rows counted from the bottom (CS184: -p)")
       ->expected(4)
       ->check(CLI::Range(0, MAX_IMAGE_SIZE));
-  render->add_flag("--consistent-lights", r->consistentLights,
-                   "CS184 scenes: read the lights physically (area lights are visible quads, emissive meshes light the "
-                   "scene) instead of as the course's estimator does");
-  render->add_option("--cs184", r->cs184Skeleton,
-                     "CS184 scenes: the skeleton whose scene conventions to follow, 3-1 (default: emissive meshes glow, area "
-                     "lights are not geometry) or 3-2 (emissive meshes are black, area lights are visible quads, as the "
-                     "course's 3-2 renderer draws them)")
-      ->check(CLI::IsMember({"3-1", "3-2"}));
-  render->add_option("--seed", r->seed, "random seed; renders with equal seeds are identical");
-  render->add_option("--device", r->device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   render->add_option("--devices", r->devices,
                      "render on several devices at once, in one process: Vulkan device indices or names, and cpu for the "
                      "CPU reference (e.g. 0,1 or 0,cpu); chunks of samples go to whichever is free")
@@ -373,18 +345,9 @@ Command add_render(CLI::App& app) {
   render->add_flag("--cpu", r->cpu, "render with the CPU reference renderer instead of Vulkan");
   render->add_option("-t,--threads", r->threads, "CPU threads for --cpu (default: all cores) (CS184: -t)")->check(CLI::Range(0, 1024));
   render->add_flag("-q,--quiet", r->quiet, "no progress line and no summary");
-  render->add_flag("--validation", r->validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
-  render->add_option("--variant", r->variant, "kernel variant (wavepath devices lists them); default gpu");
   render->add_flag("--stage-times", r->stageTimes, "print the GPU time of each kernel stage (Vulkan timestamps)");
-  render->add_option("-r,--resolution", r->resolution, "image size W H, overriding the scene's (CS184: -r)")
-      ->expected(2)
-      ->check(CLI::Range(1, MAX_IMAGE_SIZE));
   return {render, [r, hemisphere] {
-            if (*hemisphere) {
-              if (!r->integrator.empty() && r->integrator != "path tracer hemisphere")
-                throw InputError("-H (uniform hemisphere sampling) and --integrator \"" + r->integrator + "\" contradict each other");
-              r->integrator = "path tracer hemisphere";
-            }
+            apply_hemisphere_flag(*r, *hemisphere);
             return run_render(*r);
           }};
 }

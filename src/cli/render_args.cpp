@@ -199,4 +199,48 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
 }
 
 
+void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
+  app.add_option("-s,--spp", r.spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")
+      ->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
+  app.add_option("-m,--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")
+      ->check(CLI::Range(0, 1024));
+  app.add_option("--integrator", r.integrator,
+                     "integrator, overriding the scene's: normals, ao, \"path tracer mats|nee|mis|mixture|hemisphere\"");
+  app.add_flag("-H,--hemisphere", hemisphere,
+                   "uniform hemisphere sampling instead of light sampling: --integrator \"path tracer hemisphere\" (CS184: -H)");
+  app.add_option("--sampler", r.sampler, "sampler, overriding the scene's: independent or cmj");
+  app.add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
+  app.add_option("-d,--focus-distance", r.focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("-l,--light-samples", r.lightSamples,
+                     "next-event-estimation samples per path vertex, 1 to " + std::to_string(MAX_LIGHT_SAMPLES) + " (CS184: -l)")
+      ->check(CLI::Range(1, int(MAX_LIGHT_SAMPLES)));
+  app.add_option("-e,--env", r.environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e); none: no environment, a black "
+                     "background (a glTF model without lights is otherwise lit by a white sky)");
+  app.add_option("--camera", r.camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
+  app.add_option("-c,--camera-settings", r.cameraSettings, "a CS184 camera settings file, as its viewer writes with D (CS184: -c)");
+  app.add_flag("--consistent-lights", r.consistentLights,
+                   "CS184 scenes: read the lights physically (area lights are visible quads, emissive meshes light the "
+                   "scene) instead of as the course's estimator does");
+  app.add_option("--cs184", r.cs184Skeleton,
+                     "CS184 scenes: the skeleton whose scene conventions to follow, 3-1 (default: emissive meshes glow, area "
+                     "lights are not geometry) or 3-2 (emissive meshes are black, area lights are visible quads, as the "
+                     "course's 3-2 renderer draws them)")
+      ->check(CLI::IsMember({"3-1", "3-2"}));
+  app.add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
+  app.add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
+  app.add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
+  app.add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default gpu");
+  app.add_option("-r,--resolution", r.resolution, "image size W H, overriding the scene's (CS184: -r)")
+      ->expected(2)
+      ->check(CLI::Range(1, MAX_IMAGE_SIZE));
+}
+
+void apply_hemisphere_flag(RenderArgs& r, bool hemisphere) {
+  if (!hemisphere) return;
+  if (!r.integrator.empty() && r.integrator != "path tracer hemisphere")
+    throw InputError("-H (uniform hemisphere sampling) and --integrator \"" + r.integrator + "\" contradict each other");
+  r.integrator = "path tracer hemisphere";
+}
+
 }  // namespace wp::cli

@@ -4,6 +4,8 @@
 // variant.
 #pragma once
 
+#include <CLI/CLI.hpp>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -55,6 +57,12 @@ struct RenderArgs {
   // indices or names (each running `variant`) and "cpu" for the reference.
   std::vector<std::string> devices;
 };
+
+// The options of what and how to render that `render` and `view` share
+// (samples, bounces, integrator, lens, camera, device...), into `r`; -H sets
+// `hemisphere`, which apply_hemisphere_flag turns into the integrator.
+void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere);
+void apply_hemisphere_flag(RenderArgs& r, bool hemisphere);
 
 // The render options the arguments ask for, with `seed`. Throws InputError
 // for an unknown integrator or sampler or a bad adaptive setting.

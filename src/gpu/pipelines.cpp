@@ -2,7 +2,9 @@
 // the descriptor set, each kernel's pipeline specialized to the scene and the
 // device, timestamps, and the driver's statistics of each kernel.
 #include <algorithm>
+#include <cstdio>
 
+#include "gpu/specialize.h"
 #include "gpu/wavefront_impl.h"
 #include "util/error.h"
 
@@ -209,7 +211,6 @@ std::vector<std::pair<std::string, const vk::raii::Pipeline*>> WavefrontRenderer
 }
 
 vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOptions o) {
-  vk::raii::ShaderModule module(ctx.device(), vk::ShaderModuleCreateInfo({}, k.bytes, k.code));
   // The specialization constants of the kernels, by their ids (bindings.glsl).
   const shader::uvec4& accel = scene.params.accel;
   // More slots than the register stack holds select the indexed stack.
@@ -238,7 +239,19 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   vk::SpecializationMapEntry entries[kConstants];
   for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));
   vk::SpecializationInfo spec(kConstants, entries, sizeof(values), values);
-  vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", &spec);
+  // The constants applied to the SPIR-V here (gpu/specialize.h); where the
+  // optimizer fails, the driver applies them.
+  std::vector<uint32_t> specialized;
+  if (settings.specializeSpirv) {
+    std::string error;
+    specialized = specialize_kernel(k.code, k.bytes / sizeof(uint32_t), std::vector<uint32_t>(values, values + kConstants), error);
+    if (specialized.empty()) std::fprintf(stderr, "wavepath: the kernel's SPIR-V could not be specialized (%s); the driver specializes it\n", error.c_str());
+  }
+  vk::ShaderModuleCreateInfo moduleInfo = specialized.empty()
+      ? vk::ShaderModuleCreateInfo({}, k.bytes, k.code)
+      : vk::ShaderModuleCreateInfo({}, specialized.size() * sizeof(uint32_t), specialized.data());
+  vk::raii::ShaderModule module(ctx.device(), moduleInfo);
+  vk::PipelineShaderStageCreateInfo stage({}, vk::ShaderStageFlagBits::eCompute, *module, "main", specialized.empty() ? &spec : nullptr);
   vk::PipelineCreateFlags flags;
   if (settings.captureStatistics && ctx.info().pipelineStatistics) flags |= vk::PipelineCreateFlagBits::eCaptureStatisticsKHR;
   return vk::raii::Pipeline(ctx.device(), nullptr, vk::ComputePipelineCreateInfo(flags, stage, *pipelineLayout));

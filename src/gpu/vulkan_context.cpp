@@ -81,10 +81,12 @@ GpuDeviceInfo describe(const vk::raii::PhysicalDevice& pd, uint32_t index) {
   return info;
 }
 
-std::unique_ptr<vk::raii::Instance> make_instance(const vk::raii::Context& ctx, bool validation) {
+std::unique_ptr<vk::raii::Instance> make_instance(const vk::raii::Context& ctx, bool validation,
+                                                  const std::vector<std::string>& windowExtensions = {}) {
   vk::ApplicationInfo app("wavepath", 1, "wavepath", 1, VK_API_VERSION_1_1);
   std::vector<const char*> layers;
   std::vector<const char*> extensions;
+  for (const std::string& e : windowExtensions) extensions.push_back(e.c_str());
   if (validation) {
     bool found = false;
     for (const auto& l : ctx.enumerateInstanceLayerProperties()) found = found || std::strcmp(l.layerName, kValidationLayer) == 0;
@@ -125,9 +127,9 @@ std::vector<GpuDeviceInfo> VulkanContext::list_devices(bool validation) {
   return out;
 }
 
-VulkanContext::VulkanContext(const std::string& selector, bool validation) {
+VulkanContext::VulkanContext(const std::string& selector, bool validation, const Presentation* presentation) {
   context_ = make_context();
-  instance_ = make_instance(*context_, validation);
+  instance_ = make_instance(*context_, validation, presentation ? presentation->instanceExtensions : std::vector<std::string>{});
   if (validation) {
     using S = vk::DebugUtilsMessageSeverityFlagBitsEXT;
     using T = vk::DebugUtilsMessageTypeFlagBitsEXT;
@@ -135,10 +137,22 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
                                             &on_validation_message, validationMessages_.get());
     messenger_ = std::make_unique<vk::raii::DebugUtilsMessengerEXT>(*instance_, ci);
   }
+  if (presentation) surface_ = std::make_unique<vk::raii::SurfaceKHR>(*instance_, presentation->makeSurface(**instance_));
   vk::raii::PhysicalDevices devices(*instance_);
   if (devices.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
   std::vector<GpuDeviceInfo> infos;
-  for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
+  for (uint32_t i = 0; i < devices.size(); ++i) {
+    infos.push_back(describe(devices[i], i));
+    // A window's device presents from the queue it computes on.
+    if (surface_ && infos.back().suitable) {
+      std::optional<uint32_t> family = compute_queue_family(devices[i]);
+      bool swapchain = false;
+      for (const vk::ExtensionProperties& x : devices[i].enumerateDeviceExtensionProperties())
+        swapchain = swapchain || std::strcmp(x.extensionName.data(), VK_KHR_SWAPCHAIN_EXTENSION_NAME) == 0;
+      infos.back().presents = swapchain && family && devices[i].getSurfaceSupportKHR(*family, **surface_);
+      if (!infos.back().presents) infos.back().suitable = false;
+    }
+  }
 
   int chosen = -1;
   if (selector.empty()) {
@@ -147,6 +161,7 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
       if (chosen < 0 || type_rank(devices[i].getProperties().deviceType) < type_rank(devices[size_t(chosen)].getProperties().deviceType))
         chosen = int(i);
     }
+    if (chosen < 0 && surface_) throw RenderError("no Vulkan device can present to the window from a compute queue");
     if (chosen < 0) throw RenderError("no suitable Vulkan device (Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders) found");
   } else {
     char* end = nullptr;
@@ -165,6 +180,7 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
       }
       if (chosen < 0) throw InputError("--device " + selector + ": no device name contains that text (see wavepath devices)");
     }
+    if (surface_ && !infos[size_t(chosen)].presents) throw RenderError("device " + infos[size_t(chosen)].name + " cannot present to the window");
     if (!infos[size_t(chosen)].suitable) throw RenderError("device " + infos[size_t(chosen)].name + " lacks Vulkan 1.1, a compute queue or subgroup ballots in compute shaders");
   }
   physical_ = std::make_unique<vk::raii::PhysicalDevice>(std::move(devices[size_t(chosen)]));
@@ -178,6 +194,7 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation) {
   // Pipeline statistics (registers, spills, instruction counts: whatever the
   // driver reports), where offered: `wavepath info --kernels` shows them.
   std::vector<const char*> extensions;
+  if (surface_) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT atomicFloat;
   vk::PhysicalDevicePipelineExecutablePropertiesFeaturesKHR executableProperties;
   // The device's support for a feature struct's features, and enabling one.

@@ -30,6 +30,15 @@ struct GpuDeviceInfo {
   bool suitable = false;  // Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders
   bool floatAtomicAdd = false;  // set for the chosen device: VK_EXT_shader_atomic_float enabled
   bool pipelineStatistics = false;  // set for the chosen device: VK_KHR_pipeline_executable_properties enabled
+  bool presents = false;  // with a window: its compute queue presents to the window's surface (VK_KHR_swapchain)
+};
+
+// What a window asks of the context (`wavepath view`): the instance
+// extensions its surface needs, and the surface, made once the instance
+// exists. The device is then one whose compute queue presents to it.
+struct Presentation {
+  std::vector<std::string> instanceExtensions;
+  std::function<VkSurfaceKHR(VkInstance)> makeSurface;
 };
 
 class Buffer {
@@ -50,7 +59,7 @@ class VulkanContext {
  public:
   // selector: "" picks the best device (discrete > integrated > virtual > cpu);
   // otherwise an index from list_devices() or part of a device name.
-  VulkanContext(const std::string& selector, bool validation);
+  VulkanContext(const std::string& selector, bool validation, const Presentation* presentation = nullptr);
   ~VulkanContext();
 
   static std::vector<GpuDeviceInfo> list_devices(bool validation);
@@ -59,6 +68,7 @@ class VulkanContext {
   const GpuDeviceInfo& info() const { return info_; }
   const vk::raii::Device& device() const { return *device_; }
   const vk::raii::PhysicalDevice& physical() const { return *physical_; }
+  const vk::raii::SurfaceKHR* surface() const { return surface_.get(); }  // null without a window
   vk::Queue queue() const { return queue_; }
   uint32_t queue_family() const { return queueFamily_; }
   uint64_t validation_messages() const { return validationMessages_->load(); }
@@ -79,6 +89,7 @@ class VulkanContext {
   std::unique_ptr<vk::raii::Context> context_;
   std::unique_ptr<vk::raii::Instance> instance_;
   std::unique_ptr<vk::raii::DebugUtilsMessengerEXT> messenger_;
+  std::unique_ptr<vk::raii::SurfaceKHR> surface_;
   std::unique_ptr<vk::raii::PhysicalDevice> physical_;
   std::unique_ptr<vk::raii::Device> device_;
   std::unique_ptr<vk::raii::CommandPool> pool_;

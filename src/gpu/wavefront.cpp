@@ -197,6 +197,17 @@ uint32_t WavefrontRenderer::render(ImageStats& image, SampleRange range, Progres
   return impl_->render(image, range, progress, afterPass);
 }
 
+void WavefrontRenderer::update_params() {
+  const shader::SceneParams& now = impl_->scene.params;
+  const shader::SceneParams& was = impl_->compiledParams;
+  if (now.image.x != was.image.x || now.image.y != was.image.y || now.mode.x != was.mode.x || now.mode.w != was.mode.w ||
+      now.kinds != was.kinds || now.accel != was.accel || now.counts.w != was.counts.w)
+    throw RenderError("internal error: the scene's parameters changed in a way its kernels were not made for");
+  shader::SceneParams params = now;
+  params.counts.z = impl_->traversal_step_cap();
+  impl_->ctx.upload(*impl_->buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
+}
+
 ImageStats WavefrontRenderer::render(Progress& progress) {
   ImageStats image(impl_->scene.width, impl_->scene.height, image_layers(impl_->scene.aovs));
   render(image, SampleRange{0, uint32_t(impl_->scene.spp)}, progress);

@@ -57,6 +57,7 @@ struct WavefrontSettings {
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
   bool captureStatistics = false;       // keep the driver's statistics of each pipeline (kernel_statistics)
+  bool specializeSpirv = true;          // apply the specialization constants to the SPIR-V before the driver (gpu/specialize.h)
   uint32_t raysPerInvocation = 0;       // of the tracing kernels; 0: 16 on CPU devices for a wide BVH of depth 4 or more, else 1
 };
 
@@ -98,6 +99,11 @@ class WavefrontRenderer {
   uint32_t render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass = {});
   // All of the scene's samples, 0 to scene.spp, into a new image.
   ImageStats render(Progress& progress);
+  // Uploads the scene's parameters again after the caller changed those the
+  // kernels read at run time (the camera, max bounces, the seed; `wavepath
+  // view`). Throws RenderError if a change needs other kernels (image size,
+  // integrator, kinds, light samples): make a new renderer for those.
+  void update_params();
   // Per-stage GPU time of the last render (zero where the device has no timestamps).
   const StageTimes& stage_times() const;
   // How often work was done again one ray per invocation because a ray

@@ -35,6 +35,7 @@ void stage_barrier(vk::CommandBuffer cb);
 struct WavefrontRenderer::Impl {
   const VulkanContext& ctx;
   const CompiledScene& scene;
+  const shader::SceneParams compiledParams = scene.params;  // as the kernels were made for (update_params)
   WavefrontSettings settings;
   uint32_t capacity = 0;  // path slots per wave
   uint32_t lightSamples = 1;  // shadow rays per path and bounce, at most

@@ -393,6 +393,14 @@ BvhInput bvh_input(const Scene& scene) {
   return bvh_input(scene, material_radiance(scene, pack_textures(scene)));
 }
 
+void set_camera_params(const Camera& cam, shader::SceneParams& p) {
+  rows_3x4(cam.toWorld, p.camToWorld0, p.camToWorld1, p.camToWorld2);
+  p.camLens = glm::vec4(cam.orthoHalfHeight > 0.0f ? -cam.orthoHalfHeight : std::tan(glm::radians(cam.vfovDegrees) * 0.5f),
+                        cam.aspect > 0.0f ? cam.aspect : float(cam.width) / float(cam.height),
+                        cam.apertureRadius, cam.focusDistance);
+  p.camWindow = cam.window;
+}
+
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
@@ -617,10 +625,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   out.aovs = ImageStats(0, 0, image_layers(options.aovs)).aov_names();  // checked, in the table's order
   int maxBounces = options.maxBounces >= 0 ? options.maxBounces : scene.integrator.maxBounces;
   shader::SceneParams& p = out.params;
-  rows_3x4(cam.toWorld, p.camToWorld0, p.camToWorld1, p.camToWorld2);
-  p.camLens = glm::vec4(cam.orthoHalfHeight > 0.0f ? -cam.orthoHalfHeight : std::tan(glm::radians(cam.vfovDegrees) * 0.5f),
-                        cam.aspect > 0.0f ? cam.aspect : float(cam.width) / float(cam.height),
-                        cam.apertureRadius, cam.focusDistance);
+  set_camera_params(cam, p);
   p.background = glm::vec4(scene.background, 0.0f);
   p.environment = glm::uvec4(scene.environment, environmentEmitter, 0u, 0u);
   if (scene.environment != WP_INVALID) {
@@ -630,7 +635,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   p.image = glm::uvec4(uint32_t(cam.width), uint32_t(cam.height), uint32_t(maxBounces),
                        uint32_t(scene.integrator.russianRouletteDepth));
   p.mis = glm::vec4(scene.integrator.misPower, 0.0f, 0.0f, 0.0f);
-  p.camWindow = cam.window;
   uint32_t flags = 0;
   IntegratorKind kind = options.integrator ? *options.integrator : scene.integrator.kind;
   if (kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;

@@ -93,6 +93,10 @@ struct CompiledScene {
 };
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
+// The camera's part of the kernels' parameters: where it stands, its field,
+// lens and the window of the frame it sees (what `wavepath view` changes
+// between passes, WavefrontRenderer::update_params).
+void set_camera_params(const Camera& camera, shader::SceneParams& params);
 
 // The primitives' bounds, numbered as compile_scene numbers them: the
 // triangles, then the spheres.

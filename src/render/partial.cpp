@@ -12,20 +12,6 @@ namespace wp {
 
 namespace {
 
-std::string integrator_name(const shader::SceneParams& p) {
-  const uint32_t flags = p.counts.w;
-  switch (p.mode.x) {
-    case INTEGRATOR_NORMALS: return "normals";
-    case INTEGRATOR_AO: return "ao";
-    case INTEGRATOR_MIXTURE: return "path tracer mixture";
-    default: break;
-  }
-  if (flags & SCENE_FLAG_HEMISPHERE) return "path tracer hemisphere";
-  if (flags & SCENE_FLAG_NO_NEE) return "path tracer mats";
-  if (flags & SCENE_FLAG_NO_BSDF_MIS) return "path tracer nee";
-  return "path tracer mis";
-}
-
 // A settings string's "key=value" items, in order.
 std::vector<std::pair<std::string, std::string>> settings_items(const std::string& settings) {
   std::vector<std::pair<std::string, std::string>> items;
@@ -46,6 +32,20 @@ std::string first_difference(const std::string& a, const std::string& b) {
 }
 
 }  // namespace
+
+std::string integrator_name(const shader::SceneParams& p) {
+  const uint32_t flags = p.counts.w;
+  switch (p.mode.x) {
+    case INTEGRATOR_NORMALS: return "normals";
+    case INTEGRATOR_AO: return "ao";
+    case INTEGRATOR_MIXTURE: return "path tracer mixture";
+    default: break;
+  }
+  if (flags & SCENE_FLAG_HEMISPHERE) return "path tracer hemisphere";
+  if (flags & SCENE_FLAG_NO_NEE) return "path tracer mats";
+  if (flags & SCENE_FLAG_NO_BSDF_MIS) return "path tracer nee";
+  return "path tracer mis";
+}
 
 std::string render_setting(const std::string& settings, const std::string& key) {
   for (const auto& [k, v] : settings_items(settings))

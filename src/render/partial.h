@@ -16,6 +16,8 @@ namespace wp {
 
 // "wavepath 0.1.0"
 std::string wavepath_version();
+// The integrator the kernels' parameters select, by its darts name.
+std::string integrator_name(const shader::SceneParams& params);
 
 // A 64-bit FNV-1a hash of the contents of every file the scene was read
 // from (Scene::inputFiles, in order), as 16 hex digits: equal for the same

@@ -760,25 +760,33 @@ Scene import_collada(const std::string& path) {
   return ColladaReader(path).read();
 }
 
-void apply_cs184_camera_settings(const std::string& path, Camera& camera) {
+std::vector<double> read_cs184_camera_settings(const std::string& path) {
   auto bytes = read_file_bytes(path);
   if (!bytes) throw InputError(path + ": cannot read the camera settings file");
-  // hFov vFov ar nClip fClip / pos target / phi theta r minR maxR / c2w (9,
-  // row by row) / screenW screenH screenDist / focalDistance lensRadius.
   std::vector<double> v;
   const char* s = reinterpret_cast<const char*>(bytes->data());
   const std::string problem = read_numbers(s, s + bytes->size(), 30, v);
   if (!problem.empty()) throw InputError(path + ": " + problem + " (a CS184 camera settings file holds 30)");
   if (v.size() != 30) throw InputError(path + ": " + std::to_string(v.size()) + " numbers, where a CS184 camera settings file holds 30");
+  return v;
+}
+
+void apply_cs184_camera_settings(const std::vector<double>& v, Camera& camera, const std::string& where) {
+  // hFov vFov ar nClip fClip / pos target / phi theta r minR maxR / c2w (9,
+  // row by row) / screenW screenH screenDist / focalDistance lensRadius.
   const double hFov = v[0], vFov = v[1];
   if (!(hFov > 0.0 && hFov < 180.0 && vFov > 0.0 && vFov < 180.0))
-    throw InputError(path + ": the fields of view (" + std::to_string(hFov) + ", " + std::to_string(vFov) + ") must lie between 0 and 180 degrees");
+    throw InputError(where + ": the fields of view (" + std::to_string(hFov) + ", " + std::to_string(vFov) + ") must lie between 0 and 180 degrees");
   glm::dmat3 c2w;
   for (int i = 0; i < 9; ++i) c2w[i % 3][i / 3] = v[size_t(16 + i)];  // row i / 3, column i % 3
-  if (std::abs(glm::determinant(c2w)) < 1e-6) throw InputError(path + ": the camera's orientation matrix is singular");
+  if (std::abs(glm::determinant(c2w)) < 1e-6) throw InputError(where + ": the camera's orientation matrix is singular");
   camera.toWorld = glm::mat4(glm::dmat4(glm::dvec4(c2w[0], 0), glm::dvec4(c2w[1], 0), glm::dvec4(c2w[2], 0), glm::dvec4(v[5], v[6], v[7], 1)));
   camera.vfovDegrees = float(vFov);
   camera.aspect = float(std::tan(glm::radians(hFov) / 2) / std::tan(glm::radians(vFov) / 2));
+}
+
+void apply_cs184_camera_settings(const std::string& path, Camera& camera) {
+  apply_cs184_camera_settings(read_cs184_camera_settings(path), camera, path);
 }
 
 void use_cs184_3_2_skeleton(Scene& scene) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -26,6 +27,11 @@ Scene import_collada(const std::string& path);
 // orientation and both fields of view. The lens stays as it is, as the
 // course's renderer sets it from the command line.
 void apply_cs184_camera_settings(const std::string& path, Camera& camera);
+// The 30 numbers of a CS184 camera settings file, in the file's order.
+std::vector<double> read_cs184_camera_settings(const std::string& path);
+// The same from those numbers (`where` names them in errors): what `render
+// -c` makes of a file, so a view written as one renders the same.
+void apply_cs184_camera_settings(const std::vector<double>& values, Camera& camera, const std::string& where);
 
 // CS184 scenes read physically (render --consistent-lights): area lights
 // become one-sided emissive quads that rays meet, emissive surfaces light

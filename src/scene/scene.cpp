@@ -83,7 +83,7 @@ void set_resolution(Camera& camera, int width, int height) {
   camera.height = height;
 }
 
-Camera framing_camera(const Scene& scene) {
+std::pair<glm::vec3, glm::vec3> scene_bounds(const Scene& scene) {
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const SceneTriangle& t : scene.triangles)
     for (const glm::vec3& v : t.v) {
@@ -96,6 +96,11 @@ Camera framing_camera(const Scene& scene) {
     lo = glm::min(lo, c - glm::vec3(r));
     hi = glm::max(hi, c + glm::vec3(r));
   }
+  return {lo, hi};
+}
+
+Camera framing_camera(const Scene& scene) {
+  const auto [lo, hi] = scene_bounds(scene);
   Camera c;
   c.width = 800;
   c.height = 600;

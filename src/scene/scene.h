@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "../../shaders/shared/common.glsl"
@@ -287,6 +288,9 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
 // MikkTSpace, without its seam rules). Zero where they degenerate (the
 // kernels then derive a triangle's own); empty without normals or UVs.
 std::vector<glm::vec4> smooth_tangents(const SceneMesh& mesh, const std::vector<glm::vec2>& uvs);
+
+// The bounds of the scene's triangles and spheres (lo > hi where it has none).
+std::pair<glm::vec3, glm::vec3> scene_bounds(const Scene& scene);
 
 // A camera that frames the bounds of the scene's triangles and spheres:
 // looking down -Z and slightly down from in front of them, 40 degrees of

@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# `wavepath view` as a user meets it, in a real window on Xvfb with lavapipe
+# (validation on, from the environment): a frame appears and is not blank;
+# the screenshot equals the PNG the window writes; the scripted mode's EXR
+# agrees with `render`'s; a mouse drag (XTEST through xdotool) moves the
+# camera, D writes the camera file and `render -c` gives the image the window
+# showed; ] doubles the samples; Esc writes the image and exits 0; without a
+# display, one line and exit 2. Skips (77) where xvfb-run, xdotool or
+# ImageMagick is missing; CI installs them (scripts/install-deps.sh).
+# Usage: view_cli.sh WAVEPATH SCENES_DIR
+set -u
+wavepath=$(realpath "$1")
+scene=$(realpath "$2/cornell-box.json")
+if ! "$wavepath" view --keys >/dev/null 2>&1; then
+  echo "SKIP: this wavepath was built without GLFW (libglfw3-dev)"
+  exit 77
+fi
+for tool in xvfb-run xdotool import compare identify; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "SKIP: $tool is missing (Debian: xvfb, xdotool, imagemagick)"
+    exit 77
+  fi
+done
+if [ -z "${WAVEPATH_UNDER_XVFB:-}" ]; then
+  # Without a display first, then everything else on a fresh Xvfb.
+  env -u DISPLAY -u WAYLAND_DISPLAY "$wavepath" view "$scene" >/tmp/wavepath-view-nodisplay.$$ 2>&1
+  rc=$?
+  lines=$(wc -l </tmp/wavepath-view-nodisplay.$$)
+  cat /tmp/wavepath-view-nodisplay.$$
+  rm -f /tmp/wavepath-view-nodisplay.$$
+  if [ $rc -ne 2 ] || [ "$lines" -ne 1 ]; then
+    echo "FAIL no display: exit 2 with one line (got exit $rc, $lines lines)"
+    exit 1
+  fi
+  echo "ok   no display: exit 2 with one line"
+  exec xvfb-run -a -s "-screen 0 1024x768x24" env WAVEPATH_UNDER_XVFB=1 bash "$0" "$@"
+fi
+source "$(dirname "$0")/testlib.sh"
+cd "$work"
+size=(-r 160 120)
+
+# title_reaches WINDOW TEXT: waits (at most 120 s) for the window's title to hold TEXT.
+title_reaches() {
+  for _ in $(seq 1200); do
+    xdotool getwindowname "$1" 2>/dev/null | grep -qF -- "$2" && return 0
+    sleep 0.1
+  done
+  return 1
+}
+# open_window OUTPUT [view options]: starts the viewer, sets $pid and $win.
+open_window() {
+  local out=$1
+  shift
+  "$wavepath" view "$scene" "${size[@]}" -o "$out" "$@" >"$work/view.out" 2>"$work/view.err" &
+  pid=$!
+  win=$(timeout 120 xdotool search --sync --name '^wavepath: cornell-box' 2>/dev/null | head -1)
+}
+# close_window NAME: Esc, then the viewer must exit 0 with nothing on stderr.
+close_window() {
+  xdotool windowfocus --sync "$win" key Escape 2>/dev/null
+  wait "$pid"
+  local rc=$?
+  check "$1: Esc exits 0, and validation reports nothing" $([ $rc -eq 0 ] && [ ! -s "$work/view.err" ]; echo $?)
+  [ -s "$work/view.err" ] && cat "$work/view.err"
+}
+
+# Scripted: N samples in the window, the files `render` writes, exit 0.
+"$wavepath" view "$scene" "${size[@]}" --spp 4 --exit-when-done -o scripted.png -q >out 2>err
+rc=$?
+check "scripted: exit 0, PNG and EXR written" $([ $rc -eq 0 ] && [ -s scripted.png ] && [ -s scripted.exr ] && [ ! -s err ]; echo $?)
+"$wavepath" render "$scene" "${size[@]}" --spp 4 -o render.png -q
+"$wavepath" compare --images scripted.exr render.exr >out 2>&1
+check "scripted: its EXR agrees with render's" $?
+
+# A frame appears, is not blank, and is the image the window saves.
+open_window shown.png --spp 2
+check "a window titled after the scene appears" $([ -n "$win" ]; echo $?)
+title_reaches "$win" "| 2/2 spp"
+check "the title counts the samples up to 2/2" $?
+sleep 0.5
+import -window "$win" shot.png
+close_window "first window"
+spread=$(identify -format '%[fx:standard_deviation]' shot.png 2>/dev/null)
+check "the screenshot is not blank (deviation $spread)" $(awk -v s="$spread" 'BEGIN { exit !(s > 0.02) }'; echo $?)
+differing=$(compare -metric AE -fuzz 0.5% shot.png shown.png null: 2>&1)
+check "the screenshot equals the PNG the window wrote (pixels differing: $differing)" $([ "$differing" = "0" ]; echo $?)
+
+# Input: a drag orbits, D writes the camera file, ] doubles the samples.
+open_window dragged.png --spp 2
+title_reaches "$win" "| 2/2 spp"
+xdotool windowfocus --sync "$win" mousemove --window "$win" 60 60 mousedown 1 sleep 0.2 mousemove --window "$win" 80 64 sleep 0.2 \
+  mousemove --window "$win" 100 70 sleep 0.2 mouseup 1 2>/dev/null
+sleep 0.5
+title_reaches "$win" "| 2/2 spp"
+xdotool windowfocus --sync "$win" key d 2>/dev/null
+sleep 0.5
+check "D writes cornell-box_cam_settings.txt" $([ -s cornell-box_cam_settings.txt ]; echo $?)
+xdotool windowfocus --sync "$win" key bracketright 2>/dev/null
+title_reaches "$win" "| 4/4 spp"
+check "] doubles the samples per pixel: the title reaches 4/4" $?
+close_window "dragged window"
+check "the window's EXR holds samples 0:4" $([ "$(exr_attr dragged.exr wavepath:samples)" = "0:4" ]; echo $?)
+"$wavepath" render "$scene" "${size[@]}" -c cornell-box_cam_settings.txt --spp 4 -o from-file.png -q
+"$wavepath" compare --images dragged.exr from-file.exr >out 2>&1
+check "render -c with the camera file agrees with the window's image" $?
+"$wavepath" compare --images dragged.exr render.exr >out 2>&1
+check "the drag changed the view (the scene's own camera's image differs)" $([ $? -eq 1 ]; echo $?)
+
+finish
