@@ -479,6 +479,27 @@ TEST_F(Gpu, ChunkedUploadsArriveWhole) {
   }
 }
 
+// A scene of the project's at most `size` pixels square, compiled with `o`.
+CompiledScene compile_cropped(const char* path, int size, const RenderOptions& o) {
+  Scene scene = load_scene(source_path(path));
+  scene.camera.width = std::min(scene.camera.width, size);
+  scene.camera.height = std::min(scene.camera.height, size);
+  return compile_scene(scene, o);
+}
+
+// Two GPU renders of the same paths: each submission sums its samples in
+// float and the number of samples per submission follows the clock, so sums
+// agree to rounding, not bit for bit; a lost or repeated path would change a
+// pixel by a whole sample. With `squares`, the sums of squares too.
+void expect_sums_agree_to_rounding(const ImageStats& a, const ImageStats& b, const std::string& what, bool squares) {
+  for (size_t k = 0; k < a.sum.size(); ++k) {
+    ASSERT_NEAR(a.sum[k], b.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << what << ", pixel " << k / 3;
+    if (squares) {
+      ASSERT_NEAR(a.sumSq[k], b.sumSq[k], 1e-5 * std::max(1.0, std::abs(a.sumSq[k]))) << what << ", pixel " << k / 3;
+    }
+  }
+}
+
 // Sorting paths by material class (gpu-sort) changes which invocation, and
 // which class's kernel, shades which path, never what a path computes: its
 // random numbers come from (pixel, sample, seed) and it alone writes its
@@ -489,13 +510,10 @@ TEST_F(Gpu, ChunkedUploadsArriveWhole) {
 TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
   for (const char* path : {"tests/data/features/materials.json", "tests/data/features/textures.json",
                            "tests/data/features/environment.json", "scenes/bunny-cornell-dof.json"}) {
-    Scene scene = load_scene(source_path(path));
-    scene.camera.width = std::min(scene.camera.width, 64);
-    scene.camera.height = std::min(scene.camera.height, 64);
     RenderOptions o;
     o.spp = 4;
     o.maxBounces = 3;
-    CompiledScene cs = compile_scene(scene, o);
+    CompiledScene cs = compile_cropped(path, 64, o);
     ASSERT_GE(cs.shadeClasses.size(), 3u) << path;
     Progress quiet("", 0, false);
     WavefrontSettings sortedUncompacted = kernel_variant("gpu-sort").settings;
@@ -504,15 +522,9 @@ TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
     ImageStats a = plain.render(quiet), b = sorted.render(quiet), c = uncompacted.render(quiet);
     EXPECT_EQ(a.count, b.count) << path;
     EXPECT_EQ(a.count, c.count) << path;
-    // Each submission sums its samples in float and the number of samples per
-    // submission follows the clock, so sums agree to rounding, not bit for bit;
-    // a lost or repeated path would change a pixel by a whole sample, a path
-    // shaded by another class's kernel by far more than rounding.
-    for (size_t k = 0; k < a.sum.size(); ++k) {
-      ASSERT_NEAR(a.sum[k], b.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << path << ", pixel " << k / 3;
-      ASSERT_NEAR(a.sumSq[k], b.sumSq[k], 1e-5 * std::max(1.0, std::abs(a.sumSq[k]))) << path << ", pixel " << k / 3;
-      ASSERT_NEAR(a.sum[k], c.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << path << ", uncompacted, pixel " << k / 3;
-    }
+    // A path shaded by another class's kernel would change its pixel by far more than rounding.
+    expect_sums_agree_to_rounding(a, b, path, true);
+    expect_sums_agree_to_rounding(a, c, std::string(path) + ", uncompacted", false);
     EXPECT_EQ(sorted.stage_times().closestHitRays, plain.stage_times().closestHitRays) << path;
     EXPECT_EQ(sorted.stage_times().shadowRays, plain.stage_times().shadowRays) << path;
     // Per bounce pass: the extra prepare (counts to offsets) and the scatter.
@@ -527,21 +539,17 @@ TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
 // specializing it: the same paths, the same rays, the same sums to rounding.
 TEST_F(Gpu, SpecializingTheSpirvLeavesTheImageUnchanged) {
   for (const char* path : {"tests/data/features/materials.json", "tests/data/features/layers.json"}) {
-    Scene scene = load_scene(source_path(path));
-    scene.camera.width = std::min(scene.camera.width, 48);
-    scene.camera.height = std::min(scene.camera.height, 48);
     RenderOptions o;
     o.spp = 4;
     o.maxBounces = 4;
-    CompiledScene cs = compile_scene(scene, o);
+    CompiledScene cs = compile_cropped(path, 48, o);
     Progress quiet("", 0, false);
     WavefrontSettings byDriver;
     byDriver.specializeSpirv = false;
     WavefrontRenderer specialized(*ctx_, cs), unspecialized(*ctx_, cs, byDriver);
     ImageStats a = specialized.render(quiet), b = unspecialized.render(quiet);
     ASSERT_EQ(a.count, b.count) << path;
-    for (size_t k = 0; k < a.sum.size(); ++k)
-      ASSERT_NEAR(a.sum[k], b.sum[k], 1e-5 * std::max(1.0, std::abs(a.sum[k]))) << path << ", pixel " << k / 3;
+    expect_sums_agree_to_rounding(a, b, path, false);
     EXPECT_EQ(specialized.stage_times().closestHitRays, unspecialized.stage_times().closestHitRays) << path;
     EXPECT_EQ(specialized.stage_times().shadowRays, unspecialized.stage_times().shadowRays) << path;
   }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -241,6 +242,53 @@ void apply_hemisphere_flag(RenderArgs& r, bool hemisphere) {
   if (!r.integrator.empty() && r.integrator != "path tracer hemisphere")
     throw InputError("-H (uniform hemisphere sampling) and --integrator \"" + r.integrator + "\" contradict each other");
   r.integrator = "path tracer hemisphere";
+}
+
+std::string render_command_line(const RenderArgs& a) {
+  auto quoted = [](const std::string& word) {
+    if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+.,/:=@%") == std::string::npos)
+      return word;
+    std::string q = "'";
+    for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return std::string(text);
+  };
+  std::string line = "wavepath render " + quoted(a.scene);
+  auto add = [&](const char* option, const std::string& value) {
+    if (!value.empty()) line += std::string(" ") + option + " " + quoted(value);
+  };
+  auto ints = [](const std::vector<int>& values) {
+    std::string out;
+    for (int v : values) out += " " + std::to_string(v);
+    return out;
+  };
+  add("-o", a.output);
+  add("-c", a.cameraSettings);
+  add("--camera", a.camera);
+  if (a.spp > 0) add("--spp", std::to_string(a.spp));
+  if (a.maxBounces >= 0) add("-m", std::to_string(a.maxBounces));
+  if (!a.resolution.empty()) line += " -r" + ints(a.resolution);
+  if (!a.cell.empty()) line += " -p" + ints(a.cell);
+  add("--integrator", a.integrator);
+  add("--sampler", a.sampler);
+  if (a.lightSamples > 1) add("-l", std::to_string(a.lightSamples));
+  if (a.aperture >= 0.0f) add("-b", number(a.aperture));
+  if (a.focusDistance > 0.0f) add("-d", number(a.focusDistance));
+  add("-e", a.environment);
+  if (a.consistentLights) line += " --consistent-lights";
+  add("--cs184", a.cs184Skeleton);
+  if (!a.adaptive.empty()) line += " -a " + number(a.adaptive[0]) + " " + number(a.adaptive.size() > 1 ? a.adaptive[1] : 0.0);
+  std::string aovs;
+  for (const std::string& l : a.aovs) aovs += (aovs.empty() ? "" : ",") + l;
+  add("--aov", aovs);
+  if (a.seed != 0) add("--seed", std::to_string(a.seed));
+  if (a.variant != "gpu") add("--variant", a.variant);
+  add("--resume", a.resume);
+  return line;
 }
 
 }  // namespace wp::cli

@@ -64,6 +64,11 @@ struct RenderArgs {
 void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere);
 void apply_hemisphere_flag(RenderArgs& r, bool hemisphere);
 
+// The `wavepath render` command line that renders what `a` asks for: the
+// scene and every option that changes the image (the view prints it to
+// render its window's view again).
+std::string render_command_line(const RenderArgs& a);
+
 // The render options the arguments ask for, with `seed`. Throws InputError
 // for an unknown integrator or sampler or a bad adaptive setting.
 RenderOptions options_from(const RenderArgs& a, uint32_t seed);

@@ -198,12 +198,9 @@ uint32_t WavefrontRenderer::render(ImageStats& image, SampleRange range, Progres
 }
 
 void WavefrontRenderer::update_params() {
-  const shader::SceneParams& now = impl_->scene.params;
-  const shader::SceneParams& was = impl_->compiledParams;
-  if (now.image.x != was.image.x || now.image.y != was.image.y || now.mode.x != was.mode.x || now.mode.w != was.mode.w ||
-      now.kinds != was.kinds || now.accel != was.accel || now.counts.w != was.counts.w)
+  if (kernel_defining_params(impl_->scene.params) != kernel_defining_params(impl_->compiledParams))
     throw RenderError("internal error: the scene's parameters changed in a way its kernels were not made for");
-  shader::SceneParams params = now;
+  shader::SceneParams params = impl_->scene.params;
   params.counts.z = impl_->traversal_step_cap();
   impl_->ctx.upload(*impl_->buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
 }

@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -31,6 +32,14 @@ Kernel kernel(const uint32_t (&code)[N]) {
 
 // Every stage reads what the previous one wrote, indirect arguments included.
 void stage_barrier(vk::CommandBuffer cb);
+
+// The scene parameters a renderer's kernels and buffers are made for: those
+// make_pipeline turns into specialization constants (integrator, light
+// samples, BVH layout and stack, kind masks) and the image size the buffers
+// hold. The rest the kernels read at run time (update_params).
+inline std::tuple<uint32_t, uint32_t, uint32_t, uint32_t, glm::uvec4, glm::uvec4> kernel_defining_params(const shader::SceneParams& p) {
+  return {p.image.x, p.image.y, p.mode.x, p.mode.w, p.accel, p.kinds};
+}
 
 struct WavefrontRenderer::Impl {
   const VulkanContext& ctx;

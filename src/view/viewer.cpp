@@ -619,23 +619,19 @@ class Viewer {
     write_exr(exr, image_, record, !complete);
     write_image(png, mean_rgb(image_), compiled_->eightBitCurve);
     write_camera(camera);
-    // The command line that renders this view, with the options given to
-    // the window that change the image.
-    std::string again = "wavepath render " + r_.scene + " -c " + camera + " --spp " + std::to_string(target_) + " -m " + std::to_string(bounces_);
-    if (!r_.resolution.empty()) again += " -r " + std::to_string(r_.resolution[0]) + " " + std::to_string(r_.resolution[1]);
-    for (const auto& [option, value] : {std::pair<const char*, std::string>{" --camera ", r_.camera}, {" -e ", r_.environment},
-                                        {" --cs184 ", r_.cs184Skeleton}, {" --sampler ", r_.sampler}, {" --variant ", r_.variant == "gpu" ? "" : r_.variant},
-                                        {" --integrator ", hemisphere_ ? "" : r_.integrator}})
-      if (!value.empty()) again += option + ("\"" + value + "\"");
-    if (r_.consistentLights) again += " --consistent-lights";
-    if (hemisphere_) again += " -H";
-    if (lightSamples_ > 1) again += " -l " + std::to_string(lightSamples_);
-    char lens[96];
-    std::snprintf(lens, sizeof lens, " -b %.9g -d %.9g", double(scene_.camera.apertureRadius), double(scene_.camera.focusDistance));
-    again += lens;
-    if (r_.seed != 0) again += " --seed " + std::to_string(r_.seed);
+    // The command line that renders this view, as the window renders it.
+    cli::RenderArgs again = r_;
+    again.output.clear();
+    again.cameraSettings = camera;
+    again.spp = int(target_);
+    again.maxBounces = bounces_;
+    again.integrator = hemisphere_ ? "path tracer hemisphere" : r_.integrator;
+    if (lightSamples_ > 0) again.lightSamples = lightSamples_;
+    again.aperture = scene_.camera.apertureRadius;
+    again.focusDistance = scene_.camera.focusDistance;
+    if (!complete) again.resume = exr;
     std::printf("view: wrote %s and %s (%u of %u samples per pixel)\n", png.c_str(), exr.c_str(), reached_, target_);
-    std::printf("view: %s with: %s%s\n", complete ? "render it again" : "finish it", again.c_str(), complete ? "" : (" --resume " + exr).c_str());
+    std::printf("view: %s with: %s\n", complete ? "render it again" : "finish it", cli::render_command_line(again).c_str());
   }
 
   ViewerArgs args_;

@@ -122,27 +122,28 @@ vec3 metal_rough_local(Lobe l, vec3 ns, vec3 w) {
   return vec3(dot(w, t), dot(w, cross(ns, t)), dot(w, ns));
 }
 
-float metal_rough_specular_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
-  if (!metal_rough_anisotropic(l)) return ggx_reflection_eval(l.params.x, ns, wo, wi);
+// The anisotropic lobe at (wo, wi): x its reflection term S |cos_i|
+// (D G2 / 4 cos_o), y the density of its visible-normal samples
+// (D G1(wo) / 4 cos_o); zero where either direction is below the surface.
+vec2 metal_rough_anisotropic_terms(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   vec3 o = metal_rough_local(l, ns, wo);
   vec3 i = metal_rough_local(l, ns, wi);
-  if (o.z <= 0.0f || i.z <= 0.0f) return 0.0f;
+  if (o.z <= 0.0f || i.z <= 0.0f) return vec2(0.0f);
   float at = l.params4.w;
   float ab = l.params.x;
-  float g2 = 1.0f / (1.0f + ggx_anisotropic_lambda(o, at, ab) + ggx_anisotropic_lambda(i, at, ab));
-  return ggx_anisotropic_d(normalize(o + i), at, ab) * g2 / (4.0f * o.z);
+  float lambdaO = ggx_anisotropic_lambda(o, at, ab);
+  float d = ggx_anisotropic_d(normalize(o + i), at, ab) / (4.0f * o.z);
+  return vec2(d / (1.0f + lambdaO + ggx_anisotropic_lambda(i, at, ab)), d / (1.0f + lambdaO));
+}
+
+float metal_rough_specular_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  if (!metal_rough_anisotropic(l)) return ggx_reflection_eval(l.params.x, ns, wo, wi);
+  return metal_rough_anisotropic_terms(l, ns, wo, wi).x;
 }
 
 float metal_rough_specular_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   if (!metal_rough_anisotropic(l)) return ggx_reflection_pdf(l.params.x, ns, wo, wi);
-  vec3 o = metal_rough_local(l, ns, wo);
-  vec3 i = metal_rough_local(l, ns, wi);
-  if (o.z <= 0.0f || i.z <= 0.0f) return 0.0f;
-  float at = l.params4.w;
-  float ab = l.params.x;
-  vec3 h = normalize(o + i);
-  float g1 = 1.0f / (1.0f + ggx_anisotropic_lambda(o, at, ab));
-  return g1 * ggx_anisotropic_d(h, at, ab) / (4.0f * o.z);  // G1 (wo.h) D / cos_o, over 4 wo.h
+  return metal_rough_anisotropic_terms(l, ns, wo, wi).y;
 }
 
 vec3 metal_rough_specular_sample(Lobe l, vec3 ns, vec3 wo, vec2 u) {
