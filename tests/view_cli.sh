@@ -64,6 +64,12 @@ close_window() {
   [ -s "$work/view.err" ] && cat "$work/view.err"
 }
 
+# Bad input, as `render` reports it: one line, exit 2, no window left open.
+bad "a missing scene" "missing.json" -- "$wavepath" view "$work/missing.json"
+bad "an EXR as the window's image" "8-bit image" -- "$wavepath" view "$scene" -o "$work/out.exr"
+printf '40 30 1.3\n' >short_cam_settings.txt
+bad "a camera file of 3 numbers" "short_cam_settings.txt" -- "$wavepath" view "$scene" -c short_cam_settings.txt
+
 # Scripted: N samples in the window, the files `render` writes, exit 0.
 "$wavepath" view "$scene" "${size[@]}" --spp 4 --exit-when-done -o scripted.png -q >out 2>err
 rc=$?
@@ -105,5 +111,35 @@ check "the window's EXR holds samples 0:4" $([ "$(exr_attr dragged.exr wavepath:
 check "render -c with the camera file agrees with the window's image" $?
 "$wavepath" compare --images dragged.exr render.exr >out 2>&1
 check "the drag changed the view (the scene's own camera's image differs)" $([ $? -eq 1 ]; echo $?)
+
+# A resize renders at the window's new size; Tab to the albedo renders the
+# first hits' layers from then on, and the EXR holds them.
+open_window resized.png --spp 2
+title_reaches "$win" "| 2/2 spp"
+xdotool windowsize "$win" 200 150 2>/dev/null
+title_reaches "$win" "| 200x150 | 2/2 spp"
+check "a resize renders at the window's size: the title reaches 200x150, 2/2" $?
+xdotool windowfocus --sync "$win" key Tab 2>/dev/null
+title_reaches "$win" "| albedo"
+title_reaches "$win" "| 2/2 spp"
+close_window "resized window"
+check "the saved image has the window's size" $([ "$(identify -format '%wx%h' resized.png 2>/dev/null)" = "200x150" ]; echo $?)
+check "after Tab the EXR holds the first hits' layers" $(exr_attr resized.exr wavepath:settings | grep -q 'aovs=albedo,normal,depth'; echo $?)
+
+# A render stopped in the window continues with the command it prints.
+"$wavepath" view "$scene" -r 64 48 --spp 2048 -o stopped.png >"$work/view.out" 2>"$work/view.err" &
+pid=$!
+win=$(timeout 120 xdotool search --sync --name '^wavepath: cornell-box' 2>/dev/null | head -1)
+for _ in $(seq 1200); do
+  xdotool getwindowname "$win" 2>/dev/null | grep -q '| [1-9][0-9]*/2048 spp' && break
+  sleep 0.1
+done
+close_window "stopped window"
+again=$(sed -n 's/^view: finish it with: wavepath //p' "$work/view.out")
+check "a stopped window prints how to finish it with --resume" $(echo "$again" | grep -q -- '--resume stopped.exr'; echo $?)
+eval "\"\$wavepath\" $again -o finished.png -q" >out 2>&1
+rc=$?
+check "render --resume finishes it: exit 0, samples 0:2048, complete" \
+  $([ $rc -eq 0 ] && [ "$(exr_attr finished.exr wavepath:samples)" = "0:2048" ] && [ "$(exr_attr finished.exr wavepath:status)" = "complete" ]; echo $?)
 
 finish

@@ -52,13 +52,13 @@ const std::vector<AovRow>& aov_rows() {
   return rows;
 }
 
+}  // namespace
+
 std::vector<std::string> all_aov_names() {
   std::vector<std::string> names;
   for (const AovRow& r : aov_rows()) names.push_back(r.name);
   return names;
 }
-
-}  // namespace
 
 std::string aov_layer_names() {
   std::string names;

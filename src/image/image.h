@@ -29,6 +29,8 @@ struct ImageLayer {
 std::vector<ImageLayer> image_layers(const std::vector<std::string>& aovs = {});
 // The AOV layer names known, "albedo, normal, depth".
 std::string aov_layer_names();
+// Every AOV layer's name, in the table's order.
+std::vector<std::string> all_aov_names();
 // Where an AOV layer's channels start in a sample's AovSample record.
 size_t aov_sample_channel(const std::string& layer);
 

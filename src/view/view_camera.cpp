@@ -61,6 +61,11 @@ void ViewCamera::reset() {
   focus_ = home_.focus;
 }
 
+void ViewCamera::set_resolution(int width, int height) {
+  wp::set_resolution(scene_, width, height);
+  scene_.aspect = 0.0f;
+}
+
 void ViewCamera::look_at_target() {
   const glm::dvec3 back = glm::normalize(position_ - target_);
   const glm::dvec3 right = glm::normalize(glm::cross(up_, back));

@@ -40,6 +40,9 @@ class ViewCamera {
   void fly(glm::dvec3 move);
   // Space: back to the scene's camera.
   void reset();
+  // A new image size (the window resized): the vertical field stays, the
+  // horizontal one follows the window's shape (square pixels).
+  void set_resolution(int width, int height);
 
   // The lens, as the course's K/L and ;/' keys change it (never below 0).
   void change_aperture(double delta);

@@ -43,7 +43,8 @@ const char* viewer_keys() {
          ". ,     one more, one fewer bounce\n"
          "L K     lens radius +0.05, -0.05\n"
          "' ;     focus distance +0.1, -0.1\n"
-         "Tab     next layer: colour, per-pixel variance of the mean, samples per pixel, then the AOVs of --aov\n"
+         "Tab     next layer: colour, albedo, normal, depth (first hits; asking for one renders them from then on),\n"
+         "        per-pixel variance of the mean, samples per pixel\n"
          "X Z     exposure +1, -1 stop (the display only; the files are written as `render` writes them)\n"
          "F       reload the scene from disk (it also reloads when its file changes), keeping the view\n"
          "?       this list\n"
@@ -53,6 +54,12 @@ const char* viewer_keys() {
 namespace {
 
 constexpr double kFlyStep = 0.05;  // canonical view distances per key press or repeat
+// What Tab shows, in turn; the AOVs by their layer names (layers.glsl).
+const char* const kShownLayers[] = {"colour", "albedo", "normal", "depth", "variance", "samples"};
+constexpr size_t kShownLayerCount = sizeof(kShownLayers) / sizeof(kShownLayers[0]);
+bool is_aov(size_t layer) { return layer >= 1 && layer <= 3; }
+// A window resize is applied once it has settled: each size needs new kernels.
+constexpr auto kResizeSettles = std::chrono::milliseconds(300);
 
 struct Input {
   double x = 0, y = 0;            // cursor, window coordinates
@@ -63,6 +70,8 @@ struct Input {
   double wheel = 0;
   bool focusClick = false;
   double focusX = 0, focusY = 0;
+  bool resized = false;
+  std::chrono::steady_clock::time_point resizedAt;
 };
 
 // One image per swapchain image; the renderer's queue presents.
@@ -305,6 +314,11 @@ class Viewer {
       in.y = y;
     });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) { static_cast<Input*>(glfwGetWindowUserPointer(w))->wheel += dy; });
+    glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int, int) {
+      Input& in = *static_cast<Input*>(glfwGetWindowUserPointer(w));
+      in.resized = true;
+      in.resizedAt = std::chrono::steady_clock::now();
+    });
   }
 
   RenderOptions options() const {
@@ -434,7 +448,15 @@ class Viewer {
         case GLFW_KEY_L: view_->change_aperture(0.05); moved = true; break;
         case GLFW_KEY_SEMICOLON: view_->change_focus(-0.1); moved = true; break;
         case GLFW_KEY_APOSTROPHE: view_->change_focus(0.1); moved = true; break;
-        case GLFW_KEY_TAB: layer_ = (layer_ + 1) % (3 + compiled_->aovs.size()); encode(); shown_ = false; break;
+        case GLFW_KEY_TAB:
+          layer_ = (layer_ + 1) % kShownLayerCount;
+          if (is_aov(layer_) && compiled_->aovs.empty()) {
+            r_.aovs = all_aov_names();  // the first hits' layers, from now on
+            rebuildNeeded = true;
+          }
+          encode();
+          shown_ = false;
+          break;
         case GLFW_KEY_X: exposure_ += 1.0; encode(); shown_ = false; break;
         case GLFW_KEY_Z: exposure_ -= 1.0; encode(); shown_ = false; break;
         case GLFW_KEY_F: reload_ = true; break;
@@ -445,6 +467,16 @@ class Viewer {
       }
     }
     if (glfwWindowShouldClose(window_)) quit_ = true;
+    // The render's size follows the window's, once the resize has settled.
+    if (in.resized && std::chrono::steady_clock::now() - in.resizedAt > kResizeSettles) {
+      in.resized = false;
+      if (fbW > 0 && fbH > 0 && (fbW != compiled_->width || fbH != compiled_->height)) {
+        r_.resolution = {fbW, fbH};
+        view_->set_resolution(fbW, fbH);
+        std::printf("view: %dx%d\n", fbW, fbH);
+        rebuildNeeded = true;
+      }
+    }
     if (!reload_ && std::chrono::steady_clock::now() - lastCheck_ > std::chrono::milliseconds(500)) {
       lastCheck_ = std::chrono::steady_clock::now();
       if (modified() != lastWrite_) reload_ = true;
@@ -509,15 +541,23 @@ class Viewer {
     auto put = [&](size_t p, glm::dvec3 v) {
       for (int c = 0; c < 3; ++c) shownBytes_[p * 3 + c] = encode_8bit_value(v[c] * gain, curve);
     };
+    const std::string name = kShownLayers[layer_];
     if (layer_ == 0) {
       for (size_t p = 0; p < n; ++p) put(p, image_.mean(p));
-    } else if (layer_ == 1) {
+    } else if (name == "variance") {
       for (size_t p = 0; p < n; ++p) put(p, image_.count[p] > 0 ? image_.variance(p) / image_.count[p] : glm::dvec3(0.0));
-    } else if (layer_ == 2) {
+    } else if (name == "samples") {
       for (size_t p = 0; p < n; ++p) put(p, glm::dvec3(image_.count[p] / std::max(1.0, double(target_))));
-    } else {
-      const ImageStats layer = layer_as_color(image_, compiled_->aovs[layer_ - 3]);
-      for (size_t p = 0; p < n; ++p) put(p, layer.mean(p));
+    } else if (image_.layer(name)) {
+      // First hits, as the normals integrator shows them: albedo as it is,
+      // normals mapped from [-1, 1], depth over the deepest hit.
+      const ImageStats layer = layer_as_color(image_, name);
+      double deepest = 0.0;
+      for (size_t p = 0; p < n && name == "depth"; ++p) deepest = std::max(deepest, layer.mean(p).x);
+      for (size_t p = 0; p < n; ++p) {
+        const glm::dvec3 m = layer.mean(p);
+        put(p, name == "normal" ? (m + 1.0) * 0.5 : name == "depth" ? glm::dvec3(deepest > 0 ? m.x / deepest : 0.0) : m);
+      }
     }
   }
 
@@ -525,12 +565,11 @@ class Viewer {
     presenter_->present(shownBytes_, compiled_->width, compiled_->height);
     ++frames_;
     shown_ = true;
-    static const char* const layers[] = {"colour", "variance", "samples"};
-    const std::string layer = layer_ < 3 ? layers[layer_] : compiled_->aovs[layer_ - 3];
+    const std::string layer = kShownLayers[layer_];
     const double elapsed = std::chrono::duration<double>((reached_ >= target_ ? finished_ : std::chrono::steady_clock::now()) - started_).count();
     char title[512];
-    std::snprintf(title, sizeof title, "wavepath: %s | %u/%u spp | %.2f Msamples/s | %.1f s | %s%s | %s%s", scene_stem(r_.scene).c_str(),
-                  reached_, target_, elapsed > 0 ? double(image_.pixels()) * reached_ / elapsed * 1e-6 : 0.0, elapsed,
+    std::snprintf(title, sizeof title, "wavepath: %s | %dx%d | %u/%u spp | %.2f Msamples/s | %.1f s | %s%s | %s%s", scene_stem(r_.scene).c_str(),
+                  compiled_->width, compiled_->height, reached_, target_, elapsed > 0 ? double(image_.pixels()) * reached_ / elapsed * 1e-6 : 0.0, elapsed,
                   integrator_name(compiled_->params).c_str(), hemisphere_ ? " (hemisphere)" : "", layer.c_str(),
                   exposure_ != 0 ? (" | exposure " + std::to_string(int(exposure_))).c_str() : "");
     glfwSetWindowTitle(window_, title);
