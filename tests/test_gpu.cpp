@@ -500,6 +500,35 @@ void expect_sums_agree_to_rounding(const ImageStats& a, const ImageStats& b, con
   }
 }
 
+// The window's camera changes (update_params): a renderer whose view,
+// lens and bounces were changed renders what a new renderer of that view
+// renders; a change its kernels were not made for is refused.
+TEST_F(Gpu, UpdatedParametersRenderAsANewRenderer) {
+  RenderOptions o;
+  o.spp = 4;
+  o.maxBounces = 3;
+  CompiledScene moved = compile_cropped("scenes/cornell-box.json", 48, o);
+  Progress quiet("", 0, false);
+  WavefrontRenderer renderer(*ctx_, moved);
+  ImageStats before = renderer.render(quiet);
+  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
+  scene.camera.width = scene.camera.height = 48;
+  scene.camera.toWorld = glm::translate(glm::mat4(1.0f), glm::vec3(40.0f, -20.0f, 0.0f)) * scene.camera.toWorld;
+  scene.camera.apertureRadius = 3.0f;
+  scene.camera.focusDistance = 700.0f;
+  RenderOptions deeper = o;
+  deeper.maxBounces = 5;
+  CompiledScene fresh = compile_scene(scene, deeper);
+  set_camera_params(scene.camera, moved.params);
+  moved.params.image.z = 5;
+  renderer.update_params();
+  ImageStats a = renderer.render(quiet), b = WavefrontRenderer(*ctx_, fresh).render(quiet);
+  EXPECT_NE(before.sum, a.sum) << "the change reached the kernels";
+  expect_sums_agree_to_rounding(a, b, "updated", true);
+  moved.params.kinds.w ^= KIND_BIT(FEATURE_UNIFORM_HEMISPHERE);
+  EXPECT_THROW(renderer.update_params(), RenderError);
+}
+
 // Sorting paths by material class (gpu-sort) changes which invocation, and
 // which class's kernel, shades which path, never what a path computes: its
 // random numbers come from (pixel, sample, seed) and it alone writes its

@@ -5,6 +5,7 @@
 #include "test_support.h"
 
 #include "scene/importers.h"
+#include "view/accumulation.h"
 #include "view/view_camera.h"
 
 namespace wp::test {
@@ -123,6 +124,35 @@ TEST(ViewCamera, ATransposedOrientationIsCaught) {
   Camera transposed = s.camera;
   apply_cs184_camera_settings(f, transposed, "planted");
   EXPECT_GT(glm::length(glm::vec3(transposed.toWorld[2]) - glm::vec3(v.camera().toWorld[2])), 0.1f);
+}
+
+// The window's image through the changes the user makes.
+TEST(ViewAccumulation, MoreSamplesContinueFewerOrAnyChangeOfStrataStartAgain) {
+  ViewAccumulation a(8, false);
+  EXPECT_EQ(a.todo().begin, 0u);
+  a.reach(5);
+  EXPECT_FALSE(a.set_target(16)) << "] continues the image";
+  EXPECT_EQ(a.reached(), 5u);
+  EXPECT_EQ(a.todo().begin, 5u);
+  EXPECT_EQ(a.todo().end, 16u);
+  a.reach(16);
+  EXPECT_TRUE(a.done());
+  EXPECT_TRUE(a.set_target(8)) << "[ below what the image holds starts it again";
+  EXPECT_EQ(a.reached(), 0u);
+  a.reach(4);
+  EXPECT_FALSE(a.set_target(4)) << "a target the image has reached keeps it";
+  EXPECT_TRUE(a.done());
+  a.restart();
+  EXPECT_EQ(a.reached(), 0u);
+  EXPECT_FALSE(a.done());
+  a.reach(100);
+  EXPECT_EQ(a.reached(), 4u) << "never past the target";
+  ViewAccumulation cmj(8, true);
+  cmj.reach(3);
+  EXPECT_TRUE(cmj.set_target(16)) << "CMJ's strata depend on the count";
+  EXPECT_EQ(cmj.reached(), 0u);
+  EXPECT_FALSE(cmj.set_target(16));
+  EXPECT_EQ(ViewAccumulation(0, false).target(), 1u);
 }
 
 }  // namespace

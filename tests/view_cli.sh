@@ -4,8 +4,10 @@
 # the screenshot equals the PNG the window writes; the scripted mode's EXR
 # agrees with `render`'s; a mouse drag (XTEST through xdotool) moves the
 # camera, D writes the camera file and `render -c` gives the image the window
-# showed; ] doubles the samples; Esc writes the image and exits 0; without a
-# display, one line and exit 2. Skips (77) where xvfb-run, xdotool or
+# showed; ] doubles the samples; C renders a dragged cell as -p does; a
+# resize renders at the new size; Tab renders the AOVs; a render stopped in
+# the window finishes with the `render --resume` it prints; Esc writes the
+# image and exits 0; bad input and no display give one line and exit 2. Skips (77) where xvfb-run, xdotool or
 # ImageMagick is missing; CI installs them (scripts/install-deps.sh).
 # Usage: view_cli.sh WAVEPATH SCENES_DIR
 set -u
@@ -70,6 +72,9 @@ bad "an EXR as the window's image" "8-bit image" -- "$wavepath" view "$scene" -o
 printf '40 30 1.3\n' >short_cam_settings.txt
 bad "a camera file of 3 numbers" "short_cam_settings.txt" -- "$wavepath" view "$scene" -c short_cam_settings.txt
 
+"$wavepath" view --help >out 2>&1
+check "view --help lists every key" $(grep -q '^Esc ' out && grep -q '^C ' out && grep -q '^Tab ' out; echo $?)
+
 # Scripted: N samples in the window, the files `render` writes, exit 0.
 "$wavepath" view "$scene" "${size[@]}" --spp 4 --exit-when-done -o scripted.png -q >out 2>err
 rc=$?
@@ -77,6 +82,14 @@ check "scripted: exit 0, PNG and EXR written" $([ $rc -eq 0 ] && [ -s scripted.p
 "$wavepath" render "$scene" "${size[@]}" --spp 4 -o render.png -q
 "$wavepath" compare --images scripted.exr render.exr >out 2>&1
 check "scripted: its EXR agrees with render's" $?
+
+# Adaptive sampling (CS184's -a) in the window: the rate image beside it, as render writes one.
+"$wavepath" view "$scene" "${size[@]}" --spp 32 -a 8 0.05 --exit-when-done -o adaptive.png -q >out 2>err
+rc=$?
+check "scripted adaptive: exit 0, the rate image written" $([ $rc -eq 0 ] && [ -s adaptive_rate.png ] && [ ! -s err ]; echo $?)
+"$wavepath" render "$scene" "${size[@]}" --spp 32 -a 8 0.05 -o adaptive-render.png -q
+"$wavepath" compare --images adaptive.exr adaptive-render.exr >out 2>&1
+check "scripted adaptive: its EXR agrees with render's" $?
 
 # A frame appears, is not blank, and is the image the window saves.
 open_window shown.png --spp 2
@@ -111,6 +124,20 @@ check "the window's EXR holds samples 0:4" $([ "$(exr_attr dragged.exr wavepath:
 check "render -c with the camera file agrees with the window's image" $?
 "$wavepath" compare --images dragged.exr render.exr >out 2>&1
 check "the drag changed the view (the scene's own camera's image differs)" $([ $? -eq 1 ]; echo $?)
+
+# C and a drag: the cell alone, saved as -p renders it.
+open_window cell.png --spp 2
+title_reaches "$win" "| 2/2 spp"
+xdotool windowfocus --sync "$win" key c mousemove --window "$win" 40 30 mousedown 1 sleep 0.2 mousemove --window "$win" 70 55 sleep 0.2 \
+  mousemove --window "$win" 100 80 sleep 0.2 mouseup 1 2>/dev/null
+title_reaches "$win" "| 60x50 | 2/2 spp"
+check "C and a drag render the cell: the title reaches 60x50, 2/2" $?
+close_window "cell window"
+again=$(sed -n 's/^view: render it again with: wavepath //p' "$work/view.out")
+check "the cell's command line is -p's, rows from the bottom" $(echo "$again" | grep -q -- '-p 40 40 60 50'; echo $?)
+eval "\"\$wavepath\" $again -o cell-render.png -q" >out 2>&1
+"$wavepath" compare --images cell.exr cell-render.exr >out 2>&1
+check "render -p with that command agrees with the window's cell" $?
 
 # A resize renders at the window's new size; Tab to the albedo renders the
 # first hits' layers from then on, and the EXR holds them.

@@ -332,9 +332,6 @@ Command add_render(CLI::App& app) {
                      "continue the render a checkpoint or partial EXR holds samples of, rendering only those missing (the "
                      "checkpoint's own path: resume if it exists, else start)");
   add_scene_options(*render, *r, *hemisphere);
-  render->add_option("-a,--adaptive", r->adaptive,
-                     "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
-      ->expected(2);
   render->add_option("-p,--cell", r->cell, "render one cell X Y DX DY of the frame, rows counted from the bottom (CS184: -p)")
       ->expected(4)
       ->check(CLI::Range(0, MAX_IMAGE_SIZE));

@@ -59,19 +59,7 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   if (!a.resolution.empty()) set_resolution(scene.camera, a.resolution[0], a.resolution[1]);
   // As the course does: the settings file after the resolution, its fields winning.
   if (!a.cameraSettings.empty()) apply_cs184_camera_settings(a.cameraSettings, scene.camera);
-  if (!a.cell.empty()) {
-    // A cell of the frame, its rows counted from the bottom as the course counts them.
-    Camera& c = scene.camera;
-    const int x = a.cell[0], y = a.cell[1], dx = a.cell[2], dy = a.cell[3];
-    if (x < 0 || y < 0 || dx < 1 || dy < 1 || x + dx > c.width || y + dy > c.height)
-      throw InputError("-p " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(dx) + " " + std::to_string(dy) +
-                       ": the cell must lie inside the " + std::to_string(c.width) + "x" + std::to_string(c.height) + " frame");
-    if (c.aspect <= 0.0f) c.aspect = float(c.width) / float(c.height);
-    c.window = glm::vec4(float(x) / float(c.width), float(c.height - y - dy) / float(c.height), float(dx) / float(c.width),
-                         float(dy) / float(c.height));
-    c.width = dx;
-    c.height = dy;
-  }
+  if (!a.cell.empty()) set_cell(scene.camera, a.cell[0], a.cell[1], a.cell[2], a.cell[3]);
   if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
   if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
   if (a.environment == "none") {  // no environment: a black background
@@ -201,6 +189,9 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
 
 
 void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
+  app.add_option("-a,--adaptive", r.adaptive,
+                     "adaptive sampling: BATCH TOLERANCE, e.g. 32 0.05; --spp is then the maximum. Writes OUT_rate.png (CS184: -a)")
+      ->expected(2);
   app.add_option("-s,--spp", r.spp, "samples per pixel (default: the scene's sampler) (CS184: -s)")
       ->check(CLI::Range(1, MAX_SAMPLES_PER_PIXEL));
   app.add_option("-m,--max-bounces", r.maxBounces, "maximum scattering events per path (default: the scene's) (CS184: -m)")

@@ -28,6 +28,9 @@ Command add_view(CLI::App& app) {
   view->add_flag("--exit-when-done", *exitWhenDone, "render --spp samples, write --output (and its EXR), and exit");
   view->add_flag("--keys", *keys, "list the keys and the mouse's controls");
   view->add_flag("-q,--quiet", r->quiet, "no summary on exit");
+#ifdef WAVEPATH_HAVE_VIEWER
+  view->footer(std::string("\nKeys and mouse:\n") + viewer_keys());
+#endif
   return {view, [r, hemisphere, exitWhenDone, keys]() -> int {
 #ifdef WAVEPATH_HAVE_VIEWER
             if (*keys) {

@@ -182,7 +182,7 @@ std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t
   return encode_8bit(ImageFormat::Png, width, height, rgb);
 }
 
-void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples) {
+std::vector<uint8_t> sample_rate_rgb8(const ImageStats& image, int maxSamples) {
   std::vector<uint8_t> rgb(image.pixels() * 3);
   for (size_t p = 0; p < image.pixels(); ++p) {
     double t = std::clamp(image.count[p] / double(std::max(maxSamples, 1)), 0.0, 1.0);
@@ -192,7 +192,11 @@ void write_sample_rate_png(const std::string& path, const ImageStats& image, int
     rgb[3 * p + 1] = uint8_t(std::lround(255.0 * g));
     rgb[3 * p + 2] = uint8_t(std::lround(255.0 * b));
   }
-  write_bytes_atomically(path, "PNG", encode_png(image.width, image.height, rgb));
+  return rgb;
+}
+
+void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples) {
+  write_bytes_atomically(path, "PNG", encode_png(image.width, image.height, sample_rate_rgb8(image, maxSamples)));
 }
 
 namespace {

@@ -79,6 +79,9 @@ std::vector<uint8_t> encode_png(int width, int height, const std::vector<uint8_t
 
 // Samples per pixel as colour, CS184's sample-rate image: blue (few) through
 // green to red (maxSamples).
+// CS184's sample-rate image in 8-bit RGB: each pixel's samples over
+// maxSamples, blue at 0, green at half, red at all.
+std::vector<uint8_t> sample_rate_rgb8(const ImageStats& image, int maxSamples);
 void write_sample_rate_png(const std::string& path, const ImageStats& image, int maxSamples);
 
 // What an EXR's header says of the render it holds (a partial file: see

@@ -83,6 +83,17 @@ void set_resolution(Camera& camera, int width, int height) {
   camera.height = height;
 }
 
+void set_cell(Camera& c, int x, int y, int dx, int dy) {
+  if (x < 0 || y < 0 || dx < 1 || dy < 1 || x + dx > c.width || y + dy > c.height)
+    throw InputError("-p " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(dx) + " " + std::to_string(dy) +
+                     ": the cell must lie inside the " + std::to_string(c.width) + "x" + std::to_string(c.height) + " frame");
+  if (c.aspect <= 0.0f) c.aspect = float(c.width) / float(c.height);
+  c.window = glm::vec4(float(x) / float(c.width), float(c.height - y - dy) / float(c.height), float(dx) / float(c.width),
+                       float(dy) / float(c.height));
+  c.width = dx;
+  c.height = dy;
+}
+
 std::pair<glm::vec3, glm::vec3> scene_bounds(const Scene& scene) {
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const SceneTriangle& t : scene.triangles)

@@ -48,6 +48,12 @@ struct Camera {
 // keeps focal length) the focal length in pixels does.
 void set_resolution(Camera& camera, int width, int height);
 
+// Makes the camera see one cell of its frame, as CS184's -p renders one: the
+// DX x DY pixels from column X and row Y, rows counted from the bottom as
+// the course counts them; the image is then that cell. Throws InputError
+// where the cell leaves the frame.
+void set_cell(Camera& camera, int x, int y, int dx, int dy);
+
 // How the BVH builder splits a node's primitives (bvh.h): binned SAH; the
 // clustered SAH build, faster for large scenes (binned SAH over Morton-order
 // clusters at the top, the exact SAH sweep for small nodes); the middle of the

@@ -25,6 +25,7 @@
 #include "scene/load_scene.h"
 #include "util/error.h"
 #include "util/progress.h"
+#include "view/accumulation.h"
 #include "view/view_camera.h"
 
 namespace wp {
@@ -35,6 +36,7 @@ const char* viewer_keys() {
          "W A Q E  fly forward, left, down, up (with Shift: W A S D Q E; the arrow keys: forward, back, left, right)\n"
          "Space   back to the scene's camera\n"
          "R       render again from sample 0\n"
+         "C       cell mode: a left-drag chooses a rectangle, rendered alone as -p renders it (C again: the whole frame)\n"
          "S       save the image: PNG, the EXR `render` writes (resumable) and the camera file\n"
          "D       write the camera settings file (SCENE_cam_settings.txt) that `render -c` reads\n"
          "H       uniform hemisphere sampling on/off (instead of light sampling)\n"
@@ -44,7 +46,7 @@ const char* viewer_keys() {
          "L K     lens radius +0.05, -0.05\n"
          "' ;     focus distance +0.1, -0.1\n"
          "Tab     next layer: colour, albedo, normal, depth (first hits; asking for one renders them from then on),\n"
-         "        per-pixel variance of the mean, samples per pixel\n"
+         "        per-pixel variance of the mean, samples per pixel (the course's rate image: blue none, green half, red all)\n"
          "X Z     exposure +1, -1 stop (the display only; the files are written as `render` writes them)\n"
          "F       reload the scene from disk (it also reloads when its file changes), keeping the view\n"
          "?       this list\n"
@@ -61,6 +63,22 @@ bool is_aov(size_t layer) { return layer >= 1 && layer <= 3; }
 // A window resize is applied once it has settled: each size needs new kernels.
 constexpr auto kResizeSettles = std::chrono::milliseconds(300);
 
+// Where an image of w x h pixels lies in a window of W x H: magnified by
+// whole pixels where the window is larger, shrunk where it is smaller,
+// centred on black.
+struct Letterbox {
+  double scale;
+  int x0, y0;
+  Letterbox(int W, int H, int w, int h) {
+    scale = std::min(double(W) / w, double(H) / h);
+    if (scale >= 1.0) scale = std::floor(scale);
+    x0 = (W - int(w * scale)) / 2;
+    y0 = (H - int(h * scale)) / 2;
+  }
+  // The image pixel at window position (x, y), which may lie outside it.
+  glm::dvec2 image_at(double x, double y) const { return {(x - x0) / scale, (y - y0) / scale}; }
+};
+
 struct Input {
   double x = 0, y = 0;            // cursor, window coordinates
   bool left = false, right = false;
@@ -72,6 +90,7 @@ struct Input {
   double focusX = 0, focusY = 0;
   bool resized = false;
   std::chrono::steady_clock::time_point resizedAt;
+  bool leftPressed = false, leftReleased = false;  // since the last look
 };
 
 // One image per swapchain image; the renderer's queue presents.
@@ -170,19 +189,15 @@ class Presenter {
 
   void fill(const std::vector<uint8_t>& rgb8, int width, int height) {
     const int W = int(extent_.width), H = int(extent_.height);
-    // Whole-pixel magnification where the window is larger; shrunk where smaller.
-    double scale = std::min(double(W) / width, double(H) / height);
-    if (scale >= 1.0) scale = std::floor(scale);
-    const int shownW = int(width * scale), shownH = int(height * scale);
-    const int x0 = (W - shownW) / 2, y0 = (H - shownH) / 2;
+    const Letterbox box(W, H, width, height);
     auto* out = static_cast<uint8_t*>(staging_->mapped());
     const int r = bgra_ ? 2 : 0, b = bgra_ ? 0 : 2;
     for (int y = 0; y < H; ++y) {
-      const int iy = int(std::floor((y - y0) / scale));
       for (int x = 0; x < W; ++x) {
         uint8_t* o = out + (size_t(y) * W + x) * 4;
-        const int ix = int(std::floor((x - x0) / scale));
-        if (x < x0 || y < y0 || ix < 0 || iy < 0 || ix >= width || iy >= height) {
+        const glm::dvec2 at = box.image_at(x, y);
+        const int ix = int(std::floor(at.x)), iy = int(std::floor(at.y));
+        if (x < box.x0 || y < box.y0 || ix < 0 || iy < 0 || ix >= width || iy >= height) {
           o[0] = o[1] = o[2] = 0;
         } else {
           const uint8_t* p = &rgb8[(size_t(iy) * width + ix) * 3];
@@ -239,7 +254,7 @@ class Viewer {
     }
     scene_ = cli::load_scene_with_overrides(r_);
     view_ = std::make_unique<ViewCamera>(scene_.camera, scene_bounds(scene_));
-    target_ = uint32_t(r_.spp > 0 ? r_.spp : scene_.samplesPerPixel);
+    acc_ = ViewAccumulation(uint32_t(r_.spp > 0 ? r_.spp : scene_.samplesPerPixel), scene_.sampler == SamplerKind::Cmj);
     bounces_ = r_.maxBounces;
     lastWrite_ = modified();
 
@@ -291,7 +306,10 @@ class Viewer {
     glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
       Input& in = *static_cast<Input*>(glfwGetWindowUserPointer(w));
       const bool down = action == GLFW_PRESS;
-      if (button == GLFW_MOUSE_BUTTON_LEFT) in.left = down;
+      if (button == GLFW_MOUSE_BUTTON_LEFT) {
+        in.left = down;
+        (down ? in.leftPressed : in.leftReleased) = true;
+      }
       if (button == GLFW_MOUSE_BUTTON_RIGHT) {
         if (!down && in.right && in.rightTravel < 3.0) {
           in.focusClick = true;
@@ -323,7 +341,7 @@ class Viewer {
 
   RenderOptions options() const {
     cli::RenderArgs a = r_;
-    a.spp = int(target_);
+    a.spp = int(acc_.target());
     a.maxBounces = bounces_;
     a.integrator = hemisphere_ ? "path tracer hemisphere" : r_.integrator;
     a.lightSamples = lightSamples_ > 0 ? lightSamples_ : r_.lightSamples;
@@ -333,10 +351,11 @@ class Viewer {
   // A new renderer: the scene compiled again (kinds, integrator or light
   // samples changed, or the file was reloaded).
   void rebuild() {
-    scene_.camera = view_->camera();
+    scene_.camera = viewed();
     renderer_.reset();
     compiled_ = std::make_unique<CompiledScene>(compile_scene(scene_, options()));
     if (bounces_ < 0) bounces_ = int(compiled_->params.image.z);
+    acc_.set_stratified(compiled_->params.mode.y == SAMPLER_CMJ);
     WavefrontSettings settings = kernel_variant(r_.variant).settings;
     settings.targetSubmitSeconds = 1.0 / 15.0;  // a refresh after each submission
     renderer_ = std::make_unique<WavefrontRenderer>(*ctx_, *compiled_, settings);
@@ -345,14 +364,14 @@ class Viewer {
 
   // From sample 0 with the view and bounces as they are now.
   void restart() {
-    scene_.camera = view_->camera();
+    scene_.camera = viewed();
     set_camera_params(scene_.camera, compiled_->params);
     compiled_->params.image.z = uint32_t(bounces_);
-    compiled_->spp = int(target_);
-    compiled_->params.mode.z = target_;
+    compiled_->spp = int(acc_.target());
+    compiled_->params.mode.z = acc_.target();
     renderer_->update_params();
     image_ = ImageStats(compiled_->width, compiled_->height, image_layers(compiled_->aovs));
-    reached_ = 0;
+    acc_.restart();
     started_ = std::chrono::steady_clock::now();
     encode();
   }
@@ -367,6 +386,14 @@ class Viewer {
     glfwGetWindowSize(window_, &winW, &winH);
     const double toPixels = winW > 0 ? double(fbW) / winW : 1.0;
     bool moved = false, rebuildNeeded = false, restartNeeded = false;
+    if (cellMode_) {
+      const std::vector<int> before = cell_;
+      in.orbit.clear();
+      drag_cell(in, toPixels);
+      rebuildNeeded = cell_ != before;
+      if (dragging_) shown_ = false;
+    }
+    in.leftPressed = in.leftReleased = false;
     for (auto [dx, dy] : in.orbit) view_->orbit(dx * toPixels, dy * toPixels, fbW, fbH);
     for (auto [dx, dy] : in.pan) view_->pan(dx * toPixels, dy * toPixels, fbH);
     moved = !in.orbit.empty() || !in.pan.empty() || in.wheel != 0.0;
@@ -421,11 +448,12 @@ class Viewer {
           // More samples continue the image; fewer than it holds start it
           // again, as does any change under correlated multi-jittered
           // sampling, whose strata depend on the count.
-          target_ = key == GLFW_KEY_RIGHT_BRACKET ? std::min(target_ * 2, uint32_t(MAX_SAMPLES_PER_PIXEL)) : std::max(target_ / 2, 1u);
-          std::printf("view: %u samples per pixel\n", target_);
-          compiled_->spp = int(target_);
-          compiled_->params.mode.z = target_;
-          restartNeeded = restartNeeded || reached_ > target_ || compiled_->params.mode.y == SAMPLER_CMJ;
+          if (acc_.set_target(key == GLFW_KEY_RIGHT_BRACKET ? std::min(acc_.target() * 2, uint32_t(MAX_SAMPLES_PER_PIXEL))
+                                                            : acc_.target() / 2))
+            restartNeeded = true;
+          std::printf("view: %u samples per pixel\n", acc_.target());
+          compiled_->spp = int(acc_.target());
+          compiled_->params.mode.z = acc_.target();
           if (!restartNeeded) renderer_->update_params();
           break;
         case GLFW_KEY_EQUAL:
@@ -460,6 +488,15 @@ class Viewer {
         case GLFW_KEY_X: exposure_ += 1.0; encode(); shown_ = false; break;
         case GLFW_KEY_Z: exposure_ -= 1.0; encode(); shown_ = false; break;
         case GLFW_KEY_F: reload_ = true; break;
+        case GLFW_KEY_C:
+          cellMode_ = !cellMode_;
+          std::printf("view: %s\n", cellMode_ ? "cell mode: drag a rectangle to render it alone" : "the whole frame");
+          if (!cellMode_ && !cell_.empty()) {
+            cell_.clear();
+            rebuildNeeded = true;
+          }
+          shown_ = false;
+          break;
         case GLFW_KEY_SLASH:
           if (shift) std::fputs(viewer_keys(), stdout);
           break;
@@ -470,7 +507,10 @@ class Viewer {
     // The render's size follows the window's, once the resize has settled.
     if (in.resized && std::chrono::steady_clock::now() - in.resizedAt > kResizeSettles) {
       in.resized = false;
-      if (fbW > 0 && fbH > 0 && (fbW != compiled_->width || fbH != compiled_->height)) {
+      const Camera frame = view_->camera();
+      if (fbW > 0 && fbH > 0 && (fbW != frame.width || fbH != frame.height)) {
+        cell_.clear();  // as the course's window drops its cell on a resize
+        cellMode_ = false;
         r_.resolution = {fbW, fbH};
         view_->set_resolution(fbW, fbH);
         std::printf("view: %dx%d\n", fbW, fbH);
@@ -508,12 +548,10 @@ class Viewer {
   // The lens focused at the depth under the window pixel (x, y): the
   // distance along the view axis to what the ray through it meets first.
   void autofocus(double x, double y) {
-    const Camera c = scene_.camera;
-    const int w = compiled_->width, h = compiled_->height;
-    const vk::Extent2D e = presenter_->extent();
-    const double scale = std::min(double(e.width) / w, double(e.height) / h);
-    const double s = scale >= 1.0 ? std::floor(scale) : scale;
-    const double px = (x - (e.width - w * s) / 2) / s, py = (y - (e.height - h * s) / 2) / s;
+    const Camera c = view_->camera();
+    const int w = c.width, h = c.height;
+    const glm::dvec2 at = frame_at(x, y);
+    const double px = at.x, py = at.y;
     if (px < 0 || py < 0 || px >= w || py >= h || c.orthoHalfHeight > 0) return;
     const double tanHalf = std::tan(glm::radians(double(c.vfovDegrees)) / 2);
     const double aspect = c.aspect > 0 ? c.aspect : double(w) / h;
@@ -529,6 +567,41 @@ class Viewer {
     const double depth = hits[0].t * glm::dot(dir, -glm::normalize(frame[2]));
     view_->set_focus(depth);
     std::printf("view: focus distance %.4g\n", depth);
+  }
+
+  // The frame's pixel (full frame, rows from the top) under window
+  // framebuffer position (x, y).
+  glm::dvec2 frame_at(double x, double y) const {
+    const Camera c = view_->camera();
+    const vk::Extent2D e = presenter_->extent();
+    return Letterbox(int(e.width), int(e.height), c.width, c.height).image_at(x, y);
+  }
+
+  // The camera rendered: the view's, through the cell where one is chosen.
+  Camera viewed() const {
+    Camera c = view_->camera();
+    if (!cell_.empty()) set_cell(c, cell_[0], cell_[1], cell_[2], cell_[3]);
+    return c;
+  }
+
+  // The course's cell mode (C): a left-drag chooses a rectangle of the frame,
+  // rendered alone as -p renders it, over the frame as it was.
+  void drag_cell(Input& in, double toPixels) {
+    const Camera frame = view_->camera();
+    const glm::dvec2 at = glm::clamp(frame_at(in.x * toPixels, in.y * toPixels), glm::dvec2(0.0), glm::dvec2(frame.width, frame.height));
+    if (in.leftPressed) cellFrom_ = cellTo_ = at;
+    if (in.left || in.leftReleased) cellTo_ = at;
+    dragging_ = in.left;
+    in.leftPressed = false;
+    if (!in.leftReleased) return;
+    in.leftReleased = false;
+    const glm::ivec2 lo(glm::floor(glm::min(cellFrom_, cellTo_))), hi(glm::ceil(glm::max(cellFrom_, cellTo_)));
+    if (hi.x - lo.x < 2 || hi.y - lo.y < 2) return;
+    dragging_ = false;
+    compose();  // the frame as it is, without the rectangle
+    backdrop_ = displayBytes_;
+    cell_ = {lo.x, frame.height - hi.y, hi.x - lo.x, hi.y - lo.y};
+    std::printf("view: cell %dx%d at %d %d (rows from the bottom, as -p counts them)\n", cell_[2], cell_[3], cell_[0], cell_[1]);
   }
 
   // The image shown, as 8-bit RGB: the layer chosen, through the scene's
@@ -547,7 +620,7 @@ class Viewer {
     } else if (name == "variance") {
       for (size_t p = 0; p < n; ++p) put(p, image_.count[p] > 0 ? image_.variance(p) / image_.count[p] : glm::dvec3(0.0));
     } else if (name == "samples") {
-      for (size_t p = 0; p < n; ++p) put(p, glm::dvec3(image_.count[p] / std::max(1.0, double(target_))));
+      shownBytes_ = sample_rate_rgb8(image_, int(acc_.target()));  // the course's rate image
     } else if (image_.layer(name)) {
       // First hits, as the normals integrator shows them: albedo as it is,
       // normals mapped from [-1, 1], depth over the deepest hit.
@@ -561,17 +634,43 @@ class Viewer {
     }
   }
 
+  // The frame shown: the image, or the cell's image over the frame as it
+  // was, and the rectangle being dragged in red.
+  void compose() {
+    const Camera frame = view_->camera();
+    const int W = frame.width, H = frame.height;
+    if (cell_.empty()) {
+      displayBytes_ = shownBytes_;
+    } else {
+      if (backdrop_.size() != size_t(W) * H * 3) backdrop_.assign(size_t(W) * H * 3, 0);
+      displayBytes_ = backdrop_;
+      const int x0 = cell_[0], y0 = H - cell_[1] - cell_[3];
+      for (int y = 0; y < cell_[3]; ++y)
+        std::copy_n(&shownBytes_[size_t(y) * cell_[2] * 3], size_t(cell_[2]) * 3, &displayBytes_[(size_t(y0 + y) * W + x0) * 3]);
+    }
+    if (!cellMode_ || !dragging_ || displayBytes_.size() != size_t(W) * H * 3) return;
+    const glm::ivec2 lo(glm::min(cellFrom_, cellTo_)), hi(glm::min(glm::max(cellFrom_, cellTo_), glm::dvec2(W - 1, H - 1)));
+    auto red = [&](int x, int y) {
+      uint8_t* p = &displayBytes_[(size_t(y) * W + x) * 3];
+      p[0] = 255, p[1] = 0, p[2] = 0;
+    };
+    for (int x = lo.x; x <= hi.x; ++x) red(x, lo.y), red(x, hi.y);
+    for (int y = lo.y; y <= hi.y; ++y) red(lo.x, y), red(hi.x, y);
+  }
+
   void show() {
-    presenter_->present(shownBytes_, compiled_->width, compiled_->height);
+    compose();
+    const Camera frame = view_->camera();
+    presenter_->present(displayBytes_, frame.width, frame.height);
     ++frames_;
     shown_ = true;
     const std::string layer = kShownLayers[layer_];
-    const double elapsed = std::chrono::duration<double>((reached_ >= target_ ? finished_ : std::chrono::steady_clock::now()) - started_).count();
+    const double elapsed = std::chrono::duration<double>((acc_.done() ? finished_ : std::chrono::steady_clock::now()) - started_).count();
     char title[512];
     std::snprintf(title, sizeof title, "wavepath: %s | %dx%d | %u/%u spp | %.2f Msamples/s | %.1f s | %s%s | %s%s", scene_stem(r_.scene).c_str(),
-                  compiled_->width, compiled_->height, reached_, target_, elapsed > 0 ? double(image_.pixels()) * reached_ / elapsed * 1e-6 : 0.0, elapsed,
+                  compiled_->width, compiled_->height, acc_.reached(), acc_.target(), elapsed > 0 ? double(image_.pixels()) * acc_.reached() / elapsed * 1e-6 : 0.0, elapsed,
                   integrator_name(compiled_->params).c_str(), hemisphere_ ? " (hemisphere)" : "", layer.c_str(),
-                  exposure_ != 0 ? (" | exposure " + std::to_string(int(exposure_))).c_str() : "");
+                  (std::string(cellMode_ ? " | cell mode" : "") + (exposure_ != 0 ? " | exposure " + std::to_string(int(exposure_)) : "")).c_str());
     glfwSetWindowTitle(window_, title);
   }
 
@@ -579,27 +678,27 @@ class Viewer {
     opened_ = std::chrono::steady_clock::now();
     Progress quiet("", 0, false);
     while (!quit_) {
-      if (reached_ < target_) {
+      if (!acc_.done()) {
         const auto t0 = std::chrono::steady_clock::now();
-        const uint32_t from = reached_;
+        const uint32_t from = acc_.reached();
         PassHook afterPass = [&](const ImageStats&, uint32_t sample) {
-          reached_ = sample;
+          acc_.reach(sample);
           encode();
           show();
           return handle_input();
         };
-        const uint32_t sample = renderer_->render(image_, {reached_, target_}, quiet, afterPass);
+        const uint32_t sample = renderer_->render(image_, acc_.todo(), quiet, afterPass);
         renderSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         samplesRendered_ += uint64_t(image_.pixels()) * (sample - from);
-        reached_ = sample;
+        acc_.reach(sample);
         if (pendingRebuild_ || pendingRestart_) {
           apply_pending();
           continue;
         }
-        if (reached_ >= target_) finished_ = std::chrono::steady_clock::now();
+        if (acc_.done()) finished_ = std::chrono::steady_clock::now();
         encode();
         show();
-        if (reached_ >= target_ && args_.exitWhenDone) {
+        if (acc_.done() && args_.exitWhenDone) {
           save();
           return 0;
         }
@@ -633,7 +732,7 @@ class Viewer {
   // writes it (PNG and the EXR with the render's identity, resumable with
   // `render --resume`), and the camera file that reproduces the view.
   void save() {
-    if (reached_ == 0) {
+    if (acc_.reached() == 0) {
       std::printf("view: no samples yet, nothing saved\n");
       return;
     }
@@ -652,24 +751,26 @@ class Viewer {
     record.settings = render_settings(*compiled_);
     record.version = wavepath_version();
     record.renderer = kernel_variant(r_.variant).name + " in the window";
-    record.samples = format_sample_ranges({{0, reached_}});
-    const bool complete = reached_ >= target_;
+    record.samples = format_sample_ranges({{0, acc_.reached()}});
+    const bool complete = acc_.done();
     record.status = complete ? "complete" : "stopped in the window";
     write_exr(exr, image_, record, !complete);
     write_image(png, mean_rgb(image_), compiled_->eightBitCurve);
     write_camera(camera);
+    if (compiled_->adaptive.enabled()) write_sample_rate_png(base.string() + "_rate.png", image_, int(acc_.target()));
     // The command line that renders this view, as the window renders it.
     cli::RenderArgs again = r_;
     again.output.clear();
     again.cameraSettings = camera;
-    again.spp = int(target_);
+    again.spp = int(acc_.target());
     again.maxBounces = bounces_;
     again.integrator = hemisphere_ ? "path tracer hemisphere" : r_.integrator;
     if (lightSamples_ > 0) again.lightSamples = lightSamples_;
+    again.cell = cell_;
     again.aperture = scene_.camera.apertureRadius;
     again.focusDistance = scene_.camera.focusDistance;
     if (!complete) again.resume = exr;
-    std::printf("view: wrote %s and %s (%u of %u samples per pixel)\n", png.c_str(), exr.c_str(), reached_, target_);
+    std::printf("view: wrote %s and %s (%u of %u samples per pixel)\n", png.c_str(), exr.c_str(), acc_.reached(), acc_.target());
     std::printf("view: %s with: %s\n", complete ? "render it again" : "finish it", cli::render_command_line(again).c_str());
   }
 
@@ -682,10 +783,15 @@ class Viewer {
   std::unique_ptr<CompiledScene> compiled_;
   std::unique_ptr<WavefrontRenderer> renderer_;
   ImageStats image_;
-  std::vector<uint8_t> shownBytes_;
+  std::vector<uint8_t> shownBytes_;    // the image rendered, 8-bit
+  std::vector<uint8_t> displayBytes_;  // the frame shown (compose)
+  std::vector<uint8_t> backdrop_;      // the frame under the cell
+  bool cellMode_ = false, dragging_ = false;
+  std::vector<int> cell_;  // X Y DX DY of the cell rendered, rows from the bottom (-p's); empty: the whole frame
+  glm::dvec2 cellFrom_{0.0}, cellTo_{0.0};
   GLFWwindow* window_ = nullptr;
   Input input_;
-  uint32_t reached_ = 0, target_ = 1;
+  ViewAccumulation acc_{1, false};
   int bounces_ = -1, lightSamples_ = 0;
   bool hemisphere_ = false, quit_ = false, reload_ = false, shown_ = false;
   bool pendingRebuild_ = false, pendingRestart_ = false;
