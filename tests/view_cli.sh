@@ -13,6 +13,7 @@
 set -u
 wavepath=$(realpath "$1")
 scene=$(realpath "$2/cornell-box.json")
+data=$(realpath "$(dirname "$0")/data")
 if ! "$wavepath" view --keys >/dev/null 2>&1; then
   echo "SKIP: this wavepath was built without GLFW (libglfw3-dev)"
   exit 77
@@ -138,6 +139,27 @@ check "the cell's command line is -p's, rows from the bottom" $(echo "$again" | 
 eval "\"\$wavepath\" $again -o cell-render.png -q" >out 2>&1
 "$wavepath" compare --images cell.exr cell-render.exr >out 2>&1
 check "render -p with that command agrees with the window's cell" $?
+
+# The scene reloads when its file changes; a broken edit leaves the scene
+# as it was, with one line on stderr, and the window goes on.
+cp "$data/quad-light.json" edited.json
+"$wavepath" view edited.json -r 64 64 --spp 2 -o edited.png >"$work/view.out" 2>"$work/view.err" &
+pid=$!
+win=$(timeout 120 xdotool search --sync --name '^wavepath: edited' 2>/dev/null | head -1)
+title_reaches "$win" "| 2/2 spp"
+echo '{ "camera": ' >edited.json
+sleep 1.5
+check "a broken edit is reported and the scene as it was stays" $(grep -q 'the scene as it was stays' "$work/view.err" && kill -0 "$pid"; echo $?)
+sed 's/"albedo": \[0.6, 0.5, 0.4\]/"albedo": [0.2, 0.7, 0.2]/' "$data/quad-light.json" >edited.json
+sleep 1.5
+title_reaches "$win" "| 2/2 spp"
+xdotool windowfocus --sync "$win" key Escape 2>/dev/null
+wait "$pid"
+rc=$?
+check "an edit reloads the scene, keeping the window: exit 0" $([ $rc -eq 0 ] && grep -q '^view: reloaded' "$work/view.out"; echo $?)
+"$wavepath" render edited.json -r 64 64 --spp 2 -o edited-render.png -q
+"$wavepath" compare --images edited.exr edited-render.exr >out 2>&1
+check "the window saved the edited scene's image" $?
 
 # A resize renders at the window's new size; Tab to the albedo renders the
 # first hits' layers from then on, and the EXR holds them.

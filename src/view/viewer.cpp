@@ -83,7 +83,11 @@ struct Input {
   double x = 0, y = 0;            // cursor, window coordinates
   bool left = false, right = false;
   double rightTravel = 0;          // cursor travel since the right button went down
-  std::vector<std::pair<int, int>> keys;  // key, mods: presses and repeats since the last look
+  struct Key {
+    int key, mods;
+    bool repeat;  // held down: the flight keys act on repeats, the rest only on presses
+  };
+  std::vector<Key> keys;  // since the last look
   std::vector<std::pair<double, double>> orbit, pan;
   double wheel = 0;
   bool focusClick = false;
@@ -301,7 +305,7 @@ class Viewer {
  private:
   void install_callbacks() {
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
-      if (action != GLFW_RELEASE) static_cast<Input*>(glfwGetWindowUserPointer(w))->keys.emplace_back(key, action == GLFW_REPEAT ? -1 - mods : mods);
+      if (action != GLFW_RELEASE) static_cast<Input*>(glfwGetWindowUserPointer(w))->keys.push_back({key, mods, action == GLFW_REPEAT});
     });
     glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
       Input& in = *static_cast<Input*>(glfwGetWindowUserPointer(w));
@@ -406,11 +410,9 @@ class Viewer {
       autofocus(in.focusX * toPixels, in.focusY * toPixels);
       moved = true;
     }
-    std::vector<std::pair<int, int>> keys;
+    std::vector<Input::Key> keys;
     keys.swap(in.keys);
-    for (auto [key, mods] : keys) {
-      const bool repeat = mods < 0;
-      if (repeat) mods = -1 - mods;
+    for (const auto [key, mods, repeat] : keys) {
       const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
       glm::dvec3 flight(0.0);
       switch (key) {
@@ -526,6 +528,7 @@ class Viewer {
       lastWrite_ = modified();
       try {
         Scene fresh = cli::load_scene_with_overrides(r_);
+        previousScene_ = std::make_unique<Scene>(std::move(scene_));
         scene_ = std::move(fresh);
         std::printf("view: reloaded %s\n", r_.scene.c_str());
         rebuildNeeded = true;
@@ -540,8 +543,19 @@ class Viewer {
 
   // What the input asked for, once the renderer is between renders.
   void apply_pending() {
-    if (pendingRebuild_) rebuild();
-    else if (pendingRestart_) restart();
+    try {
+      if (pendingRebuild_) rebuild();
+      else if (pendingRestart_) restart();
+    } catch (const InputError& e) {
+      // A reloaded file that loads but does not compile (too many emitters
+      // for the mixture, say): the scene as it was stays.
+      if (!previousScene_) throw;
+      std::fprintf(stderr, "wavepath view: %s (the scene as it was stays)\n", e.what());
+      scene_ = std::move(*previousScene_);
+      previousScene_.reset();
+      rebuild();
+    }
+    previousScene_.reset();
     pendingRebuild_ = pendingRestart_ = false;
   }
 
@@ -777,6 +791,7 @@ class Viewer {
   ViewerArgs args_;
   cli::RenderArgs r_;
   Scene scene_;
+  std::unique_ptr<Scene> previousScene_;  // the scene before a reload, until the reload compiles
   std::unique_ptr<ViewCamera> view_;
   std::unique_ptr<VulkanContext> ctx_;
   std::unique_ptr<Presenter> presenter_;
