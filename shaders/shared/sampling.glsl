@@ -111,6 +111,37 @@ float uniform_cone_pdf(float oneMinusCosMax) {
   return 1.0f / (2.0f * WP_PI * oneMinusCosMax);
 }
 
+// Henyey-Greenstein's phase function, the scattering of participating media
+// (darts' final project, include/darts/medium.h; pbrt-v4's HGPhaseFunction):
+// the density per steradian of scattering into a direction at cos theta =
+// cosTheta from the direction travelled, for asymmetry g in (-1, 1) (g > 0
+// scatters forward): (1 - g^2) / (4 pi (1 + g^2 - 2 g cos theta)^(3/2)).
+float henyey_greenstein_pdf(float cosTheta, float g) {
+  // 1 + g^2 - 2 g cos theta as (1 - |g|)^2 + 2 |g| (1 -+ cos theta): no
+  // cancellation at the peak, on either side.
+  float a = abs(g);
+  float d = (1.0f - a) * (1.0f - a) + 2.0f * a * (g < 0.0f ? 1.0f + cosTheta : 1.0f - cosTheta);
+  return (1.0f - g * g) / (4.0f * WP_PI * d * sqrt(d));
+}
+
+// A direction about +Z (the direction travelled) with that density: the cdf
+// inverted in closed form for |g|, as the distance 1 -+ cos theta from the
+// peak so that a peaked lobe keeps its precision, mirrored for g < 0;
+// uniform where |g| is too small for the inversion.
+vec3 square_to_henyey_greenstein(vec2 u, float g) {
+  float a = abs(g);
+  float fromPeak;
+  if (a < 1e-3f) {
+    fromPeak = 2.0f * u.x;
+  } else {
+    float q = 1.0f - a + 2.0f * a * u.x;
+    fromPeak = clamp((1.0f - a) * (1.0f - u.x) * ((1.0f - a * a) / q + 1.0f - a) / q, 0.0f, 2.0f);
+  }
+  float sinTheta = sqrt(max(0.0f, fromPeak * (2.0f - fromPeak)));
+  float phi = 2.0f * WP_PI * u.y;
+  return vec3(sinTheta * cos(phi), sinTheta * sin(phi), g < 0.0f ? fromPeak - 1.0f : 1.0f - fromPeak);
+}
+
 // Balance heuristic, for the one-sample mixture of BSDF and emitter sampling.
 float mixture_pdf(float pdfA, float pdfB, float probA) {
   return probA * pdfA + (1.0f - probA) * pdfB;
