@@ -995,5 +995,15 @@ TEST(GpuDarts, HistogramImagesHoldEverySampleWhateverTheChiSquareTakes) {
   }
 }
 
+// The variant is settled before the scene is compiled, for the device that
+// rendering will open: here lavapipe, the only device CI has.
+TEST(GpuVariants, TheDefaultIsResolvedForTheDeviceBeforeCompiling) {
+  EXPECT_EQ(resolve_variant("gpu-bvh2", ""), "gpu-bvh2");  // named: no device asked
+  EXPECT_THROW(resolve_variant("gpu-bhv2", ""), InputError);
+  const std::string chosen = resolve_variant("", "");
+  EXPECT_EQ(chosen, default_variant(VulkanContext::selected_device("")).name);
+  EXPECT_EQ(variant_options(RenderOptions{}, chosen).bvhLayout, kernel_variant(chosen).bvhLayout);
+}
+
 }  // namespace
 }  // namespace wp::test

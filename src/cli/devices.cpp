@@ -22,10 +22,11 @@ int run_devices(bool validation) {
     std::printf("%u: %s\n   type %s, driver %s, Vulkan %s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
                 d.apiVersion.c_str(), d.suitable ? "" : " (unsuitable: needs Vulkan 1.1, a compute queue and subgroup ballots in compute shaders)");
     std::printf("   max texel buffer %llu M texels (scene data), max storage buffer %llu MiB (work buffers), max workgroups %u,\n"
-                "   max invocations %u, subgroup %u, device-local memory %llu MiB\n",
+                "   max invocations %u, subgroup %u, device-local memory %llu MiB, driver ray queries %s\n",
                 (unsigned long long)(d.maxTexelBufferElements >> 20), (unsigned long long)(d.maxStorageBufferRange >> 20),
                 d.maxComputeWorkGroupCount, d.maxComputeWorkGroupInvocations, d.subgroupSize,
-                (unsigned long long)(d.deviceLocalMemory >> 20));
+                (unsigned long long)(d.deviceLocalMemory >> 20), d.rayQuery ? "offered" : "not offered");
+    std::printf("   default variant %s\n", default_variant(d).name.c_str());
   }
   return 0;
 }

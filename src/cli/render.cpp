@@ -164,17 +164,18 @@ int run_render(const RenderArgs& a) {
     throw InputError(a.checkpoint + ": a checkpoint is a partial EXR and must be an .exr file");
   const double budget = a.time.empty() ? 0.0 : parse_duration(a.time, "--time");
   const double checkpointEvery = parse_duration(a.checkpointEvery, "--checkpoint-every");
-  if (!a.cpu) kernel_variant(a.variant);  // an unknown variant fails before any work
+  if (!a.cpu && !a.variant.empty()) kernel_variant(a.variant);  // an unknown variant fails before any work
   if (a.cpu && !a.devices.empty()) throw InputError("--cpu and --devices: name the CPU reference among the devices (--devices 0,cpu)");
   for (const std::string& path : {out, exr, a.checkpoint})
     if (!path.empty()) require_output_directory(path);
 
   // The renderers: one (the CPU reference or a variant on --device), or
-  // those --devices names, each with the scene compiled for it.
-  std::vector<RenderDevice> devices;
-  if (a.devices.empty()) devices.push_back({a.cpu ? "cpu" : a.variant, a.device, nullptr});
-  for (const std::string& d : a.devices) devices.push_back({d == "cpu" ? "cpu" : a.variant, d == "cpu" ? "" : d, nullptr});
+  // those --devices names, each with the scene compiled for it (a device's
+  // default variant may choose the BVH layout).
   Scene scene = load_scene_with_overrides(a);
+  std::vector<RenderDevice> devices;
+  if (a.devices.empty()) devices.push_back({a.cpu ? "cpu" : resolve_variant(a.variant, a.device), a.device, nullptr});
+  for (const std::string& d : a.devices) devices.push_back({d == "cpu" ? "cpu" : resolve_variant(a.variant, d), d == "cpu" ? "" : d, nullptr});
   std::map<std::string, CompiledScene> compiled;  // by renderer; its elements stay where they are
   for (RenderDevice& d : devices) {
     auto found = compiled.find(d.renderer);
@@ -187,7 +188,7 @@ int run_render(const RenderArgs& a) {
   record.sceneHash = scene_content_hash(scene);
   record.settings = render_settings(first);
   record.version = wavepath_version();
-  record.renderer = a.devices.empty() ? (a.cpu ? "the CPU reference" : a.variant) : "several devices";
+  record.renderer = a.devices.empty() ? (a.cpu ? "the CPU reference" : devices[0].renderer) : "several devices";
   RenderPlan plan = plan_render(a, first, record);
   ImageStats& image = plan.image;
   std::vector<SampleRange> todo = missing_ranges(plan.done, plan.range.end);

@@ -222,7 +222,7 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
   app.add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
   app.add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   app.add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
-  app.add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default gpu");
+  app.add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default: the device's, as devices shows");
   app.add_option("-r,--resolution", r.resolution, "image size W H, overriding the scene's (CS184: -r)")
       ->expected(2)
       ->check(CLI::Range(1, MAX_IMAGE_SIZE));
@@ -277,7 +277,7 @@ std::string render_command_line(const RenderArgs& a) {
   for (const std::string& l : a.aovs) aovs += (aovs.empty() ? "" : ",") + l;
   add("--aov", aovs);
   if (a.seed != 0) add("--seed", std::to_string(a.seed));
-  if (a.variant != "gpu") add("--variant", a.variant);
+  if (!a.variant.empty()) add("--variant", a.variant);
   add("--resume", a.resume);
   return line;
 }

@@ -32,7 +32,7 @@ struct RenderArgs {
   bool validation = false;
   std::vector<int> resolution;
   bool stageTimes = false;
-  std::string variant = "gpu";
+  std::string variant;  // empty: the device's default (default_variant)
   std::string integrator;  // darts integrator name, overriding the scene's
   std::string sampler;     // independent or cmj
   float aperture = -1.0f;  // lens radius, overriding the scene's (CS184 -b)

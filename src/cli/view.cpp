@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/render_args.h"
+#include "gpu/wavefront.h"
 #include "image/image_file.h"
 #include "util/error.h"
 #ifdef WAVEPATH_HAVE_VIEWER
@@ -45,6 +46,7 @@ Command add_view(CLI::App& app) {
                 throw InputError(r->output + ": the window's image is an 8-bit image (" + image_format_names() + " but exr, which is written beside it)");
               require_output_directory(r->output);
             }
+            if (!r->variant.empty()) kernel_variant(r->variant);  // an unknown variant fails before the window opens
             return run_viewer(ViewerArgs{*r, *exitWhenDone});
 #else
             (void)hemisphere;

@@ -166,7 +166,8 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
 
 uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
   const uint32_t cap = scene.params.counts.z;
-  if (!settings.megakernel) return cap;
+  // Only lavapipe has a loop budget for the megakernel's rays to share.
+  if (!settings.megakernel || !cpu_device()) return cap;
   const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
   const uint64_t budget = TRAVERSAL_STEP_BUDGET, traversals = bounces + 1 + bounces * lightSamples;
   const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;

@@ -31,6 +31,8 @@ const std::vector<KernelVariant>& kernel_variants() {
          BvhLayout::Wide},
         {"gpu-mega", "one kernel per path (camera ray to pixel), its rays sharing lavapipe's loop budget", megakernel,
          BvhLayout::Wide},
+        {"gpu-mega-bvh2", "one kernel per path over the binary BVH (whose walk suits incoherent rays on GPUs)", megakernel,
+         BvhLayout::Binary},
         {"gpu-clustered", "wavefront kernels, wide BVH from the clustered SAH build (Morton clusters at the top, exact sweep at the bottom)",
          WavefrontSettings{}, BvhLayout::Wide, true},
         {"gpu-sort", "wavefront kernels, paths sorted by the class of material their ray hit, each class shaded by a kernel holding only its kinds", sorted,
@@ -46,6 +48,42 @@ const std::vector<KernelVariant>& kernel_variants() {
     return v;
   }();
   return variants;
+}
+
+namespace {
+
+// The default variant of each class of device: the first row that matches
+// wins, and a device no row matches gets the wavefront kernels. Each row is
+// the winner of a measurement in docs/benchmarks.md ("The default variant of
+// each device").
+struct DeviceDefault {
+  const char* type;    // GpuDeviceInfo::type, or "" for any
+  const char* driver;  // text in GpuDeviceInfo::driver, or "" for any
+  const char* variant;
+};
+constexpr DeviceDefault kDeviceDefaults[] = {
+    // lavapipe: the megakernel is slower (its rays share the loop budget),
+    // and the binary tree's walk too.
+    {"cpu", "", "gpu"},
+    // H100 and H200: one kernel per path over the binary tree, 1.7x the
+    // wavefront kernels on the Cornell dragon (H200).
+    {"", "NVIDIA", "gpu-mega-bvh2"},
+};
+
+}  // namespace
+
+const KernelVariant& default_variant(const GpuDeviceInfo& device) {
+  for (const DeviceDefault& row : kDeviceDefaults) {
+    if (*row.type && device.type != row.type) continue;
+    if (*row.driver && device.driver.find(row.driver) == std::string::npos) continue;
+    return kernel_variant(row.variant);
+  }
+  return kernel_variant("gpu");
+}
+
+std::string resolve_variant(const std::string& variant, const std::string& deviceSelector) {
+  if (!variant.empty()) return kernel_variant(variant).name;
+  return default_variant(VulkanContext::selected_device(deviceSelector)).name;
 }
 
 RenderOptions variant_options(RenderOptions options, const std::string& renderer) {

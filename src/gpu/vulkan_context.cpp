@@ -35,14 +35,47 @@ std::string type_name(vk::PhysicalDeviceType t) {
   }
 }
 
-int type_rank(vk::PhysicalDeviceType t) {
-  switch (t) {
-    case vk::PhysicalDeviceType::eDiscreteGpu: return 0;
-    case vk::PhysicalDeviceType::eIntegratedGpu: return 1;
-    case vk::PhysicalDeviceType::eVirtualGpu: return 2;
-    case vk::PhysicalDeviceType::eCpu: return 3;
-    default: return 4;
+int type_rank(const std::string& type) {
+  const char* order[] = {"discrete", "integrated", "virtual", "cpu"};
+  for (int i = 0; i < 4; ++i)
+    if (type == order[i]) return i;
+  return 4;
+}
+
+// The device `selector` names among `infos`: "" the best suitable one
+// (discrete > integrated > virtual > cpu), else an index or part of a name.
+// `window`: the devices were checked for presenting to a window's surface.
+size_t choose_device(const std::vector<GpuDeviceInfo>& infos, const std::string& selector, bool window) {
+  int chosen = -1;
+  if (selector.empty()) {
+    for (uint32_t i = 0; i < infos.size(); ++i) {
+      if (!infos[i].suitable) continue;
+      if (chosen < 0 || type_rank(infos[i].type) < type_rank(infos[size_t(chosen)].type)) chosen = int(i);
+    }
+    if (chosen < 0 && window) throw RenderError("no Vulkan device can present to the window from a compute queue");
+    if (chosen < 0) throw RenderError("no suitable Vulkan device (Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders) found");
+    return size_t(chosen);
   }
+  char* end = nullptr;
+  long idx = std::strtol(selector.c_str(), &end, 10);
+  if (end != selector.c_str() && *end == '\0') {
+    if (idx < 0 || size_t(idx) >= infos.size())
+      throw InputError("--device " + selector + ": no such device index (wavepath devices lists " + std::to_string(infos.size()) + ")");
+    chosen = int(idx);
+  } else {
+    std::string want = selector;
+    std::transform(want.begin(), want.end(), want.begin(), ::tolower);
+    for (uint32_t i = 0; i < infos.size() && chosen < 0; ++i) {
+      std::string name = infos[i].name;
+      std::transform(name.begin(), name.end(), name.begin(), ::tolower);
+      if (name.find(want) != std::string::npos) chosen = int(i);
+    }
+    if (chosen < 0) throw InputError("--device " + selector + ": no device name contains that text (see wavepath devices)");
+  }
+  const GpuDeviceInfo& info = infos[size_t(chosen)];
+  if (window && !info.presents) throw RenderError("device " + info.name + " cannot present to the window");
+  if (!info.suitable) throw RenderError("device " + info.name + " lacks Vulkan 1.1, a compute queue or subgroup ballots in compute shaders");
+  return size_t(chosen);
 }
 
 std::optional<uint32_t> compute_queue_family(const vk::raii::PhysicalDevice& pd) {
@@ -78,6 +111,12 @@ GpuDeviceInfo describe(const vk::raii::PhysicalDevice& pd, uint32_t index) {
                 (sg.supportedOperations & vk::SubgroupFeatureFlagBits::eBasic) &&
                 (sg.supportedOperations & vk::SubgroupFeatureFlagBits::eBallot);
   info.suitable = p.apiVersion >= VK_API_VERSION_1_1 && compute_queue_family(pd).has_value() && ballot;
+  bool query = false, structures = false;
+  for (const vk::ExtensionProperties& x : pd.enumerateDeviceExtensionProperties()) {
+    query = query || std::strcmp(x.extensionName, VK_KHR_RAY_QUERY_EXTENSION_NAME) == 0;
+    structures = structures || std::strcmp(x.extensionName, VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME) == 0;
+  }
+  info.rayQuery = query && structures;
   return info;
 }
 
@@ -127,6 +166,12 @@ std::vector<GpuDeviceInfo> VulkanContext::list_devices(bool validation) {
   return out;
 }
 
+GpuDeviceInfo VulkanContext::selected_device(const std::string& selector) {
+  std::vector<GpuDeviceInfo> infos = list_devices(false);
+  if (infos.empty()) throw RenderError("no Vulkan device found; install a Vulkan driver, e.g. Debian's mesa-vulkan-drivers for lavapipe");
+  return infos[choose_device(infos, selector, false)];
+}
+
 VulkanContext::VulkanContext(const std::string& selector, bool validation, const Presentation* presentation) {
   context_ = make_context();
   instance_ = make_instance(*context_, validation, presentation ? presentation->instanceExtensions : std::vector<std::string>{});
@@ -154,37 +199,9 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation, const
     }
   }
 
-  int chosen = -1;
-  if (selector.empty()) {
-    for (uint32_t i = 0; i < infos.size(); ++i) {
-      if (!infos[i].suitable) continue;
-      if (chosen < 0 || type_rank(devices[i].getProperties().deviceType) < type_rank(devices[size_t(chosen)].getProperties().deviceType))
-        chosen = int(i);
-    }
-    if (chosen < 0 && surface_) throw RenderError("no Vulkan device can present to the window from a compute queue");
-    if (chosen < 0) throw RenderError("no suitable Vulkan device (Vulkan 1.1 with a compute queue and subgroup ballots in compute shaders) found");
-  } else {
-    char* end = nullptr;
-    long idx = std::strtol(selector.c_str(), &end, 10);
-    if (end != selector.c_str() && *end == '\0') {
-      if (idx < 0 || size_t(idx) >= infos.size())
-        throw InputError("--device " + selector + ": no such device index (wavepath devices lists " + std::to_string(infos.size()) + ")");
-      chosen = int(idx);
-    } else {
-      std::string want = selector;
-      std::transform(want.begin(), want.end(), want.begin(), ::tolower);
-      for (uint32_t i = 0; i < infos.size() && chosen < 0; ++i) {
-        std::string name = infos[i].name;
-        std::transform(name.begin(), name.end(), name.begin(), ::tolower);
-        if (name.find(want) != std::string::npos) chosen = int(i);
-      }
-      if (chosen < 0) throw InputError("--device " + selector + ": no device name contains that text (see wavepath devices)");
-    }
-    if (surface_ && !infos[size_t(chosen)].presents) throw RenderError("device " + infos[size_t(chosen)].name + " cannot present to the window");
-    if (!infos[size_t(chosen)].suitable) throw RenderError("device " + infos[size_t(chosen)].name + " lacks Vulkan 1.1, a compute queue or subgroup ballots in compute shaders");
-  }
-  physical_ = std::make_unique<vk::raii::PhysicalDevice>(std::move(devices[size_t(chosen)]));
-  info_ = infos[size_t(chosen)];
+  const size_t chosen = choose_device(infos, selector, surface_ != nullptr);
+  physical_ = std::make_unique<vk::raii::PhysicalDevice>(std::move(devices[chosen]));
+  info_ = infos[chosen];
   queueFamily_ = *compute_queue_family(*physical_);
   float priority = 1.0f;
   vk::DeviceQueueCreateInfo qci({}, queueFamily_, 1, &priority);

@@ -31,6 +31,9 @@ struct GpuDeviceInfo {
   bool floatAtomicAdd = false;  // set for the chosen device: VK_EXT_shader_atomic_float enabled
   bool pipelineStatistics = false;  // set for the chosen device: VK_KHR_pipeline_executable_properties enabled
   bool presents = false;  // with a window: its compute queue presents to the window's surface (VK_KHR_swapchain)
+  // The driver's own traversal (VK_KHR_ray_query with VK_KHR_acceleration_structure): the anchor
+  // that wavepath's traversal is measured against where a device has it.
+  bool rayQuery = false;
 };
 
 // What a window asks of the context (`wavepath view`): the instance
@@ -63,6 +66,9 @@ class VulkanContext {
   ~VulkanContext();
 
   static std::vector<GpuDeviceInfo> list_devices(bool validation);
+  // The device a context made with `selector` would open (without a window),
+  // described without opening it: what a scene's compilation may depend on.
+  static GpuDeviceInfo selected_device(const std::string& selector);
   static bool validation_requested_by_environment();  // WAVEPATH_VALIDATION=1
 
   const GpuDeviceInfo& info() const { return info_; }

@@ -83,6 +83,13 @@ struct KernelVariant {
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.
 const KernelVariant& kernel_variant(const std::string& name);
+// The variant a device renders with unless told otherwise: one table in
+// variants.cpp, device class to variant, filled from measurements.
+const KernelVariant& default_variant(const GpuDeviceInfo& device);
+// `variant` (checked), or where it is empty the default of the device
+// `deviceSelector` picks (VulkanContext::selected_device). Called before a
+// scene is compiled, since a variant may choose the BVH layout.
+std::string resolve_variant(const std::string& variant, const std::string& deviceSelector);
 // `options` with the compile-time choices of `renderer`: a kernel variant's
 // name, or "cpu" for the CPU reference (reference_options).
 RenderOptions variant_options(RenderOptions options, const std::string& renderer);

@@ -283,6 +283,7 @@ class Viewer {
     try {
       ctx_ = std::make_unique<VulkanContext>(r_.device, r_.validation || VulkanContext::validation_requested_by_environment(), &presentation);
       presenter_ = std::make_unique<Presenter>(*ctx_, window_);
+      variant_ = r_.variant.empty() ? default_variant(ctx_->info()).name : r_.variant;
     } catch (const RenderError& e) {
       std::fprintf(stderr, "wavepath view: %s; `wavepath render` renders without a window\n", e.what());
       return 2;
@@ -349,7 +350,7 @@ class Viewer {
     a.maxBounces = bounces_;
     a.integrator = hemisphere_ ? "path tracer hemisphere" : r_.integrator;
     a.lightSamples = lightSamples_ > 0 ? lightSamples_ : r_.lightSamples;
-    return cli::options_from(a, a.seed);
+    return variant_options(cli::options_from(a, a.seed), variant_);  // the variant's BVH layout
   }
 
   // A new renderer: the scene compiled again (kinds, integrator or light
@@ -360,7 +361,7 @@ class Viewer {
     compiled_ = std::make_unique<CompiledScene>(compile_scene(scene_, options()));
     if (bounces_ < 0) bounces_ = int(compiled_->params.image.z);
     acc_.set_stratified(compiled_->params.mode.y == SAMPLER_CMJ);
-    WavefrontSettings settings = kernel_variant(r_.variant).settings;
+    WavefrontSettings settings = kernel_variant(variant_).settings;
     settings.targetSubmitSeconds = 1.0 / 15.0;  // a refresh after each submission
     renderer_ = std::make_unique<WavefrontRenderer>(*ctx_, *compiled_, settings);
     restart();
@@ -764,7 +765,7 @@ class Viewer {
     record.sceneHash = scene_content_hash(scene_);
     record.settings = render_settings(*compiled_);
     record.version = wavepath_version();
-    record.renderer = kernel_variant(r_.variant).name + " in the window";
+    record.renderer = variant_ + " in the window";
     record.samples = format_sample_ranges({{0, acc_.reached()}});
     const bool complete = acc_.done();
     record.status = complete ? "complete" : "stopped in the window";
@@ -794,6 +795,7 @@ class Viewer {
   std::unique_ptr<Scene> previousScene_;  // the scene before a reload, until the reload compiles
   std::unique_ptr<ViewCamera> view_;
   std::unique_ptr<VulkanContext> ctx_;
+  std::string variant_;  // --variant, or the window's device's default
   std::unique_ptr<Presenter> presenter_;
   std::unique_ptr<CompiledScene> compiled_;
   std::unique_ptr<WavefrontRenderer> renderer_;
