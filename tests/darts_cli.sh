@@ -37,7 +37,11 @@ check "and the count" $(grep -q "Failed 1/2 tests" "$work/err"; echo $?)
 rc=$?
 check "an unreadable test: exit 2, the others still run" $([ $rc -eq 2 ] && grep -q "fine" "$work/out"; echo $?)
 check "the typo gets a suggestion" $(grep -q '/tests/1/type.*did you mean "sample material"' "$work/err"; echo $?)
-check "photon maps are refused with the reason" $(grep -q "/tests/2/type: photon map tests need photon mapping" "$work/err"; echo $?)
+check "a photon map test with a flat transform names it" $(grep -q "/tests/2/transform/scale: scale factors must be non-zero" "$work/err"; echo $?)
+"$wavepath" test "$work/test_photon_map.json" >"$work/out" 2>"$work/err"
+rc=$?
+check "photon map tests (k nearest and fixed radius) pass, writing darts' images" \
+  $([ $rc -eq 0 ] && grep -q "Integrals of analytic PDF" "$work/out" && [ -s "$work/ellipse-nearest-photon-density.png" ] && [ -s "$work/tilted-fixed-radius-pdf.exr" ]; echo $?)
 bad "a scene given to test" "holds no darts tests" -- "$wavepath" test "$data/quad-light.json"
 mkdir "$work/readonly" && cp "$work/test_failing.json" "$work/readonly/" && chmod 555 "$work/readonly"
 if [ -w "$work/readonly" ]; then

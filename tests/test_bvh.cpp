@@ -8,6 +8,7 @@
 #include <random>
 
 #include "bvh/bvh.h"
+#include "bvh/photon_map.h"
 #include "bvh/wide_bvh.h"
 #include "util/huge_pages.h"
 
@@ -727,6 +728,78 @@ TEST(Bvh, HugePageArraysHoldWhatIsWritten) {
   EXPECT_EQ(small[2], 7u);
   advise_huge_pages(nullptr, 0);  // nothing to advise: no effect
   advise_huge_pages(v.data(), 100);
+}
+
+// The photon map's two searches against brute force, on clustered and
+// duplicated points: the same photons within the radius, and the same k
+// nearest with the radius they fill.
+TEST(PhotonMap, SearchesEqualBruteForce) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  PhotonMap map;
+  std::vector<glm::vec3> points;
+  for (int i = 0; i < 5000; ++i) {
+    glm::vec3 p(u(rng), u(rng) * 0.1f, u(rng));
+    if (i % 7 == 0 && !points.empty()) p = points.back();  // duplicates
+    points.push_back(p);
+    map.add(p, glm::vec3(float(i)));
+  }
+  map.build();
+  for (int q = 0; q < 200; ++q) {
+    const glm::vec3 at(u(rng), u(rng) * 0.1f, u(rng));
+    const float r2 = 0.01f * u(rng);
+    std::vector<float> brute;
+    for (const glm::vec3& p : points)
+      if (glm::dot(p - at, p - at) <= r2) brute.push_back(glm::dot(p - at, p - at));
+    std::sort(brute.begin(), brute.end());
+    std::vector<float> found;
+    map.within(at, r2, [&](const PhotonMap::Photon&, float d2) { found.push_back(d2); });
+    std::sort(found.begin(), found.end());
+    ASSERT_EQ(found, brute) << "query " << q;
+    for (size_t k : {size_t(1), size_t(10), size_t(300)}) {
+      PhotonMap::Nearest n = map.nearest(at, r2, k);
+      ASSERT_EQ(n.photons.size(), std::min(k, brute.size())) << "query " << q << ", k " << k;
+      std::vector<float> d;
+      for (const auto& p : n.photons) d.push_back(p.first);
+      std::sort(d.begin(), d.end());
+      EXPECT_TRUE(std::equal(d.begin(), d.end(), brute.begin())) << "query " << q << ", k " << k;
+      EXPECT_EQ(n.radius2, brute.size() >= k ? brute[k - 1] : r2) << "query " << q << ", k " << k;
+    }
+  }
+}
+
+// The k-nearest estimate over the (k+1)-th photon's disc averages the
+// density of a uniform (Poisson) spread of photons; the k-th photon's disc,
+// which overestimates it by k / (k - 1) = 1.11 at k = 10, would fail.
+TEST(PhotonMap, NearestDensityIsUnbiasedOnUniformPhotons) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const int n = 200000;
+  PhotonMap map;
+  for (int i = 0; i < n; ++i) map.add(glm::vec3(u(rng), u(rng), 0.0f), glm::vec3(1.0f));
+  map.build();
+  const size_t k = 10;
+  double sum = 0.0, sumKth = 0.0;
+  int queries = 0;
+  // Queries 0.02 apart, about five disc radii, so the estimates are nearly
+  // independent; each has a relative spread of about 1 / sqrt(k - 1).
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 40; ++x, ++queries) {
+      const glm::vec3 q(0.1f + 0.02f * x, 0.1f + 0.02f * y, 0.0f);
+      PhotonMap::Gathered g = map.gather_nearest(q, 0.01f, k);
+      ASSERT_EQ(g.power.x, float(k));  // the k nearest, not the (k+1)-th
+      sum += g.power.x / g.area / n;
+      PhotonMap::Nearest kth = map.nearest(q, 0.01f, k);
+      sumKth += double(k) / (M_PI * kth.radius2) / n;
+    }
+  const double mean = sum / queries, meanKth = sumKth / queries;
+  const double tolerance = 4.0 / std::sqrt(double(k - 1) * queries);  // four standard errors
+  EXPECT_NEAR(mean, 1.0, tolerance);
+  EXPECT_GT(std::abs(meanKth - 1.0), tolerance) << "the k-th photon's disc: " << meanKth;
+  // Where no more than k lie within the search radius, they fill its disc.
+  PhotonMap::Gathered few = map.gather_nearest(glm::vec3(0.5f, 0.5f, 0.0f), 1e-6f, k);
+  EXPECT_LT(few.power.x, float(k));
+  EXPECT_FLOAT_EQ(few.area, float(M_PI) * 1e-6f);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ enum class DartsTestKind {
   SampleMaterial,   // "sample material": the same, against the material's pdf
   SampleSurface,    // "sample surface": directions to points sampled on surfaces, against their pdf
   Intersection,     // "intersection": one ray against the surfaces, hit compared with the file's
+  PhotonMap,        // "photon map": photons on a transformed disk, their density estimate against the disk's pdf
 };
 
 struct DartsTest {
@@ -40,6 +41,13 @@ struct DartsTest {
   // child is picked uniformly, then a point on it) emit through a material
   // of the child's own, listed here.
   std::vector<uint32_t> childMaterials;
+
+  // Photon map tests (darts' PhotonMapTest): a k-nearest search of "search
+  // count" photons within "search radius", or a fixed-radius one where the
+  // count is 0; the unit disk placed by "transform".
+  float searchRadius = 0.1f;
+  int searchCount = 50;
+  glm::mat4 transform{1.0f};
 
   // Intersection tests.
   glm::vec3 rayOrigin{0.0f}, rayDirection{0, 0, 1};  // the direction as given: t is in its units

@@ -819,12 +819,20 @@ class DartsImporter {
       }
       t.threshold = j.number_or("threshold", 1e-5f);
     } else if (type == "photon map") {
-      j["type"].fail("photon map tests need photon mapping, which wavepath does not have yet");
+      // darts-2022 src/tests/photon_map_test.cpp: its keys and defaults.
+      j.allow_only({"type", "name", "image size", "spp", "up samples", "super samples", "search radius", "search count", "transform"});
+      t.kind = DartsTestKind::PhotonMap;
+      parse_sampling_options(j, t);
+      t.searchRadius = j.number_or("search radius", 0.1f);
+      if (!(t.searchRadius > 0.0f) || !std::isfinite(t.searchRadius)) j["search radius"].fail("expected a positive radius");
+      t.searchCount = int(j.integer_or("search count", 50, 0, 1 << 20));
+      if (j.has("transform")) t.transform = parse_transform(j["transform"]);
+      if (!(std::abs(glm::determinant(t.transform)) > 1e-12f)) j["transform"].fail("the disk's transform is singular: it has no density");
     } else {
       const std::vector<std::string> kinds = {"scatter material", "sample material", "sample surface", "intersection", "photon map"};
       std::string hint = did_you_mean(type, kinds);
       j["type"].fail("unknown test type \"" + type + "\"" +
-                     (hint.empty() ? " (expected scatter material, sample material, sample surface or intersection)" : hint));
+                     (hint.empty() ? " (expected scatter material, sample material, sample surface, intersection or photon map)" : hint));
     }
   }
 

@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "bvh/photon_map.h"
 #include "gpu/wavefront.h"
 #include "render/compiled_scene.h"
 #include "scene/darts_tests.h"
@@ -121,6 +122,7 @@ class TestRunner {
 
   // Runs test t; throws TestFailure with darts' message (or ours) if it fails.
   void run(const DartsTest& t) {
+    if (t.kind == DartsTestKind::PhotonMap) return photon_map(t);
     RenderOptions options;
     options.seed = args_.seed;
     CompiledScene cs = compile_scene(t.scene, options);
@@ -175,6 +177,66 @@ class TestRunner {
     std::vector<float> pdf(answers.size());
     for (size_t i = 0; i < answers.size(); ++i) pdf[i] = answers[i].t;
     return pdf;
+  }
+
+  // darts' PhotonMapTest: photons spread uniformly over the unit disk
+  // placed by the test's transform, each carrying 1/N of the power; over the
+  // image's unit square, the disk's pdf (super-sampled per pixel) and the
+  // photon map's density estimate at each pixel's centre (the k nearest, or
+  // a fixed radius, over the disc they fill) must integrate to the same
+  // value within 0.01, as darts checks. Runs on the host, as darts does.
+  void photon_map(const DartsTest& t) {
+    const uint64_t total = t.samplesPerPixel * uint64_t(t.imageSize.x) * uint64_t(t.imageSize.y);
+    shader::ShaderMath m;
+    const float power = (1.0f + args_.plantedPdfError) / float(total);
+    PhotonMap map;
+    map.reserve(total);
+    for (uint64_t i = 0; i < total; ++i) {
+      const glm::vec2 d = m.square_to_disk_concentric(glm::vec2(random4(i, args_.seed)));
+      map.add(glm::vec3(t.transform * glm::vec4(d, 0.0f, 1.0f)), glm::vec3(power));
+    }
+    map.build();
+    const glm::mat4 toDisk = glm::inverse(t.transform);
+    const double det = std::abs(double(glm::determinant(t.transform)));
+    const size_t pixels = size_t(t.imageSize.x) * size_t(t.imageSize.y);
+    std::vector<double> pdf(pixels), density(pixels);
+    const uint32_t ss = t.superSamples;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t p = r.begin(); p != r.end(); ++p) {
+        const double x = double(p % size_t(t.imageSize.x)), y = double(p / size_t(t.imageSize.x));
+        double sum = 0.0;
+        for (uint32_t sx = 0; sx < ss; ++sx)
+          for (uint32_t sy = 0; sy < ss; ++sy) {
+            const glm::vec2 at((x + (sx + 0.5) / ss) / t.imageSize.x, (y + (sy + 0.5) / ss) / t.imageSize.y);
+            const glm::vec2 onDisk(toDisk * glm::vec4(at, 0.0f, 1.0f));
+            sum += double(m.square_to_disk_concentric_pdf(onDisk)) / det;
+          }
+        pdf[p] = sum / (double(ss) * ss);
+        const glm::vec3 q((x + 0.5) / t.imageSize.x, (y + 0.5) / t.imageSize.y, 0.0f);
+        const float r2 = t.searchRadius * t.searchRadius;
+        double gathered = 0.0, area;
+        if (t.searchCount > 0) {
+          PhotonMap::Gathered g = map.gather_nearest(q, r2, size_t(t.searchCount));
+          gathered = m.illuminance(g.power);
+          area = double(g.area);
+        } else {
+          map.within(q, r2, [&](const PhotonMap::Photon& ph, float) { gathered += m.illuminance(ph.power); });
+          area = M_PI * double(r2);
+        }
+        density[p] = gathered / area;
+      }
+    });
+    double integral = 0.0, densityIntegral = 0.0;
+    for (size_t p = 0; p < pixels; ++p) integral += pdf[p], densityIntegral += density[p];
+    integral /= double(pixels);
+    densityIntegral /= double(pixels);
+    const double exposure = heatmap_exposure(pdf);
+    write_pair(t.name, "pdf", pdf, exposure, t);
+    write_pair(t.name, "photon-density", density, exposure, t);
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "Integrals of analytic PDF: %g, and photon density: %g should match.", integral, densityIntegral);
+    if (std::fabs(integral - densityIntegral) > 0.01) throw TestFailure(msg);
+    say(msg);
   }
 
   void write_pair(const std::string& name, const char* what, const std::vector<double>& values, double exposure, const DartsTest& t) const {
@@ -330,7 +392,7 @@ std::vector<DartsTestResult> run_darts_tests(const std::string& file, const Dart
   // before a minute of sampling, not after.
   require_output_directory(file);
   int chi2Tests = 0;
-  for (const DartsTest& t : tests) chi2Tests += t.kind != DartsTestKind::Intersection;
+  for (const DartsTest& t : tests) chi2Tests += t.kind != DartsTestKind::Intersection && t.kind != DartsTestKind::PhotonMap;
   std::unique_ptr<VulkanContext> ctx;
   if (!a.cpu) ctx = std::make_unique<VulkanContext>(a.device, a.validation || VulkanContext::validation_requested_by_environment());
   TestRunner runner(file, a, ctx.get(), chi2Tests, log);

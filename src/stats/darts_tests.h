@@ -24,7 +24,8 @@ struct DartsTestOptions {
   bool validation = false;
   // For the tests only: the pdf a sampling test checks against is that of a
   // normal tilted by this many radians (material tests) or of a viewpoint
-  // moved this far along x (surface tests), so that a verdict can be shown
+  // moved this far along x (surface tests), or each photon's power is
+  // scaled by 1 + this (photon map tests), so that a verdict can be shown
   // to fail.
   float plantedPdfError = 0.0f;
 };
