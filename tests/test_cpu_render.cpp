@@ -29,6 +29,61 @@ TEST(CpuReference, FurnaceCheckCatchesAPlantedBiasOfTwoPercent) {
   EXPECT_NONFATAL_FAILURE(expect_mean(img, 0.875, "planted"), "planted");
 }
 
+// KHR_materials_dispersion: a flint ball (dispersion 4) refracts a small
+// light off to its side into a spectrum, each channel's image at its own
+// place, green between red and blue, where red, bending least, lies farthest
+// out (the light's image sits at the ball's left rim). Without dispersion
+// (and the small ball's tint) the three channels of every pixel are equal,
+// since every path carries all three alike.
+TEST(CpuReference, DispersionSpreadsTheColoursInTheOrderOfTheirIndices) {
+  auto centroids = [](Scene s) {
+    s.background = glm::vec3(0.0f);
+    RenderOptions o;
+    o.spp = 64;
+    Progress quiet("", 0, false);
+    ImageStats img = render_cpu(compile_scene(s, reference_options(o)), 0, quiet);
+    glm::dvec3 sum(0.0), sumX(0.0);
+    bool equal = true;
+    for (size_t p = 0; p < img.pixels(); ++p) {
+      const glm::dvec3 m = img.mean(p);
+      sum += m;
+      sumX += m * double(p % size_t(img.width));
+      equal = equal && m.x == m.y && m.y == m.z;
+    }
+    return std::make_pair(sumX / sum, equal);
+  };
+  Scene scene = load_scene(source_path("tests/data/features/dispersion.json"));
+  auto [x, equal] = centroids(scene);
+  EXPECT_FALSE(equal);
+  EXPECT_LT(x.x + 0.3, x.y) << "red " << x.x << ", green " << x.y;
+  EXPECT_LT(x.y + 0.3, x.z) << "green " << x.y << ", blue " << x.z;
+  for (SceneMaterial& m : scene.materials) {
+    m.dispersion = 0.0f;
+    m.attenuation = glm::vec3(0.0f);  // the small ball's tint
+  }
+  auto [x0, equal0] = centroids(scene);
+  EXPECT_TRUE(equal0) << "without dispersion the channels differ";
+}
+
+// The same glass, clear, in a white furnace: however a path splits the
+// colours, each channel still sees exactly 1 (a lossless boundary under a
+// uniform sky), so the weight of the channel a path keeps is right.
+TEST(CpuReference, DispersiveGlassInAWhiteFurnaceStaysWhite) {
+  const std::string path = write_scene("dispersive-furnace.json", R"({
+    "camera": { "transform": { "from": [0, 0, 3], "at": [0, 0, 0], "up": [0, 1, 0] }, "vfov": 30, "resolution": [32, 32] },
+    "background": [1, 1, 1],
+    "integrator": { "type": "path tracer mis", "max bounces": 64 },
+    "surfaces": [ { "type": "sphere", "radius": 0.7, "material": { "type": "metal_rough", "base_color": 1, "metallic": 0, "roughness": 0,
+                    "transmission": 1, "ior": 1.6, "volume": { "dispersion": 4 } } } ]
+  })");
+  ImageStats img = render_reference(path, RenderOptions{}, 256);
+  glm::dvec3 sum(0.0);
+  for (size_t p = 0; p < img.pixels(); ++p) sum += img.mean(p);
+  sum /= double(img.pixels());
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], 1.0, 0.01) << "channel " << c;
+  expect_mean(img, 1.0, "dispersive glass in a white furnace");
+}
+
 // A convex diffuse sphere (albedo 0.5) under a white sky: every ray leaving it
 // escapes, so it shows exactly 0.5. A self-intersection would darken it.
 TEST(CpuReference, SphereUnderWhiteSkyIsExactlyHalf) {

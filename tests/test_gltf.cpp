@@ -328,6 +328,7 @@ TEST(Gltf, PbrExtensionsBecomeLayersReadingTheirChannels) {
   EXPECT_FLOAT_EQ(brushed.anisotropyRotation, 0.4f);
   EXPECT_NE(brushed.anisotropyTexture, WP_INVALID);
   EXPECT_TRUE(glass.volume);
+  EXPECT_FLOAT_EQ(glass.dispersion, 0.6f);
   EXPECT_TRUE(glass.doubleSided);  // a volume's boundary is there from inside
   EXPECT_NEAR(glm::distance(glass.attenuation, -glm::log(glm::vec3(0.9f, 0.4f, 0.2f)) / 0.8f), 0.0f, 1e-5f);
   for (uint32_t f : {FEATURE_IRIDESCENCE, FEATURE_ANISOTROPY, FEATURE_VOLUME}) EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(f)) << f;
@@ -500,6 +501,19 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
                     {"/materials/0/extensions/KHR_materials_specular/specularColorFactor/1"});
   expect_gltf_error("volume.gltf", with_material(R"({"extensions": {"KHR_materials_volume": {"thicknessFactor": 1, "attenuationDistance": 0}}})"),
                     {"/materials/0/extensions/KHR_materials_volume/attenuationDistance", "above 0"});
+  expect_gltf_error("dispersion.gltf",
+                    with_material(R"({"extensions": {"KHR_materials_volume": {"thicknessFactor": 1}, "KHR_materials_dispersion": {"dispersion": -1}}})"),
+                    {"/materials/0/extensions/KHR_materials_dispersion/dispersion"});
+  // Dispersion is read with a volume, and a thin-walled surface ignores it.
+  for (bool thick : {true, false}) {
+    json doc = json::parse(with_material(thick ? R"({"extensions": {"KHR_materials_volume": {"thicknessFactor": 1}, "KHR_materials_dispersion": {"dispersion": 0.5}}})"
+                                               : R"({"extensions": {"KHR_materials_dispersion": {"dispersion": 0.5}}})"));
+    const Scene s = load_scene(write_scene(thick ? "dispersive.gltf" : "thin-dispersive.gltf", doc.dump()));
+    ASSERT_FALSE(s.materials.empty());
+    EXPECT_EQ(s.materials[0].dispersion, thick ? 0.5f : 0.0f);
+    const bool compiled = (compile_scene(s, RenderOptions{}).params.kinds.w & KIND_BIT(FEATURE_DISPERSION)) != 0u;
+    EXPECT_EQ(compiled, thick);
+  }
   expect_gltf_error("coat-texture.gltf", with_material(R"({"extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatTexture": {"index": 4}}}})"),
                     {"/materials/0/extensions/KHR_materials_clearcoat/clearcoatTexture/index", "texture 4"});
   expect_gltf_error("alpha-factor.gltf", with_material(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, -1]}})"),

@@ -673,6 +673,8 @@ const FeatureCase kFeatureCases[] = {
     {"volume.json", IntegratorKind::PathMis,
      "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, and a "
      "thin-walled pane (mis)"},
+    {"dispersion.json", IntegratorKind::PathMis,
+     "KHR_materials_dispersion: a smooth flint ball splitting a light into its colours, a rough tinted one (mis)"},
     {"../gltf/surface.glb", IntegratorKind::PathMis,
      "glTF surfaces: normal maps (given and derived tangents), vertex colours, a second UV set with clamped and mirrored "
      "wrapping, MASK and BLEND alpha, a one-sided wall, thin-walled transmission",
@@ -686,7 +688,7 @@ const FeatureCase kFeatureCases[] = {
      40, use_cs184_3_2_skeleton},
     {"../gltf/layers.glb", IntegratorKind::PathMis,
      "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness), specular (textured), thin "
-     "film, anisotropy and volume under a sun",
+     "film, anisotropy and a dispersive volume under a sun",
      40},
 };
 

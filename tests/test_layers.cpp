@@ -574,5 +574,26 @@ TEST(Layers, DartsFilesNameTheirProblems) {
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "iridescence": {"thickness": 300}})"), {"/materials/0/iridescence", "thickness"});
 }
 
+// KHR_materials_dispersion's channel indices against the extension's own
+// law (README.md:70): n(l) = n_d + (n_d - 1) / V_d (523655 / l^2 - 1.5168)
+// with V_d = 20 / dispersion. Green is n_d (n at l_d), red and blue half
+// the spread n(l_F) - n(l_C) below and above it, red no lower than the
+// least index metal-rough refracts with.
+TEST(Layers, DispersionIndicesFollowTheExtensionsCauchyLaw) {
+  ShaderMath m;
+  for (double ior : {1.33, 1.5, 1.7, 2.42})
+    for (double d : {0.25, 1.0, 3.0}) {
+      SCOPED_TRACE(testing::Message() << "ior " << ior << ", dispersion " << d);
+      auto cauchy = [&](double lambda) { return ior + (ior - 1.0) * d / 20.0 * (523655.0 / (lambda * lambda) - 1.5168); };
+      const double red = m.dispersed_ior(float(ior), float(d), 1u), green = m.dispersed_ior(float(ior), float(d), 2u),
+                   blue = m.dispersed_ior(float(ior), float(d), 3u);
+      EXPECT_NEAR(cauchy(587.56), ior, 1e-4);
+      EXPECT_FLOAT_EQ(float(green), float(ior));
+      EXPECT_NEAR(blue - red, cauchy(486.13) - cauchy(656.27), 3e-4 * (blue - red));
+      EXPECT_NEAR(green - red, blue - green, 1e-6);
+    }
+  EXPECT_FLOAT_EQ(m.dispersed_ior(1.01f, 100.0f, 1u), METAL_ROUGH_MIN_IOR);
+}
+
 }  // namespace
 }  // namespace wp::test

@@ -34,6 +34,7 @@ struct Bsdf {
   vec4 lobeParams2[BSDF_MAX_LOBES];     // params2
   vec4 lobeParams3[BSDF_MAX_LOBES];     // a metal-rough lobe's thin film (FEATURE_IRIDESCENCE)
   vec4 lobeParams4[BSDF_MAX_LOBES];     // a metal-rough lobe's anisotropy (FEATURE_ANISOTROPY)
+  float lobeDispersion[BSDF_MAX_LOBES]; // a metal-rough lobe's dispersion, 20 / Abbe number (FEATURE_DISPERSION)
   float lobeWeight[BSDF_MAX_LOBES];
   // A sheen layer (MAT_SHEEN): x max3 of its colour (0: none), y its
   // roughness, z x times its bounded albedo at wo; and the lobes under it
@@ -69,6 +70,18 @@ void bsdf_set_params3(INOUT(Bsdf) b, uint k, vec4 params3) {
 
 void bsdf_set_params4(INOUT(Bsdf) b, uint k, vec4 params4) {
   if (FEATURE_COMPILED(FEATURE_ANISOTROPY)) b.lobeParams4[k] = params4;
+}
+
+// The index of refraction of colour channel `channel` (1 red, 2 green, 3
+// blue) of a volume of index `ior` and dispersion `dispersion` (20 / Abbe
+// number): green keeps the material's index, red and blue lie half the
+// spread n_F - n_C = (ior - 1) dispersion / 20 below and above it
+// (KHR_materials_dispersion, README.md "Implementation": its GLSL sample),
+// red at least 1 (METAL_ROUGH_MIN_IOR).
+float dispersed_ior(float ior, float dispersion, uint channel) {
+  float halfSpread = (ior - 1.0f) * 0.025f * dispersion;
+  if (channel == 1u) return max(ior - halfSpread, METAL_ROUGH_MIN_IOR);
+  return channel == 3u ? ior + halfSpread : ior;
 }
 
 Lobe lobe_of(Bsdf b, uint i) {

@@ -144,6 +144,28 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
   sr.contribution = vec3(1.0f);
 }
 
+// A dispersive volume's boundary (FEATURE_DISPERSION) refracts each colour
+// by its own index. The first one a path meets picks one channel uniformly,
+// which the path carries alone from then on, three times as strong (the
+// other channels' light is estimated by the paths that picked them); its
+// lobes, and every dispersive lobe after, take that channel's index.
+void disperse(INOUT(PathState) p, INOUT(Bsdf) b) {
+  bool dispersive = false;
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (i < b.lobeCount && b.lobeDispersion[i] > 0.0f) dispersive = true;
+  }
+  if (!dispersive) return;
+  uint channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
+  if (channel == 0u) {
+    channel = 1u + min(uint(rng_next(p.rng) * 3.0f), 2u);
+    p.flags |= channel << PATH_CHANNEL_SHIFT;
+    p.throughput *= vec3(channel == 1u ? 3.0f : 0.0f, channel == 2u ? 3.0f : 0.0f, channel == 3u ? 3.0f : 0.0f);
+  }
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (i < b.lobeCount && b.lobeDispersion[i] > 0.0f) b.lobeParamYzw[i].y = dispersed_ior(b.lobeParamYzw[i].y, b.lobeDispersion[i], channel);
+  }
+}
+
 // Accounts for what the path's ray hit and prepares the next bounce. Writes
 // LIGHT_SAMPLES_OF_SCENE shadow rays, valid (tmax > 0) where next-event
 // estimation found a candidate. Returns true while the path continues.
@@ -177,6 +199,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   // A segment that ends on the inside of a volume's boundary crossed the
   // volume, which absorbed some of the light along it.
   if (FEATURE_COMPILED(FEATURE_VOLUME) && !b.front) p.throughput *= volume_transmittance(s.material, h.t);
+  if (FEATURE_COMPILED(FEATURE_DISPERSION)) disperse(p, b);
   if (preview) {
     shade_preview(p, s, b, srs.ray[0]);
     return false;

@@ -116,6 +116,7 @@
 #define FEATURE_VOLUME 11u              // metal-rough whose transmission refracts into an absorbing volume (KHR_materials_volume)
 #define FEATURE_IRIDESCENCE 12u         // metal-rough under a thin film (KHR_materials_iridescence; Lobe.params3)
 #define FEATURE_ANISOTROPY 13u          // metal-rough with anisotropic roughness (KHR_materials_anisotropy; Lobe.params4)
+#define FEATURE_DISPERSION 14u          // a volume whose index of refraction depends on the wavelength (KHR_materials_dispersion)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
@@ -123,7 +124,7 @@
   X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
   X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
   X(FEATURE_VOLUME, "volumes") X(FEATURE_IRIDESCENCE, "iridescence") \
-  X(FEATURE_ANISOTROPY, "anisotropy")
+  X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

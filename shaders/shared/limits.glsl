@@ -17,6 +17,11 @@
 // materials take: below it a conductor or dielectric is a smooth delta lobe,
 // and glTF's metal-rough (which has no delta lobe) is widened to it.
 #define GGX_MIN_ALPHA 1e-3f
+// The least index metal-rough refracts with: at an index of exactly 1 (which
+// glTF allows, and dispersion's red reaches) Walter et al.'s BTDF divides by
+// wo.h + eta wi.h, which float rounding leaves at about 0 (non-finite
+// samples); at 1.001 the reflectance differs by 2.5e-7.
+#define METAL_ROUGH_MIN_IOR 1.001f
 // Checker textures nest at most this deep (texture_eval follows the picks).
 #define TEXTURE_MAX_NESTING 8
 // Most next-event-estimation samples per path vertex (CS184's -l: its

@@ -79,7 +79,8 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, Surfa
     vec3 mr = m.info.w != WP_INVALID ? texture_eval(m.info.w, s.uv, s.p) : vec3(1.0f);
     float roughness = clamp(m.params.x * mr.y, 0.0f, 1.0f);
     float transmission = m.children.y != WP_INVALID ? m.params.w * texture_eval(m.children.y, s.uv, s.p).x : m.params.w;
-    params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), m.params.z, clamp(transmission, 0.0f, 1.0f));
+    params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), max(m.params.z, METAL_ROUGH_MIN_IOR),
+                  clamp(transmission, 0.0f, 1.0f));
     // A transmission that refracts into a volume is stored negated (metal_rough.glsl).
     if (FEATURE_COMPILED(FEATURE_VOLUME) && m.volume.w > 0.0f) params.w = -params.w;
     if (FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) {
@@ -102,6 +103,8 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, Surfa
   }
   if (FEATURE_COMPILED(FEATURE_ANISOTROPY) && m.info.x == MAT_METAL_ROUGH && m.anisotropy.x > 0.0f)
     bsdf_set_params4(b, k, anisotropy_at(m, s, b.ns, params.x));
+  if (FEATURE_COMPILED(FEATURE_DISPERSION))
+    b.lobeDispersion[k] = m.info.x == MAT_METAL_ROUGH && m.volume.w > 1.0f ? m.volume.w - 1.0f : 0.0f;
 }
 
 // The shading normal at s under normal map `tex` (glTF's convention): the
@@ -225,6 +228,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
     b.lobeColor[i] = vec3(0.0f);
     bsdf_set_params(b, i, vec4(0.0f), vec4(0.0f));
     b.lobeWeight[i] = 0.0f;
+    if (FEATURE_COMPILED(FEATURE_DISPERSION)) b.lobeDispersion[i] = 0.0f;
   }
   b.sheen = vec4(0.0f);
   b.sheenCovers = 0u;

@@ -50,6 +50,10 @@
 #define PATH_DEPTH_MASK 0xffffu
 #define PATH_SPECULAR 0x10000u  // previous bounce was a delta lobe (or the camera)
 #define PATH_DEAD 0x20000u      // finished; only set by kernels that run without path compaction
+// The colour channel a path carries alone since it entered a dispersive
+// volume (FEATURE_DISPERSION): 0 all three, 1 red, 2 green, 3 blue.
+#define PATH_CHANNEL_SHIFT 18u
+#define PATH_CHANNEL_MASK 0xc0000u
 
 // SceneParams.flags bits.
 #define SCENE_FLAG_NO_NEE 1u      // BSDF sampling only (darts "path tracer mats")
@@ -236,7 +240,8 @@ struct Material {
                        // z its iridescence texture (red, scaling iridescence.x), w its film thickness
                        // texture (green, between iridescence.z and w; FEATURE_IRIDESCENCE). WP_INVALID: none
   vec4 volume;         // metal-rough (KHR_materials_volume, FEATURE_VOLUME): xyz the attenuation coefficient
-                       // inside (per unit length), w 1 where its transmission refracts into a volume, 0 thin-walled
+                       // inside (per unit length), w 0 where thin-walled, else 1 + its dispersion (20 / Abbe
+                       // number, KHR_materials_dispersion; FEATURE_DISPERSION where above 0)
   vec4 iridescence;    // metal-rough (KHR_materials_iridescence, FEATURE_IRIDESCENCE): x the film's factor, y its
                        // ior, z and w its thickness (nm) where its thickness texture is 0 and 1
   vec4 anisotropy;     // metal-rough (KHR_materials_anisotropy, FEATURE_ANISOTROPY): x strength, y and z the cosine

@@ -69,6 +69,7 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
     if (m.info.x == MAT_METAL_ROUGH && m.iridescence.x > 0.0f) k.w |= KIND_BIT(FEATURE_IRIDESCENCE);
     if (m.info.x == MAT_METAL_ROUGH && m.anisotropy.x > 0.0f) k.w |= KIND_BIT(FEATURE_ANISOTROPY);
     if (m.info.x == MAT_METAL_ROUGH && m.volume.w > 0.0f) k.w |= KIND_BIT(FEATURE_VOLUME);
+    if (m.info.x == MAT_METAL_ROUGH && m.volume.w > 1.0f) k.w |= KIND_BIT(FEATURE_DISPERSION);
   }
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (uint32_t prim : emitters) {
@@ -337,7 +338,7 @@ static shader::Material pack_material(const SceneMaterial& in) {
   if (in.kind != MAT_BLEND && !is_layer(in.kind)) m.children.x = glm::floatBitsToUint(in.alphaCutoff);
   if (in.kind == MAT_METAL_ROUGH) m.children.y = in.transmission;
   m.moreTextures = glm::uvec4(in.specular, in.specularColor, in.iridescenceTexture, in.iridescenceThickness);
-  m.volume = glm::vec4(in.attenuation, in.volume ? 1.0f : 0.0f);
+  m.volume = glm::vec4(in.attenuation, in.volume ? 1.0f + in.dispersion : 0.0f);
   m.iridescence = in.iridescence;
   m.anisotropy = glm::vec4(in.anisotropy, std::cos(in.anisotropyRotation), std::sin(in.anisotropyRotation),
                            glm::uintBitsToFloat(in.anisotropyTexture));

@@ -352,7 +352,7 @@ class DartsImporter {
       // `attenuation_distance` (default: none).
       if (j.has("volume")) {
         const JsonCursor v = j["volume"].expect_object();
-        v.allow_only({"attenuation_color", "attenuation_distance"});
+        v.allow_only({"attenuation_color", "attenuation_distance", "dispersion"});
         glm::vec3 color(1.0f);
         if (v.has("attenuation_color")) {
           color = v["attenuation_color"].vec3();
@@ -362,6 +362,11 @@ class DartsImporter {
         const float distance = v.has("attenuation_distance") ? v["attenuation_distance"].positive_number() : 1e30f;
         m.volume = true;
         m.attenuation = -glm::log(color) / distance;
+        // KHR_materials_dispersion: 20 / Abbe number (default 0: none).
+        if (v.has("dispersion")) {
+          m.dispersion = v["dispersion"].number();
+          if (!(m.dispersion >= 0.0f && m.dispersion <= 1000.0f)) v["dispersion"].fail("dispersion must lie in [0, 1000] (20 / Abbe number)");
+        }
       }
       // KHR_materials_iridescence: a thin film of `ior` (default 1.3) and a
       // thickness in nm from `thickness_minimum` (default 100) where

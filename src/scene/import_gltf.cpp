@@ -102,7 +102,7 @@ std::string joined(const std::set<std::string>& names) {
 
 // The extensions wavepath reads. Others are named once in a warning, or
 // refused when the file requires them.
-const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",      "KHR_materials_anisotropy",      "KHR_materials_clearcoat",    "KHR_materials_emissive_strength",
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",      "KHR_materials_anisotropy",      "KHR_materials_clearcoat",    "KHR_materials_dispersion", "KHR_materials_emissive_strength",
                                                     "KHR_materials_ior",        "KHR_materials_iridescence",  "KHR_materials_sheen",        "KHR_materials_specular",
                                                     "KHR_materials_transmission", "KHR_materials_volume",     "KHR_texture_transform"};
 
@@ -570,6 +570,14 @@ class GltfImporter {
     const glm::vec3 color = extension_color(e, "attenuationColor", glm::vec3(1.0f), 1.0f, eat);
     m.volume = thickness > 0.0f;
     m.attenuation = -glm::log(glm::max(color, glm::vec3(1e-6f))) / distance;
+    // KHR_materials_dispersion (20 / Abbe number) spreads the volume's index
+    // over the colours; a thin-walled surface does not disperse (README.md).
+    auto dispersion = g.extensions.find("KHR_materials_dispersion");
+    if (dispersion != g.extensions.end()) {
+      const std::string dat = at + "/extensions/KHR_materials_dispersion";
+      if (!dispersion->second.IsObject()) fail(dat, "expected an object");
+      m.dispersion = extension_number(dispersion->second, "dispersion", 0.0f, 0.0f, 1000.0f, dat);
+    }
     // "doubleSided has no effect on volume boundaries" (README.md:110-115):
     // paths inside meet the boundary from behind.
     if (m.volume) m.doubleSided = true;

@@ -161,6 +161,9 @@ struct SceneMaterial {
   // volume (else thin-walled) that absorbs sigma per unit length
   bool volume = false;
   glm::vec3 attenuation{0.0f};
+  // its dispersion (KHR_materials_dispersion): 20 / Abbe number, 0 none;
+  // only a volume disperses
+  float dispersion = 0.0f;
   // metal-rough (KHR_materials_iridescence): a thin film's factor, ior and
   // thickness (nm) where its thickness texture is 0 and 1 (factor 0: none),
   // and textures scaling the factor (red) and placing the thickness (green)
