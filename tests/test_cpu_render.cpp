@@ -52,7 +52,21 @@ TEST(CpuReference, DispersionSpreadsTheColoursInTheOrderOfTheirIndices) {
     }
     return std::make_pair(sumX / sum, equal);
   };
-  Scene scene = load_scene(source_path("tests/data/features/dispersion.json"));
+  Scene scene = load_scene(write_scene("flint-ball.json", R"({
+    "camera": { "transform": { "from": [0, 0, 3], "at": [0, 0, 0], "up": [0, 1, 0] }, "vfov": 30, "resolution": [64, 64] },
+    "integrator": { "type": "path tracer mis", "max bounces": 12 },
+    "materials": [
+      { "type": "metal_rough", "name": "flint", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0, "transmission": 1, "ior": 1.6,
+        "volume": { "dispersion": 4 } },
+      { "type": "metal_rough", "name": "frosted flint", "base_color": [1, 1, 1], "metallic": 0, "roughness": 0.3, "transmission": 1,
+        "ior": 1.5, "volume": { "attenuation_color": [0.9, 0.95, 0.8], "attenuation_distance": 1, "dispersion": 2 } }
+    ],
+    "surfaces": [
+      { "type": "sphere", "radius": 0.7, "material": "flint" },
+      { "type": "sphere", "radius": 0.25, "material": "frosted flint", "transform": { "translate": [-0.45, -0.5, 0.8] } },
+      { "type": "quad", "size": [0.25, 0.25], "material": { "type": "diffuse_light", "emit": 6 }, "transform": [ { "translate": [0.9, 0.2, -2] } ] }
+    ]
+  })"));
   auto [x, equal] = centroids(scene);
   EXPECT_FALSE(equal);
   EXPECT_LT(x.x + 0.3, x.y) << "red " << x.x << ", green " << x.y;

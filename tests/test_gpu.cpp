@@ -674,7 +674,8 @@ const FeatureCase kFeatureCases[] = {
      "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, and a "
      "thin-walled pane (mis)"},
     {"dispersion.json", IntegratorKind::PathMis,
-     "KHR_materials_dispersion: a smooth flint ball splitting a light into its colours, a rough tinted one (mis)"},
+     "KHR_materials_dispersion: a smooth flint ball splitting the glowing checker board behind it into its colours, a "
+     "rough tinted one (mis)"},
     {"../gltf/surface.glb", IntegratorKind::PathMis,
      "glTF surfaces: normal maps (given and derived tangents), vertex colours, a second UV set with clamped and mirrored "
      "wrapping, MASK and BLEND alpha, a one-sided wall, thin-walled transmission",
