@@ -6,17 +6,15 @@
 # Everything goes into one compressed archive, DEST.tar.xz (about 25 MiB),
 # since the libraries (Embree's above all) are large.
 # Usage: scripts/gpu-bundle.sh BUILD_DIR DEST
-# On the GPU machine, from the repository root:
-#   tar -xJf DEST.tar.xz
-#   export LD_LIBRARY_PATH=$PWD/DEST/lib VK_ADD_LAYER_PATH=$PWD/DEST/layers
-#   DEST/bin/wavepath devices; scripts/bench-gpu.sh DEST/bin OUT_DIR
-# (the GPU tests find their data through the source path compiled in, so
-# link the checkout there first: see docs/benchmarks.md).
+# On the GPU machine, from the repository root, scripts/gpu-run.sh unpacks
+# it and runs the GPU tests and scripts/bench-gpu.sh (docs/benchmarks.md).
 set -euo pipefail
 build=$(realpath "$1")
 dest=$2
 rm -rf "$dest" "$dest.tar.xz" && mkdir -p "$dest/bin" "$dest/lib" "$dest/layers"
 cp "$build/wavepath" "$build/tests/wavepath_gpu_tests" "$dest/bin/"
+# The GPU tests read their data through the source path compiled into them.
+sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" >"$dest/source-dir"
 skip='^(libc|libm|libdl|libpthread|librt|libstdc\+\+|libgcc_s|ld-linux-x86-64)\.so'
 for program in "$dest"/bin/*; do
   ldd "$program" | awk '/=> \// { print $3 }'
