@@ -572,6 +572,8 @@ TEST(Layers, DartsFilesNameTheirProblems) {
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "iridescence": {"ior": 0.5}})"), {"/materials/0/iridescence/ior", "[1, 10]"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "anisotropy": {"strength": 2}})"), {"/materials/0/anisotropy/strength", "[0, 1]"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "iridescence": {"thickness": 300}})"), {"/materials/0/iridescence", "thickness"});
+  expect_error(scene(R"({"type": "metal_rough", "name": "m", "transmission": 1, "volume": {"dispersion": -1}})"),
+               {"/materials/0/volume/dispersion", "[0, 1000]"});
 }
 
 // KHR_materials_dispersion's channel indices against the extension's own
