@@ -78,4 +78,15 @@ PhotonMap::Gathered PhotonMap::gather_nearest(glm::vec3 q, float radius2, size_t
   return g;
 }
 
+PhotonMap::Gathered PhotonMap::gather_within(glm::vec3 q, float radius2) const {
+  // Summed in double: a wide disc holds thousands of photons.
+  glm::dvec3 sum(0.0);
+  auto add = [&](uint32_t i, float) { sum += glm::dvec3(photons_[i].power); };
+  search(0, photons_.size(), q, radius2, add);
+  Gathered g;
+  g.power = glm::vec3(sum);
+  g.area = float(M_PI) * radius2;
+  return g;
+}
+
 }  // namespace wp

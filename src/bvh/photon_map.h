@@ -57,6 +57,9 @@ class PhotonMap {
     float area = 0.0f;
   };
   Gathered gather_nearest(glm::vec3 q, float radius2, size_t k) const;
+  // The fixed-radius estimate's parts: every photon within sqrt(radius2)
+  // over the search disc.
+  Gathered gather_within(glm::vec3 q, float radius2) const;
 
  private:
   void build(size_t lo, size_t hi);

@@ -201,6 +201,7 @@ class TestRunner {
     const size_t pixels = size_t(t.imageSize.x) * size_t(t.imageSize.y);
     std::vector<double> pdf(pixels), density(pixels);
     const uint32_t ss = t.superSamples;
+    const float r2 = t.searchRadius * t.searchRadius;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t p = r.begin(); p != r.end(); ++p) {
         const double x = double(p % size_t(t.imageSize.x)), y = double(p / size_t(t.imageSize.x));
@@ -213,17 +214,8 @@ class TestRunner {
           }
         pdf[p] = sum / (double(ss) * ss);
         const glm::vec3 q((x + 0.5) / t.imageSize.x, (y + 0.5) / t.imageSize.y, 0.0f);
-        const float r2 = t.searchRadius * t.searchRadius;
-        double gathered = 0.0, area;
-        if (t.searchCount > 0) {
-          PhotonMap::Gathered g = map.gather_nearest(q, r2, size_t(t.searchCount));
-          gathered = m.illuminance(g.power);
-          area = double(g.area);
-        } else {
-          map.within(q, r2, [&](const PhotonMap::Photon& ph, float) { gathered += m.illuminance(ph.power); });
-          area = M_PI * double(r2);
-        }
-        density[p] = gathered / area;
+        const PhotonMap::Gathered g = t.searchCount > 0 ? map.gather_nearest(q, r2, size_t(t.searchCount)) : map.gather_within(q, r2);
+        density[p] = double(m.illuminance(g.power)) / double(g.area);
       }
     });
     double integral = 0.0, densityIntegral = 0.0;
