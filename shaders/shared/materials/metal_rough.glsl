@@ -159,11 +159,15 @@ vec3 metal_rough_specular_sample(Lobe l, vec3 ns, vec3 wo, vec2 u) {
 }
 
 // Probabilities of sampling the specular layer (x) and the transmission (y)
-// rather than the diffuse base, by their estimated reflectance at wo.
+// rather than the diffuse base, by their estimated reflectance at wo. The
+// Fresnel weight is the one eval takes (inside a volume, total internal
+// reflection past the critical angle): with Schlick's at wo there, internal
+// reflections were picked seldom and weighed up to ten times over, and
+// light trapped in a glass ball piled up into fireflies.
 vec2 metal_rough_probabilities(Lobe l, float cosO) {
   float metallic = l.params.y;
   float transmission = metal_rough_transmission(l);
-  float fd = metal_rough_max3(metal_rough_dielectric_fresnel(l, schlick_weight(cosO)));
+  float fd = metal_rough_max3(metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, cosO)));
   float specular = (1.0f - metallic) * fd + metallic;
   float base = (1.0f - metallic) * (1.0f - fd) * clamp((l.color.x + l.color.y + l.color.z) * (1.0f / 3.0f), 0.0f, 1.0f);
   float total = specular + base;
