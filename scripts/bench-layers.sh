@@ -45,17 +45,5 @@ for v in $variants; do
 SCENE
 done
 
-seconds() { sed -n 's/.*max bounces, \([0-9.]*\) s on .*/\1/p'; }
-median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
-for v in $variants; do "$build/wavepath" render "$out/$v.json" --spp 4 -o "$out/warm.png" "$@" >/dev/null 2>&1; done  # compile once
-for _ in $(seq "$rounds"); do
-  for v in $variants; do "$build/wavepath" render "$out/$v.json" -o "$out/r.png" "$@" 2>&1 | seconds >>"$out/$v.t"; done
-done
-samples=$((320 * 240 * 64))
-plain=$(median <"$out/plain.t")
-for v in $variants; do
-  m=$(median <"$out/$v.t")
-  printf '%-11s median %6.2f s  %6.3f Msamples/s  %5.2fx plain  (runs: %s)\n' "$v" "$m" \
-    "$(awk -v s="$samples" -v m="$m" 'BEGIN { print s / m / 1e6 }')" "$(awk -v p="$plain" -v m="$m" 'BEGIN { print m / p }')" \
-    "$(tr '\n' ' ' <"$out/$v.t")"
-done
+. scripts/bench-rounds.sh
+bench_rounds "$build" "$rounds" "$out" "$variants" $((320 * 240 * 64)) "$@"

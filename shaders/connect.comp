@@ -21,18 +21,23 @@ void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint 
   path = sr.path;
 }
 
-void trace_item_done(uint item, uint path, Hit h, bool truncated) {
-  if (truncated || h.prim != WP_INVALID) return;
-  vec3 contribution = texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2));
-  // The path's radiance through its view: shade wrote it in an earlier
-  // dispatch, and no other shadow ray of this one is the path's.
+// Adds light to a path's radiance through its view: shade wrote it in an
+// earlier dispatch, and no other shadow ray of this one is the path's.
+void add_to_path(uint path, vec3 light) {
   uint at = path * PATH_STATE_TEXELS + PATH_RADIANCE_TEXEL;
-  vec3 radiance = texel_xyz(texelFetch(pathTexels, int(at))) + contribution;
+  vec3 radiance = texel_xyz(texelFetch(pathTexels, int(at))) + light;
   pathTexelsOut[at].xyz = floatBitsToUint(radiance);
 }
 
+void trace_item_done(uint item, uint path, Hit h, bool truncated) {
+  if (truncated || h.prim != WP_INVALID) return;
+  add_to_path(path, texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2)));
+}
+
 #include "shared/trace_items.glsl"
+#include "shared/connect_media.glsl"
 
 void main() {
-  trace_items();
+  if (FEATURE_COMPILED(FEATURE_MEDIA)) connect_through_media();
+  else trace_items();
 }

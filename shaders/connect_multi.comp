@@ -23,16 +23,21 @@ void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint 
   path = sr.path;
 }
 
+void add_to_path(uint path, vec3 light) {
+  atomicAdd(paths[path].radiance.x, light.x);
+  atomicAdd(paths[path].radiance.y, light.y);
+  atomicAdd(paths[path].radiance.z, light.z);
+}
+
 void trace_item_done(uint item, uint path, Hit h, bool truncated) {
   if (truncated || h.prim != WP_INVALID) return;
-  vec3 contribution = texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2));
-  atomicAdd(paths[path].radiance.x, contribution.x);
-  atomicAdd(paths[path].radiance.y, contribution.y);
-  atomicAdd(paths[path].radiance.z, contribution.z);
+  add_to_path(path, texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2)));
 }
 
 #include "shared/trace_items.glsl"
+#include "shared/connect_media.glsl"
 
 void main() {
-  trace_items();
+  if (FEATURE_COMPILED(FEATURE_MEDIA)) connect_through_media();
+  else trace_items();
 }

@@ -42,7 +42,8 @@ void main() {
   if (!kCompaction && (p.flags & PATH_DEAD) != 0u) return;
   Hit h = read_hit(path);
   // The AOV layers record the first hit, from the path as the camera ray left.
-  if (kAovs && path_depth(p) == 0u) aovSamples[path] = aov_sample(p, h);
+  // (A camera ray continued past an interface has crossings.)
+  if (kAovs && path_depth(p) == 0u && p.crossings == 0u) aovSamples[path] = aov_sample(p, h);
   ShadowRays srs;
   bool alive = path_shade(p, h, srs);
   if (!kCompaction && !alive) p.flags |= PATH_DEAD;

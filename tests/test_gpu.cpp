@@ -687,6 +687,11 @@ const FeatureCase kFeatureCases[] = {
     {"../collada/cornell.dae", std::nullopt,
      "CS184 3-2's scene: the lamp mesh black, the area light a visible quad of cosine emission seen in the mirror ball",
      40, use_cs184_3_2_skeleton},
+    {"media.json", IntegratorKind::PathMis,
+     "participating media: the camera in a thin haze, a chromatic forward-scattering smoke with null particles behind an "
+     "interface, a milky medium inside a water ball, a vacuum bubble (mis)"},
+    {"media.json", IntegratorKind::PathNee, "participating media, path tracer nee"},
+    {"media.json", IntegratorKind::PathMats, "participating media, path tracer mats"},
     {"../gltf/layers.glb", IntegratorKind::PathMis,
      "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness), specular (textured), thin "
      "film, anisotropy and a dispersive volume under a sun",
@@ -807,6 +812,29 @@ TEST_F(Gpu, EveryKindIsUsedByAFeatureSceneAndCompilingItOutIsCaught) {
                                << " went unnoticed: " << r.summary();
     }
   }
+}
+
+// A slab of chromatic medium with null particles, lit through its
+// interface by a sun and a sphere light, over a floor: the kernels agree
+// with the CPU reference (delta tracking of paths, ratio tracking of
+// shadow rays), and the comparison sees coefficients 5 % off on the GPU.
+TEST_F(Gpu, MediaAgreeWithTheCpuReferenceAndAPlantedSigmaErrorIsCaught) {
+  Scene scene = load_scene(source_path("tests/data/media-slab.json"));
+  RenderOptions o;
+  o.spp = 256;
+  CompareResult r = gpu_against_cpu(scene, o);
+  EXPECT_TRUE(r.passed()) << r.summary();
+  Progress quiet("", 0, false);
+  RenderOptions co = o;
+  co.seed = 2;
+  ImageStats cpu = render_cpu(compile_scene(scene, reference_options(co)), 0, quiet);
+  for (SceneMedium& m : scene.media) {
+    m.sigmaA *= 1.05f;
+    m.sigmaS *= 1.05f;
+  }
+  o.seed = 1;
+  CompareResult planted = compare_images(render(compile_scene(scene, o)), cpu);
+  EXPECT_FALSE(planted.passed()) << "sigma 5 % off went unnoticed: " << planted.summary();
 }
 
 // The same comparison has the power to see a 5% bias planted on the GPU in

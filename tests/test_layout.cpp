@@ -60,10 +60,12 @@ std::vector<Expected> expected_layouts() {
        {FIELD(SceneParams, camToWorld0), FIELD(SceneParams, camToWorld1), FIELD(SceneParams, camToWorld2),
         FIELD(SceneParams, camLens), FIELD(SceneParams, background), FIELD(SceneParams, image), FIELD(SceneParams, counts),
         FIELD(SceneParams, mode), FIELD(SceneParams, environment),
-        FIELD(SceneParams, accel), FIELD(SceneParams, kinds), FIELD(SceneParams, mis), FIELD(SceneParams, camWindow)}},
+        FIELD(SceneParams, accel), FIELD(SceneParams, kinds), FIELD(SceneParams, mis), FIELD(SceneParams, camWindow),
+        FIELD(SceneParams, media)}},
       {"PathState", sizeof(PathState),
        {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
-        FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf)}},
+        FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf),
+        FIELD(PathState, medium), FIELD(PathState, travelled), FIELD(PathState, crossings), FIELD(PathState, pad)}},
       // Hit and ShadowRay are no buffer members: the kernels store them as
       // whole uvec4 texels (write_hit, write_shadow_ray in kernel.glsl) and
       // read them through texel views; the ray-casting and texture-probe
@@ -146,6 +148,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   TwoRecords<Texture> texture;
   TwoRecords<PointLight> light;
   TwoRecords<Emitter> emitter;
+  TwoRecords<Medium> medium;
   SceneView view;
   view.nodeTexels = node.texels();
   view.wideNodeTexels = wide.texels();
@@ -157,6 +160,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   view.textureTexels = texture.texels();
   view.pointLightTexels = light.texels();
   view.emitterTexels = emitter.texels();
+  view.mediumTexels = medium.texels();
   expect_same_bytes(view.load_node(1), node.r[1], "BvhNode");
   expect_same_bytes(view.load_wide_node(1), wide.r[1], "WideNode");
   expect_same_bytes(view.load_triangle(1), tri.r[1], "Triangle");
@@ -167,6 +171,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   expect_same_bytes(view.load_texture(1), texture.r[1], "Texture");
   expect_same_bytes(view.load_point_light(1), light.r[1], "PointLight");
   expect_same_bytes(view.load_emitter(1), emitter.r[1], "Emitter");
+  expect_same_bytes(view.load_medium(1), medium.r[1], "Medium");
 }
 
 }  // namespace

@@ -34,7 +34,8 @@
 #define BINDING_AOV_SAMPLES 25
 #define BINDING_AOV_ACCUM 26
 #define BINDING_VERTEX_DATA 27
-#define BINDING_COUNT 28
+#define BINDING_MEDIA 28
+#define BINDING_COUNT 29
 
 // Where each table starts in the float tables (BINDING_FLOAT_TABLES).
 #include "sheen_albedo.glsl"
@@ -107,6 +108,7 @@ layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer materialTexe
 layout(set = 0, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;
 layout(set = 0, binding = BINDING_TEXTURES) uniform usamplerBuffer textureTexels;
 layout(set = 0, binding = BINDING_POINT_LIGHTS) uniform usamplerBuffer pointLightTexels;
+layout(set = 0, binding = BINDING_MEDIA) uniform usamplerBuffer mediumTexels;
 // Image texels, RG32UI: RGBA half floats (linear), all images back to back
 // (lavapipe has no descriptor indexing, so one buffer holds every image).
 layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;

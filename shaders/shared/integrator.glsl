@@ -82,6 +82,10 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.radiance = vec3(0.0f);
   p.flags = PATH_SPECULAR;  // depth 0; camera rays count emitters with full weight
   p.bsdfPdf = 0.0f;
+  p.medium = FEATURE_COMPILED(FEATURE_MEDIA) ? scene.media.x : 0u;
+  p.travelled = 0.0f;
+  p.crossings = 0u;
+  p.pad = 0u;
 }
 
 // A shadow ray that adds `contribution` to the path's pixel when the segment
@@ -92,7 +96,14 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
   sr.dir = vec3(0.0f);
   sr.contribution = vec3(0.0f);
   sr.path = WP_INVALID;
-  sr.pad = 0u;
+  sr.media = 0u;
+}
+
+// A shadow ray's media word: the medium its segment starts in, and a seed
+// for the tracking of its transmittance drawn from the path's state (the
+// wavefront kernels trace the ray apart from its path).
+uint shadow_ray_media(uint medium, uint rng, uint slot) {
+  return (pcg_hash(rng ^ (slot * 0x9e3779b9u)) & 0xffff0000u) | medium;
 }
 
 // The segment a shadow ray checks for light sample ls, seen from surface
@@ -166,6 +177,60 @@ void disperse(INOUT(PathState) p, INOUT(Bsdf) b) {
   }
 }
 
+// Russian roulette once the path is long enough (depth: the scattering
+// events before this one); unbiased by reweighting. Returns false where the
+// path ends.
+bool survives_roulette(INOUT(PathState) p, uint depth) {
+  if (depth + 1u < scene.image.w) return true;
+  float maxT = max(p.throughput.x, max(p.throughput.y, p.throughput.z));
+  float q = clamp(1.0f - maxT, 0.0f, 0.95f);
+  if (rng_next(p.rng) < q) return false;
+  p.throughput /= (1.0f - q);
+  return true;
+}
+
+// A real scattering collision at x inside medium `med` (FEATURE_MEDIA):
+// next-event estimation weighted by the phase function, then a direction
+// from the phase function; MIS as at a surface.
+bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, bool useNee, bool useMis, OUT(ShadowRays) srs) {
+  uint depth = path_depth(p);
+  if (depth >= scene.image.z) return false;
+  uint lightSamples = LIGHT_SAMPLES_OF_SCENE;
+  LightSample ls;
+  for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
+    if (j >= lightSamples) break;
+    vec3 uLight = vec3(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+    if (!(useNee && sample_emitter(x, uLight, ls))) continue;
+    float f = medium_phase(med, p.dir, ls.wi);
+    if (ls.pdf <= 0.0f || f <= 0.0f) continue;
+    float nPdf = float(lightSamples) * ls.pdf;
+    float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, f, scene.mis.x) : 1.0f;
+    srs.ray[j].contribution = p.throughput * ls.radiance * (f * w / nPdf);
+    aim_shadow_ray(x, ls.wi, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
+    srs.ray[j].media = shadow_ray_media(p.medium, p.rng, j);
+  }
+  vec2 u = vec2(rng_next(p.rng), rng_next(p.rng));
+  vec3 wi = medium_sample_phase(med, p.dir, u);
+  p.bsdfPdf = medium_phase(med, p.dir, wi);  // the phase function's weight f / pdf is 1
+  p.origin = x;
+  p.dir = wi;
+  p.flags = (depth + 1u) | (p.flags & PATH_CHANNEL_MASK);
+  p.travelled = 0.0f;
+  return survives_roulette(p, depth);
+}
+
+// A ray that met an interface (MAT_INTERFACE) passes it into the medium on
+// its far side, unchanged and without a bounce; the way from the last
+// scattering vertex grows (emitters met later weigh their MIS from there).
+bool path_cross_interface(INOUT(PathState) p, SurfaceHit s, float t) {
+  p.crossings += 1u;
+  if (p.crossings > MEDIUM_CROSSINGS_MAX) return false;
+  p.travelled += t;
+  p.medium = medium_beyond(p.medium, s.material, s.ng, p.dir);
+  p.origin = offset_ray(s.p, dot(p.dir, s.ng) >= 0.0f ? s.ng : -s.ng);
+  return true;
+}
+
 // Accounts for what the path's ray hit and prepares the next bounce. Writes
 // LIGHT_SAMPLES_OF_SCENE shadow rays, valid (tmax > 0) where next-event
 // estimation found a candidate. Returns true while the path continues.
@@ -182,6 +247,15 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
   bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
   bool cs184 = (scene.counts.w & SCENE_FLAG_CS184) != 0u;
+  // The medium between the ray's origin and its hit: the path may scatter
+  // (or be absorbed) in it first.
+  if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && p.medium != 0u) {
+    Medium med = load_medium(p.medium);
+    float t;
+    uint event = medium_free_flight(med, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
+    if (event == MEDIUM_EVENT_ABSORB) return false;
+    if (event == MEDIUM_EVENT_SCATTER) return path_scatter_in_medium(p, med, p.origin + t * p.dir, useNee, useMis, srs);
+  }
   if (h.prim == WP_INVALID) {
     if (preview || (cs184 && path_depth(p) > 0u)) return false;
     float w = 1.0f;
@@ -194,6 +268,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     return false;
   }
   SurfaceHit s = surface_at(p.origin, p.dir, h);
+  if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && is_interface(s.material)) return path_cross_interface(p, s, h.t);
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
   // A segment that ends on the inside of a volume's boundary crossed the
@@ -216,7 +291,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
       w = cs184 && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u ? 0.0f : 1.0f;
     } else if ((p.flags & PATH_SPECULAR) == 0u && useNee) {
       // NEE at the previous vertex could have picked this point too.
-      float lightPdf = emitter_pdf(s.emitter, p.origin, s, p.dir, h.t);
+      // (From the last scattering vertex, behind the interfaces passed since.)
+      float lightPdf = FEATURE_COMPILED(FEATURE_MEDIA) ? emitter_pdf(s.emitter, p.origin - p.dir * p.travelled, s, p.dir, h.t + p.travelled)
+                                                       : emitter_pdf(s.emitter, p.origin, s, p.dir, h.t);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf, scene.mis.x) : 0.0f;
     }
     p.radiance += p.throughput * le * w;
@@ -238,6 +315,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi), scene.mis.x) : 1.0f;
     srs.ray[j].contribution = p.throughput * f * ls.radiance * (w / nPdf);
     aim_shadow_ray(s.p, b.ng, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
+    if (FEATURE_COMPILED(FEATURE_MEDIA)) srs.ray[j].media = shadow_ray_media(medium_beyond(p.medium, s.material, s.ng, ls.wi), p.rng, j);
   }
 
   // The next direction: from the BSDF, or (mixture) from the one-sample
@@ -277,7 +355,12 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   p.bsdfPdf = pdf;
   p.origin = offset_ray(s.p, dot(wi, s.ng) >= 0.0f ? s.ng : -s.ng);
   p.dir = wi;
-  p.flags = (depth + 1u) | (isDelta ? PATH_SPECULAR : 0u);
+  // (A dispersed path keeps its colour channel.)
+  p.flags = (depth + 1u) | (isDelta ? PATH_SPECULAR : 0u) | (p.flags & PATH_CHANNEL_MASK);
+  if (FEATURE_COMPILED(FEATURE_MEDIA)) {
+    p.medium = medium_beyond(p.medium, s.material, s.ng, wi);
+    p.travelled = 0.0f;
+  }
 
   if (cs184) {
     // CS184's Russian roulette: continue with probability min(1, 10 times the
@@ -290,14 +373,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     p.throughput /= q;
     return true;
   }
-  // Russian roulette once the path is long enough; unbiased by reweighting.
-  if (depth + 1u >= scene.image.w) {
-    float maxT = max(p.throughput.x, max(p.throughput.y, p.throughput.z));
-    float q = clamp(1.0f - maxT, 0.0f, 0.95f);
-    if (rng_next(p.rng) < q) return false;
-    p.throughput /= (1.0f - q);
-  }
-  return true;
+  return survives_roulette(p, depth);
 }
 
 bool radiance_is_finite(vec3 l) {
@@ -358,6 +434,54 @@ AovSample aov_sample(PathState p, Hit h) {
   return a;
 }
 
+// The fraction of a shadow ray's contribution that reaches its path
+// (FEATURE_MEDIA): the segment traced for its closest hits, passing the
+// interfaces on it into the media beyond them (each segment's transmittance
+// estimated by medium_transmittance), and blocked (0) by any other surface;
+// without interfaces in the scene, one walk that any hit ends. `truncated`
+// counts the walks that reached the step cap (the ray then counts as
+// blocked).
+vec3 shadow_ray_transmittance(ShadowRay sr, INOUT(uint) truncated) {
+  uint medium = sr.media & 0xffffu;
+  uint rng = pcg_hash(sr.media ^ floatBitsToUint(sr.origin.x + sr.origin.y + sr.origin.z));
+  vec3 o = sr.origin;
+  vec3 dir = sr.dir;
+  float tmax = sr.tmax;
+  // A finite segment keeps its end (aim_shadow_ray's point just off the
+  // light) as it passes interfaces: the offsets off each interface, added
+  // to a shortened length, pushed the end into the light, which blocked it.
+  bool finite = tmax < WP_INF;
+  vec3 end = finite ? o + dir * tmax : vec3(0.0f);
+  vec3 tr = vec3(1.0f);
+  const bool interfaces = MATERIAL_COMPILED(MAT_INTERFACE);
+  for (uint k = 0u; k <= MEDIUM_CROSSINGS_MAX; ++k) {
+    Hit h;
+    if (trace_ray(o, dir, tmax, !interfaces, h) != TRACE_OK) {
+      truncated += 1u;
+      return vec3(0.0f);
+    }
+    if (!interfaces && h.prim != WP_INVALID) return vec3(0.0f);
+    float t = h.prim == WP_INVALID ? tmax : h.t;
+    if (medium != 0u) tr *= medium_transmittance(load_medium(medium), t * length(dir), rng);
+    if (h.prim == WP_INVALID) return tr;
+    SurfaceHit s = surface_at(o, dir, h);
+    if (!is_interface(s.material) || !(tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f)) return vec3(0.0f);
+    medium = medium_beyond(medium, s.material, s.ng, dir);
+    o = offset_ray(s.p, dot(dir, s.ng) >= 0.0f ? s.ng : -s.ng);
+    if (finite) {
+      dir = end - o;
+      tmax = 1.0f;
+    }
+  }
+  return vec3(0.0f);
+}
+
+// Closest-hit passes a path takes at most: one per bounce and the camera
+// ray's, and with interfaces one per interface it may pass.
+uint path_passes_max() {
+  return scene.image.z + 1u + (FEATURE_COMPILED(FEATURE_MEDIA) && MATERIAL_COMPILED(MAT_INTERFACE) ? MEDIUM_CROSSINGS_MAX : 0u);
+}
+
 // Rays traced and traversals truncated by trace_sample.
 struct SampleRays {
   uint closest;    // closest-hit rays (the camera ray and each bounce's)
@@ -381,8 +505,9 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(A
   path_begin(p, pixel, sampleIndex);
   aov.a = vec4(0.0f);
   aov.b = vec4(0.0f);
-  // path_shade ends every path at max bounces: at most max + 1 passes.
-  for (uint pass = 0u; pass <= scene.image.z; ++pass) {
+  // path_shade ends every path at max bounces (and its interfaces).
+  uint passes = path_passes_max();
+  for (uint pass = 0u; pass < passes; ++pass) {
     Hit h;
     rays.closest += 1u;
     if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
@@ -396,6 +521,11 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(A
       if (j >= LIGHT_SAMPLES_OF_SCENE) break;
       ShadowRay sr = srs.ray[j];
       if (sr.tmax <= 0.0f) continue;
+      if (FEATURE_COMPILED(FEATURE_MEDIA)) {
+        rays.shadow += 1u;
+        p.radiance += sr.contribution * shadow_ray_transmittance(sr, rays.truncated);
+        continue;
+      }
       Hit blocker;
       rays.shadow += 1u;
       if (trace_ray(sr.origin, sr.dir, sr.tmax, true, blocker) != TRACE_OK) {

@@ -116,6 +116,11 @@ PathState read_path(uint i) {
   p.flags = c.w;
   p.radiance = texel_xyz(d);
   p.bsdfPdf = uintBitsToFloat(d.w);
+  uvec4 e = FEATURE_COMPILED(FEATURE_MEDIA) ? texelFetch(pathTexels, at + PATH_MEDIUM_TEXEL) : uvec4(0u);
+  p.medium = e.x;
+  p.travelled = uintBitsToFloat(e.y);
+  p.crossings = e.z;
+  p.pad = 0u;
   return p;
 }
 
@@ -147,6 +152,7 @@ void write_path(uint i, PathState p) {
   pathTexelsOut[at + 1u] = uvec4(floatBitsToUint(p.dir), p.rng);
   pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(p.throughput), p.flags);
   pathTexelsOut[at + uint(PATH_RADIANCE_TEXEL)] = uvec4(floatBitsToUint(p.radiance), floatBitsToUint(p.bsdfPdf));
+  if (FEATURE_COMPILED(FEATURE_MEDIA)) pathTexelsOut[at + uint(PATH_MEDIUM_TEXEL)] = uvec4(p.medium, floatBitsToUint(p.travelled), p.crossings, 0u);
 }
 #endif
 
@@ -154,7 +160,7 @@ void write_shadow_ray(uint i, ShadowRay r) {
   uint at = i * SHADOW_RAY_TEXELS;
   shadowRayTexelsOut[at] = uvec4(floatBitsToUint(r.origin), floatBitsToUint(r.tmax));
   shadowRayTexelsOut[at + 1u] = uvec4(floatBitsToUint(r.dir), r.path);
-  shadowRayTexelsOut[at + 2u] = uvec4(floatBitsToUint(r.contribution), r.pad);
+  shadowRayTexelsOut[at + 2u] = uvec4(floatBitsToUint(r.contribution), r.media);
 }
 
 ShadowRay read_shadow_ray(uint i) {
@@ -168,7 +174,7 @@ ShadowRay read_shadow_ray(uint i) {
   r.dir = texel_xyz(b);
   r.path = b.w;
   r.contribution = texel_xyz(c);
-  r.pad = c.w;
+  r.media = c.w;
   return r;
 }
 

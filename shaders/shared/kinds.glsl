@@ -31,6 +31,7 @@
 #define LOBE_PARAMS_YZW 0x40u   // reads Material.params beyond x
 #define LOBE_PARAMS2 0x80u      // reads Material.params2
 #define LOBE_LAYER 0x100u       // a layer over a base material (Material.children.x): bsdf_at adds its lobe and the base's
+#define LOBE_NULL 0x200u        // no surface at all: a boundary between media that rays pass straight through (bsdf_at gives no lobe)
 
 // Material kinds (Material.info.x). Columns: id; the kind's name (darts scene
 // files use it); the prefix of its lobe functions in materials/*.glsl (kinds
@@ -52,6 +53,7 @@
 #define MAT_CS184_GLASS 11u         // CS184's glass: Schlick's Fresnel, tinted reflection and refraction, eta^2
 #define MAT_CLEARCOAT 12u  // glTF's KHR_materials_clearcoat: an untinted GGX coat with its own normal over a base material
 #define MAT_SHEEN 13u      // glTF's KHR_materials_sheen: a Charlie sheen over a base material, which it scales by its albedo
+#define MAT_INTERFACE 14u  // the boundary of a participating medium that does not scatter (darts "material": null; media.glsl)
 #define WP_MATERIAL_KINDS(X)                                                                                            \
   X(MAT_LAMBERTIAN, "lambertian", lambertian, LOBE_DIFFUSE)                                                             \
   X(MAT_LIGHT, "diffuse_light", no_lobe, LOBE_EMISSIVE)                                                                 \
@@ -67,7 +69,8 @@
   X(MAT_BECKMANN_CONDUCTOR, "beckmann_conductor", beckmann_conductor, LOBE_GLOSSY | LOBE_PARAMS_YZW | LOBE_PARAMS2)        \
   X(MAT_CS184_GLASS, "cs184_glass", cs184_glass, LOBE_DELTA | LOBE_TRANSMISSIVE | LOBE_PARAMS_YZW | LOBE_PARAMS2)        \
   X(MAT_CLEARCOAT, "clearcoat", clearcoat, LOBE_GLOSSY | LOBE_LAYER | LOBE_PARAMS2)                                          \
-  X(MAT_SHEEN, "sheen", sheen, LOBE_GLOSSY | LOBE_LAYER)
+  X(MAT_SHEEN, "sheen", sheen, LOBE_GLOSSY | LOBE_LAYER)                                                                \
+  X(MAT_INTERFACE, "interface", no_lobe, LOBE_NULL)
 
 // Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
 // solid mapping. Columns: id, name.
@@ -101,6 +104,12 @@
   X(LIGHT_AREA, "area lights") X(LIGHT_SPHERE, "sphere lights") X(LIGHT_POINT, "point lights") X(LIGHT_ENVIRONMENT, "environment map") \
   X(LIGHT_SPOT, "spot lights") X(LIGHT_DIRECTIONAL, "directional lights") X(LIGHT_HEMISPHERE, "hemisphere lights")
 
+// Participating media (Medium.info.x; media.glsl). Columns: id, name (darts'
+// "media" types, src/media/*.cpp of darts-2022).
+#define MEDIUM_VACUUM 0u       // nothing: light passes unchanged
+#define MEDIUM_HOMOGENEOUS 1u  // the same coefficients everywhere
+#define WP_MEDIUM_KINDS(X) X(MEDIUM_VACUUM, "vacuum") X(MEDIUM_HOMOGENEOUS, "homogeneous")
+
 // Other features a scene may use. Columns: id, name.
 #define FEATURE_SPHERES 0u
 #define FEATURE_SHADING_DATA 1u         // triangles with vertex normals or UVs
@@ -117,6 +126,7 @@
 #define FEATURE_IRIDESCENCE 12u         // metal-rough under a thin film (KHR_materials_iridescence; Lobe.params3)
 #define FEATURE_ANISOTROPY 13u          // metal-rough with anisotropic roughness (KHR_materials_anisotropy; Lobe.params4)
 #define FEATURE_DISPERSION 14u          // a volume whose index of refraction depends on the wavelength (KHR_materials_dispersion)
+#define FEATURE_MEDIA 15u               // participating media: the camera or a surface's side in a medium (media.glsl)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
@@ -124,7 +134,7 @@
   X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
   X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
   X(FEATURE_VOLUME, "volumes") X(FEATURE_IRIDESCENCE, "iridescence") \
-  X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion")
+  X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion") X(FEATURE_MEDIA, "participating media")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

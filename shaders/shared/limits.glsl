@@ -41,5 +41,15 @@
 // Most emitters the mixture integrator allows: its exact light density visits
 // every emitter at every bounce.
 #define MAX_MIXTURE_EMITTERS 16384u
+// Participating media (media.glsl). Collisions one free flight or one
+// transmittance estimate takes at most (loops must be bounded on lavapipe).
+#define MEDIUM_COLLISIONS_MAX 256u
+// Interfaces (surfaces without scattering, MAT_INTERFACE) one path passes
+// at most, in all: each costs the path a trace without a bounce, so the
+// kernels run this many passes beyond max bounces + 1. A path that would
+// pass more ends there.
+#define MEDIUM_CROSSINGS_MAX 16u
+// Media a scene may have: a shadow ray keeps its medium in 16 bits.
+#define MEDIA_MAX 65535u
 
 #endif  // WP_LIMITS_GLSL

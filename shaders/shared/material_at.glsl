@@ -233,6 +233,7 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   b.sheen = vec4(0.0f);
   b.sheenCovers = 0u;
   if (m.info.x == MAT_LIGHT) return b;  // emits, does not scatter (never compiled out: one comparison)
+  if (MATERIAL_COMPILED(MAT_INTERFACE) && m.info.x == MAT_INTERFACE) return b;  // no surface at all
   // Vertex colours tint every lobe (glTF: they multiply the base colour).
   vec3 tint = FEATURE_COMPILED(FEATURE_VERTEX_DATA) ? vec3(s.color.x, s.color.y, s.color.z) : vec3(1.0f);
   if (!COMPOSITE_MATERIALS_COMPILED) {  // one lobe

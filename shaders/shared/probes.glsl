@@ -12,7 +12,7 @@
 //   PROBE_SURFACE_SAMPLE   in: origin = 3 random numbers; contribution = the
 //                          point seen from. out: (t, u, v) = wi; prim = status.
 //   PROBE_SURFACE_PDF      in: dir = wi; contribution = the point. out: t = pdf.
-//   PROBE_INTERSECT        in: origin, dir, tmax: a ray; pad = which answer.
+//   PROBE_INTERSECT        in: origin, dir, tmax: a ray; media = which answer.
 //                          out: PROBE_ANSWER_HIT: t and prim; _POINT,
 //                          _GEOMETRIC_NORMAL, _SHADING_NORMAL: (t, u, v);
 //                          prim = PROBE_TRUNCATED past the step cap.
@@ -102,10 +102,10 @@ Hit run_probe(ShadowRay q) {
   h.u = 0.0f;
   h.v = 0.0f;
   if (trace_ray(q.origin, q.dir, q.tmax, false, h) != TRACE_OK) return probe_answer(vec3(0.0f), PROBE_TRUNCATED);
-  if (q.pad == PROBE_ANSWER_HIT || h.prim == WP_INVALID) return probe_answer(vec3(h.t, 0.0f, 0.0f), h.prim);
+  if (q.media == PROBE_ANSWER_HIT || h.prim == WP_INVALID) return probe_answer(vec3(h.t, 0.0f, 0.0f), h.prim);
   SurfaceHit s = surface_at(q.origin, q.dir, h);
-  if (q.pad == PROBE_ANSWER_POINT) return probe_answer(s.p, h.prim);
-  return probe_answer(q.pad == PROBE_ANSWER_GEOMETRIC_NORMAL ? s.ng : s.ns, h.prim);
+  if (q.media == PROBE_ANSWER_POINT) return probe_answer(s.p, h.prim);
+  return probe_answer(q.media == PROBE_ANSWER_GEOMETRIC_NORMAL ? s.ng : s.ns, h.prim);
 }
 
 #endif  // WP_PROBES_GLSL

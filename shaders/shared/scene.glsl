@@ -14,5 +14,6 @@
 #include "traverse_wide.glsl"
 #include "material_at.glsl"
 #include "lights.glsl"
+#include "media.glsl"
 
 #endif  // WP_SCENE_GLSL

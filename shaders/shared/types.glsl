@@ -148,13 +148,15 @@ struct WideNode {
 #define TRIANGLE_SHADING_TEXELS 4
 #define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
-#define MATERIAL_TEXELS 8
+#define MATERIAL_TEXELS 9
+#define MEDIUM_TEXELS 4
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
 // Work-buffer records the kernels read through texel views (kernel.glsl).
-#define PATH_STATE_TEXELS 4
+#define PATH_STATE_TEXELS 5
 #define PATH_RADIANCE_TEXEL 3  // radiance and bsdfPdf: the texel connect adds to
+#define PATH_MEDIUM_TEXEL 4    // the medium and the way since the last scattering vertex (FEATURE_MEDIA only)
 #define HIT_TEXELS 1
 #define SHADOW_RAY_TEXELS 3
 
@@ -246,6 +248,20 @@ struct Material {
                        // ior, z and w its thickness (nm) where its thickness texture is 0 and 1
   vec4 anisotropy;     // metal-rough (KHR_materials_anisotropy, FEATURE_ANISOTROPY): x strength, y and z the cosine
                        // and sine of the direction's rotation from the tangent, w its texture (uint bits; WP_INVALID none)
+  uvec4 media;         // FEATURE_MEDIA: x the medium behind the surface (against its normal), y the one in front
+                       // (indices into the media, 0 the vacuum); WP_INVALID where the surface bounds no medium, so a
+                       // ray crossing it stays in its medium. zw: unused
+};
+
+// A participating medium (media.glsl), 64 bytes. Coefficients are per unit
+// length of the scene; the null coefficient is that of fictitious particles
+// (darts' "real fraction" below 1), which neither absorb nor scatter but
+// make the tracking estimators take null collisions.
+struct Medium {
+  uvec4 info;    // x: MEDIUM_* kind; yzw: unused
+  vec4 sigmaA;   // xyz: absorption coefficient; w: the Henyey-Greenstein asymmetry g of its phase function (0: isotropic)
+  vec4 sigmaS;   // xyz: scattering coefficient; w: the majorant, one for all channels, at least sigmaA + sigmaS + sigmaN in each
+  vec4 sigmaN;   // xyz: null coefficient; w: unused
 };
 
 // A texture; checker textures refer to two other textures. 96 bytes.
@@ -306,6 +322,7 @@ struct SceneParams {
   vec4 mis;          // x: exponent of the MIS heuristic (darts' "power": 2 the power heuristic, 1 the balance heuristic)
   vec4 camWindow;    // the part of the camera's frame the image covers: its top-left corner and size, as
                      // fractions of the frame ((0, 0, 1, 1): all of it; CS184's -p renders a cell)
+  uvec4 media;       // x: the medium the camera sits in (FEATURE_MEDIA; 0 the vacuum), y: the media, zw: unused
 };
 
 
@@ -313,7 +330,8 @@ struct SceneParams {
 #define SAMPLER_INDEPENDENT 0u
 #define SAMPLER_CMJ 1u
 
-// A path in flight. 64 bytes.
+// A path in flight. 80 bytes; the last 16 are read and written only where
+// the scene has media (FEATURE_MEDIA).
 struct PathState {
   vec3 origin;
   uint pixel;
@@ -323,6 +341,10 @@ struct PathState {
   uint flags;  // bounce depth in the low 16 bits, PATH_* flags above
   vec3 radiance;
   float bsdfPdf;  // solid-angle pdf of the direction that produced this ray
+  uint medium;      // the medium the ray travels in (index into the media; 0 the vacuum)
+  float travelled;  // the way from the last scattering vertex to origin: interfaces passed since (media.glsl)
+  uint crossings;   // interfaces passed so far (at most MEDIUM_CROSSINGS_MAX)
+  uint pad;
 };
 
 // Closest hit of a path's current ray. 16 bytes.
@@ -340,7 +362,7 @@ struct ShadowRay {
   vec3 dir;
   uint path;
   vec3 contribution;  // added to the path's radiance if the segment is unoccluded
-  uint pad;
+  uint media;  // FEATURE_MEDIA: the medium at origin (low 16 bits), and a seed for its tracking (high 16 bits)
 };
 
 // Per-pixel accumulator of one batch, 32 bytes: sum in xyz, sample count in

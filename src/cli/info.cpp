@@ -41,6 +41,14 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
   // On a CPU device every branch a kernel has costs each path, taken or not:
   // what the scene uses is what its kernels pay for.
   std::printf("kinds        %s (compiled into the kernels)\n", kinds_description(cs.params.kinds).c_str());
+  if (!scene.media.empty()) {
+    std::printf("media       ");
+    for (size_t i = 0; i < scene.media.size(); ++i) {
+      const SceneMedium& m = scene.media[i];
+      std::printf(" %s (%s%s)%s", m.name.c_str(), kind_list(medium_kinds(), KIND_BIT(m.kind)).c_str(),
+                  scene.cameraMedium == i ? ", the camera's" : "", i + 1 < scene.media.size() ? "," : "\n");
+    }
+  }
   // gpu-sort shades each class of materials with a kernel of its own kinds.
   std::printf("shade classes");
   for (size_t c = 0; c < cs.shadeClasses.size(); ++c) {

@@ -85,6 +85,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_EMITTERS:
     case BINDING_TEXTURES:
     case BINDING_POINT_LIGHTS:
+    case BINDING_MEDIA:
     case BINDING_TEXELS:
     case BINDING_FLOAT_TABLES:
     case BINDING_PATH_TEXELS:
@@ -130,6 +131,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_EMITTERS, scene.emitters, "emitters");
   add_texels(BINDING_TEXTURES, scene.textures, "textures");
   add_texels(BINDING_POINT_LIGHTS, scene.pointLights, "point lights");
+  add_texels(BINDING_MEDIA, scene.media, "media");
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
   add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
   add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
@@ -168,6 +170,8 @@ uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
   const uint32_t cap = scene.params.counts.z;
   // Only lavapipe has a loop budget for the megakernel's rays to share.
   if (!settings.megakernel || !cpu_device()) return cap;
+  if (scene.params.kinds.w & KIND_BIT(FEATURE_MEDIA))
+    throw RenderError("the megakernel cannot fit participating media's tracking into lavapipe's loop budget; use the wavefront kernels");
   const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
   const uint64_t budget = TRAVERSAL_STEP_BUDGET, traversals = bounces + 1 + bounces * lightSamples;
   const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;

@@ -48,9 +48,9 @@ void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveSta
   push.phase = listed ? GENERATE_FROM_LIST : GENERATE_CONSECUTIVE;
   if (settings.megakernel) return dispatch(cb, megakernel, push, interleaved_groups(pathCount), StageTimes::kMegakernel);
   dispatch(cb, generate, push, groups_for(pathCount), StageTimes::kGenerate);
-  // Bounce b extends the rays of paths with b scattering events behind them;
-  // path_shade ends every path at max bounces, so there are max + 1 passes.
-  const uint32_t passes = scene.params.image.z + 1;
+  // Pass b extends the rays of paths with b scattering events (or passed
+  // interfaces) behind them; path_shade ends every path at max bounces.
+  const uint32_t passes = path_passes();
   for (uint32_t bounce = 0; bounce < passes; ++bounce) {
     push.queueIn = bounce & 1u;
     push.phase = PREPARE_EXTEND;
@@ -120,7 +120,7 @@ uint32_t WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& tr
   uint32_t perSubmit = 1;
   const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
   const uint32_t dispatchesPerBounce = sorting ? 7 : 5;
-  const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * (scene.params.image.z + 1);
+  const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * path_passes();
   const bool aovs = !scene.aovs.empty();
   for (uint32_t sample = first; sample < end;) {
     uint32_t n = std::min(perSubmit, end - sample);

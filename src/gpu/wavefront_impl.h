@@ -130,6 +130,11 @@ struct WavefrontRenderer::Impl {
   // in one invocation: up to max bounces + 1 closest-hit rays and light
   // samples x max bounces shadow rays, and the bounce loop's own iterations.
   uint32_t traversal_step_cap() const;
+  // Extend-shade-connect passes per wave: path_passes_max (integrator.glsl).
+  uint32_t path_passes() const {
+    const bool interfaces = (scene.params.kinds.w & KIND_BIT(FEATURE_MEDIA)) && (scene.params.kinds.x & KIND_BIT(MAT_INTERFACE));
+    return scene.params.image.z + 1 + (interfaces ? MEDIUM_CROSSINGS_MAX : 0u);
+  }
   static constexpr uint64_t kMegakernelMinimumCap = 256;
 
   // Rays per invocation of the tracing kernels (trace_items.glsl; with

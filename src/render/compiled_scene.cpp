@@ -166,6 +166,7 @@ shader::SceneView CompiledScene::view() const {
   v.emitterTexels = texels_of(emitters);
   v.textureTexels = texels_of(textures);
   v.pointLightTexels = texels_of(pointLights);
+  v.mediumTexels = texels_of(media);
   v.imageTexels = texels.data();
   v.floatTables = floatTables.data();
   return v;
@@ -190,7 +191,7 @@ size_t CompiledScene::gpu_bytes() const {
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
-         pointLights.size() * sizeof(shader::PointLight) + floatTables.size() * sizeof(float);
+         pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + floatTables.size() * sizeof(float);
 }
 
 std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels) {
@@ -344,6 +345,20 @@ static shader::Material pack_material(const SceneMaterial& in) {
                            glm::uintBitsToFloat(in.anisotropyTexture));
   m.params = in.params;
   m.params2 = in.params2;
+  // Media: index 0 is the vacuum, the scene's follow (compile_scene).
+  auto medium = [](uint32_t i) { return i == WP_INVALID ? 0u : i + 1u; };
+  m.media = in.boundsMedia ? glm::uvec4(medium(in.interior), medium(in.exterior), 0u, 0u) : glm::uvec4(WP_INVALID, WP_INVALID, 0u, 0u);
+  return m;
+}
+
+static shader::Medium pack_medium(const SceneMedium& in) {
+  shader::Medium m{};
+  m.info = glm::uvec4(in.kind, 0u, 0u, 0u);
+  const glm::vec3 total = in.sigmaA + in.sigmaS + in.sigmaN;
+  m.sigmaA = glm::vec4(in.sigmaA, in.g);
+  m.sigmaS = glm::vec4(in.sigmaS, std::max(total.x, std::max(total.y, total.z)));
+  m.sigmaN = glm::vec4(in.sigmaN, 0.0f);
+  if (in.kind == MEDIUM_VACUUM) m = shader::Medium{};
   return m;
 }
 
@@ -513,6 +528,9 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   }
 
   for (const SceneMaterial& m : scene.materials) out.materials.push_back(pack_material(m));
+  if (scene.media.size() >= MEDIA_MAX) throw InputError(scene.sourcePath + ": more than " + std::to_string(MEDIA_MAX - 1) + " media");
+  out.media.push_back(shader::Medium{});  // the vacuum
+  for (const SceneMedium& m : scene.media) out.media.push_back(pack_medium(m));
   // The float tables start with the sheen's albedo (bindings.glsl).
   out.floatTables.assign(std::begin(shader::SHEEN_ALBEDO), std::end(shader::SHEEN_ALBEDO));
   out.textures = std::move(packed.textures);
@@ -665,6 +683,12 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   if (sampler == SamplerKind::Cmj) kinds.w |= KIND_BIT(FEATURE_CMJ);
   if ((flags & SCENE_FLAG_HEMISPHERE) != 0u) kinds.w |= KIND_BIT(FEATURE_UNIFORM_HEMISPHERE);
   p.accel = glm::uvec4(wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, 0u, stackSlots, 0u);
+  // Media: any medium, any surface that bounds one or is an interface.
+  const bool media = !scene.media.empty() || std::any_of(scene.materials.begin(), scene.materials.end(), [](const SceneMaterial& m) {
+    return m.boundsMedia || m.kind == MAT_INTERFACE;
+  });
+  if (media) kinds.w |= KIND_BIT(FEATURE_MEDIA);
+  p.media = glm::uvec4(scene.cameraMedium == WP_INVALID ? 0u : scene.cameraMedium + 1u, uint32_t(out.media.size()), 0u, 0u);
   p.kinds = kinds;
   return out;
 }

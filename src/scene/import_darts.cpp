@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
+#include <tuple>
 #include <sstream>
 
 #include "scene/darts_tests.h"
@@ -46,7 +48,17 @@ class DartsImporter {
     root.expect_object();
     if (holds_tests(doc_)) root["type"].fail("this file holds darts tests (\"type\": \"tests\"), not a scene: run it with wavepath test");
     root.allow_only({"camera", "sampler", "background", "accelerator", "integrator", "materials", "surfaces", "media"});
-    if (root.has("media")) root["media"].fail("participating media are not supported yet");
+    // Phase functions are darts materials (include/darts/medium.h:21), so
+    // named ones sit among the materials; the media come before the camera
+    // and the surfaces that name them.
+    if (root.has("materials")) {
+      JsonCursor mats = root["materials"].expect_array();
+      for (size_t i = 0; i < mats.size(); ++i) {
+        JsonCursor m = mats[i].expect_object();
+        if (m.has("type") && m["type"].is_string() && is_phase_type(m["type"].string())) phases_[m["name"].string()] = parse_phase(m);
+      }
+    }
+    if (root.has("media")) parse_media(root["media"]);
     if (root.has("camera")) parse_camera(root["camera"]);
     if (root.has("sampler")) parse_sampler(root["sampler"]);
     if (root.has("background")) parse_background(root["background"]);
@@ -57,7 +69,8 @@ class DartsImporter {
       for (size_t i = 0; i < mats.size(); ++i) {
         JsonCursor m = mats[i].expect_object();
         std::string name = m["name"].string();
-        if (named_.count(name)) m["name"].fail("material \"" + name + "\" is defined twice");
+        if (is_phase_type(m["type"].string())) continue;  // read above
+        if (named_.count(name) || phases_.count(name)) m["name"].fail("material \"" + name + "\" is defined twice");
         named_[name] = add_material(m, name);
       }
     }
@@ -65,6 +78,14 @@ class DartsImporter {
       JsonCursor surfs = root["surfaces"].expect_array();
       reserve_huge(scene_.triangles, mesh_triangles(surfs) + 2 * surfs.size());
       for (size_t i = 0; i < surfs.size(); ++i) parse_surface(surfs[i], glm::mat4(1.0f));
+    }
+    if (!unused_media_.empty()) {
+      // Likely a misspelt name on the surface meant to bound it.
+      JsonCursor media = root["media"];
+      for (size_t i = 0; i < media.size(); ++i) {
+        if (unused_media_.count(media[i]["name"].string()))
+          media[i]["name"].fail("medium \"" + media[i]["name"].string() + "\" is named by no surface and not by the camera");
+      }
     }
     return std::move(scene_);
   }
@@ -161,9 +182,130 @@ class DartsImporter {
     return path.lexically_normal().string();
   }
 
+  // ---- participating media (darts' final project) ----------------------------
+
+  static bool is_phase_type(const std::string& type) { return type == "isotropic" || type == "henyey-greenstein"; }
+
+  // A phase function: its Henyey-Greenstein asymmetry g (0: isotropic).
+  float parse_phase(const JsonCursor& j) {
+    j.expect_object();
+    std::string type = j["type"].string();
+    if (type == "isotropic") {
+      j.allow_only({"type", "name"});
+      return 0.0f;
+    }
+    if (type == "henyey-greenstein") {
+      j.allow_only({"type", "name", "g"});
+      float g = j.number_or("g", 0.0f);
+      if (!(g > -1.0f && g < 1.0f)) j["g"].fail("a Henyey-Greenstein g must lie strictly between -1 and 1");
+      return g;
+    }
+    std::string hint = did_you_mean(type, {"isotropic", "henyey-greenstein"});
+    j["type"].fail("unknown phase function type \"" + type + "\"" + (hint.empty() ? " (expected isotropic or henyey-greenstein)" : hint));
+    return 0.0f;
+  }
+
+  // A medium's coefficient colour: a number or [r, g, b], none negative.
+  glm::vec3 coefficient(const JsonCursor& j, const char* key, glm::vec3 fallback) {
+    if (!j.has(key)) return fallback;
+    glm::vec3 c = j[key].color();
+    if (!(c.x >= 0.0f && c.y >= 0.0f && c.z >= 0.0f) || !is_finite(c)) j[key].fail("medium coefficients must be finite and not negative");
+    return c;
+  }
+
+  // One medium of "media", or one given inline where a surface or the
+  // camera names it: src/media/*.cpp of darts-2022 (docs/scene-format.md).
+  uint32_t add_medium(const JsonCursor& j, const std::string& name) {
+    j.expect_object();
+    std::string type = j["type"].string();
+    SceneMedium m;
+    m.name = name;
+    if (type == "vacuum") {
+      j.allow_only({"type", "name", "phase function"});
+      m.kind = MEDIUM_VACUUM;
+    } else if (type == "homogeneous") {
+      j.allow_only({"type", "name", "phase function", "albedo", "total", "real fraction"});
+      // darts' HomogeneousMedium::coeffs (src/media/homogeneous.cpp:45-50).
+      const glm::vec3 albedo = coefficient(j, "albedo", glm::vec3(0.8f)), total = coefficient(j, "total", glm::vec3(1.0f)),
+                      real = coefficient(j, "real fraction", glm::vec3(1.0f));
+      if (!(albedo.x <= 1.0f && albedo.y <= 1.0f && albedo.z <= 1.0f)) j["albedo"].fail("a medium's albedo must lie in [0, 1]");
+      if (!(real.x <= 1.0f && real.y <= 1.0f && real.z <= 1.0f)) j["real fraction"].fail("the real fraction must lie in [0, 1]");
+      m.sigmaA = total * (1.0f - albedo) * real;
+      m.sigmaS = total * albedo * real;
+      m.sigmaN = total * (1.0f - real);
+    } else if (type == "nanovdb") {
+      j["type"].fail("NanoVDB grids (darts' src/media/nanovdb_medium.cpp) are not supported yet");
+    } else {
+      std::vector<std::string> kinds;
+      for (const KindInfo& k : medium_kinds()) kinds.push_back(k.name);
+      std::string hint = did_you_mean(type, kinds);
+      j["type"].fail("unknown medium type \"" + type + "\"" + (hint.empty() ? " (expected " + kind_list(medium_kinds()) + ")" : hint));
+    }
+    if (j.has("phase function")) {
+      JsonCursor ph = j["phase function"];
+      if (ph.is_string()) {
+        auto it = phases_.find(ph.string());
+        if (it == phases_.end()) ph.fail("no phase function named \"" + ph.string() + "\"");
+        m.g = it->second;
+      } else {
+        m.g = parse_phase(ph);
+      }
+    }
+    scene_.media.push_back(m);
+    return uint32_t(scene_.media.size() - 1);
+  }
+
+  void parse_media(const JsonCursor& j) {
+    j.expect_array();
+    for (size_t i = 0; i < j.size(); ++i) {
+      JsonCursor m = j[i].expect_object();
+      std::string name = m["name"].string();
+      if (media_.count(name)) m["name"].fail("medium \"" + name + "\" is defined twice");
+      media_[name] = add_medium(m, name);
+      unused_media_.insert(name);
+    }
+  }
+
+  // A medium a surface or the camera names: a name from "media" or an
+  // inline medium. WP_INVALID is the vacuum.
+  uint32_t medium_of(const JsonCursor& j) {
+    if (j.is_string()) {
+      auto it = media_.find(j.string());
+      if (it == media_.end()) {
+        std::vector<std::string> names;
+        for (const auto& [n, index] : media_) names.push_back(n);
+        j.fail("no medium named \"" + j.string() + "\"" + did_you_mean(j.string(), names));
+      }
+      unused_media_.erase(j.string());
+      return it->second;
+    }
+    return add_medium(j, j.path());
+  }
+
+  // The surface's material with the media its "interior" and "exterior"
+  // name (either missing: the vacuum); one material per combination.
+  uint32_t with_media(const JsonCursor& surface, uint32_t material) {
+    if (!surface.has("interior") && !surface.has("exterior")) return material;
+    const uint32_t in = surface.has("interior") ? medium_of(surface["interior"]) : WP_INVALID;
+    const uint32_t out = surface.has("exterior") ? medium_of(surface["exterior"]) : WP_INVALID;
+    const auto key = std::make_tuple(material, in, out);
+    auto it = bounding_.find(key);
+    if (it != bounding_.end()) return it->second;
+    SceneMaterial m = scene_.materials[material];
+    m.boundsMedia = true;
+    m.interior = in;
+    m.exterior = out;
+    scene_.materials.push_back(m);
+    leaves_.push_back(leaves_[material]);
+    layers_.push_back(layers_[material]);
+    sheens_.push_back(sheens_[material]);
+    return bounding_[key] = uint32_t(scene_.materials.size() - 1);
+  }
+
   void parse_camera(const JsonCursor& j) {
-    j.allow_only({"transform", "vfov", "resolution", "fdist", "aperture"});
+    j.allow_only({"transform", "vfov", "resolution", "fdist", "aperture", "medium"});
     Camera& c = scene_.camera;
+    if (j.has("medium")) scene_.cameraMedium = medium_of(j["medium"]);
     if (j.has("transform")) c.toWorld = parse_transform(j["transform"]);
     if (j.has("vfov")) {
       c.vfovDegrees = j["vfov"].number();
@@ -440,6 +582,9 @@ class DartsImporter {
         j.fail("a blend may combine at most " + std::to_string(BSDF_MAX_LOBES) + " materials in all");
       }
       if (sheens_[m.a] + sheens_[m.b] > 1) j.fail("a material may hold at most one sheen");
+    } else if (type == "interface") {
+      j.allow_only({"type", "name"});
+      m.kind = MAT_INTERFACE;
     } else {
       std::vector<std::string> kinds;
       for (const KindInfo& k : material_kinds()) kinds.push_back(k.name);
@@ -499,18 +644,35 @@ class DartsImporter {
       m = add_material(j.expect_object(), name);
     }
     if (scene_.materials[m].kind == MAT_LIGHT) j.fail("a blend or a layer cannot contain a diffuse_light");
+    if (scene_.materials[m].kind == MAT_INTERFACE) j.fail("a blend or a layer cannot contain an interface (it has no surface)");
     return m;
   }
 
   uint32_t material_of(const JsonCursor& surface) {
     JsonCursor j = surface["material"];
+    if (j.json().is_null()) return with_media(surface, interface_material());  // no surface: only a boundary of media
     if (j.is_string()) {
+      if (phases_.count(j.string())) j.fail("\"" + j.string() + "\" is a phase function, not a surface's material");
       auto it = named_.find(j.string());
       if (it == named_.end()) j.fail("no material named \"" + j.string() + "\"");
-      return it->second;
+      return with_media(surface, it->second);
     }
     j.expect_object();
-    return add_material(j, surface.path() + "/material");
+    return with_media(surface, add_material(j, surface.path() + "/material"));
+  }
+
+  uint32_t interface_material() {
+    if (interface_ == WP_INVALID) {
+      SceneMaterial m;
+      m.kind = MAT_INTERFACE;
+      m.name = "interface";
+      scene_.materials.push_back(m);
+      leaves_.push_back(1);
+      layers_.push_back(0);
+      sheens_.push_back(0);
+      interface_ = uint32_t(scene_.materials.size() - 1);
+    }
+    return interface_;
   }
 
   void parse_surface(const JsonCursor& j, const glm::mat4& parent) {
@@ -518,7 +680,7 @@ class DartsImporter {
     std::string type = j["type"].string();
     glm::mat4 xform = parent * (j.has("transform") ? parse_transform(j["transform"]) : glm::mat4(1.0f));
     if (type == "sphere") {
-      j.allow_only({"type", "name", "radius", "transform", "material"});
+      j.allow_only({"type", "name", "radius", "transform", "material", "interior", "exterior"});
       float radius = j.has("radius") ? j["radius"].positive_number() : 1.0f;
       SceneSphere s;
       s.toWorld = xform * glm::scale(glm::mat4(1.0f), glm::vec3(radius));
@@ -531,7 +693,7 @@ class DartsImporter {
         j.fail("emissive spheres must keep their shape (uniform scale): an emissive ellipsoid cannot be sampled yet");
       scene_.spheres.push_back(s);
     } else if (type == "quad") {
-      j.allow_only({"type", "name", "size", "transform", "material"});
+      j.allow_only({"type", "name", "size", "transform", "material", "interior", "exterior"});
       glm::vec2 size(1.0f);
       if (j.has("size")) {
         JsonCursor sz = j["size"];
@@ -555,7 +717,7 @@ class DartsImporter {
         for (int k = 0; k < 3; ++k) sh.uv[k] = kCornerUv[t[k]];
       }
     } else if (type == "triangle") {
-      j.allow_only({"type", "name", "positions", "normals", "uvs", "transform", "material"});
+      j.allow_only({"type", "name", "positions", "normals", "uvs", "transform", "material", "interior", "exterior"});
       JsonCursor pos = j["positions"].expect_array();
       if (pos.size() != 3) pos.fail("expected 3 vertex positions, got " + std::to_string(pos.size()));
       glm::vec3 v[3];
@@ -585,7 +747,7 @@ class DartsImporter {
         sh.hasUvs = true;
       }
     } else if (type == "mesh") {
-      j.allow_only({"type", "name", "filename", "transform", "material", "material prefix"});
+      j.allow_only({"type", "name", "filename", "transform", "material", "material prefix", "interior", "exterior"});
       load_mesh(j, xform);
     } else if (type == "point_light") {
       // wavepath extension (CS184's point lights): radiant intensity in W/sr.
@@ -720,6 +882,8 @@ class DartsImporter {
       sheens_.push_back(0);
       mtlToScene[i] = uint32_t(scene_.materials.size() - 1);
     }
+    if (!override)
+      for (uint32_t& m : mtlToScene) m = with_media(j, m);
     if (!override && std::find(mesh.materials.begin(), mesh.materials.end(), WP_INVALID) != mesh.materials.end())
       j.fail("mesh " + rel + " has faces without a material: give the surface a \"material\"");
     add_mesh(scene_, mesh, xform, mtlToScene, override ? fixed : WP_INVALID,
@@ -796,6 +960,7 @@ class DartsImporter {
       parse_sampling_options(j, t);
       t.material = add_material(j["material"].expect_object(), t.name);
       if (scene_.materials[t.material].kind == MAT_LIGHT) j["material"].fail("a diffuse_light scatters nothing to test");
+      if (scene_.materials[t.material].kind == MAT_INTERFACE) j["material"].fail("an interface scatters nothing to test");
       t.normal = unit_vector(j["normal"]);
       t.incoming = j.has("incoming") ? unit_vector(j["incoming"]) : sampling ? glm::normalize(glm::vec3(0.25f, 0.0f, -1.0f))
                                                                                : glm::normalize(glm::vec3(0.0f, 0.25f, -1.0f));
@@ -891,6 +1056,11 @@ class DartsImporter {
   std::vector<int> leaves_;  // per material: the lobes it flattens to (blends: the sum of their children's)
   std::vector<int> layers_;  // per material: the layers over its base (0: not a layer)
   std::vector<int> sheens_;  // per material: the sheens in its tree
+  std::map<std::string, float> phases_;     // named phase functions: their g
+  std::map<std::string, uint32_t> media_;   // named media
+  std::set<std::string> unused_media_;      // named media no surface or camera names yet
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> bounding_;  // (material, interior, exterior): its copy bounding them
+  uint32_t interface_ = WP_INVALID;         // the material of surfaces with "material": null
 };
 
 }  // namespace

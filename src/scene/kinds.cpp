@@ -12,6 +12,7 @@ struct Tables {
   std::vector<KindInfo> textures{WP_TEXTURE_KINDS(WP_KIND_ROW)};
   std::vector<KindInfo> lights{WP_LIGHT_KINDS(WP_KIND_ROW)};
   std::vector<KindInfo> features{WP_FEATURES(WP_KIND_ROW)};
+  std::vector<KindInfo> media{WP_MEDIUM_KINDS(WP_KIND_ROW)};
 };
 
 const Tables& tables() {
@@ -25,6 +26,7 @@ const std::vector<KindInfo>& material_kinds() { return tables().materials; }
 const std::vector<KindInfo>& texture_kinds() { return tables().textures; }
 const std::vector<KindInfo>& light_kinds() { return tables().lights; }
 const std::vector<KindInfo>& feature_kinds() { return tables().features; }
+const std::vector<KindInfo>& medium_kinds() { return tables().media; }
 
 bool is_layer(uint32_t kind) {
   for (const KindInfo& k : material_kinds())

@@ -25,6 +25,7 @@ const std::vector<KindInfo>& material_kinds();
 const std::vector<KindInfo>& texture_kinds();
 const std::vector<KindInfo>& light_kinds();
 const std::vector<KindInfo>& feature_kinds();
+const std::vector<KindInfo>& medium_kinds();
 
 // Whether material kind `kind` is a layer over a base material (LOBE_LAYER:
 // clearcoat, sheen).

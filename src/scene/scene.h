@@ -178,6 +178,24 @@ struct SceneMaterial {
   uint32_t anisotropyTexture = WP_INVALID;
   // For a clearcoat or sheen, `albedo` is the coat's factor (red) or the
   // sheen's colour, `normalMap` the coat's own, params.x the coat's ior.
+  // Participating media: where `boundsMedia`, the surface separates the
+  // medium behind it (against its geometric normal) from the one in front
+  // (Scene::media indices, WP_INVALID the vacuum); otherwise a ray crossing
+  // it stays in its medium.
+  bool boundsMedia = false;
+  uint32_t interior = WP_INVALID;
+  uint32_t exterior = WP_INVALID;
+};
+
+// A participating medium (darts' "media"; media.glsl): coefficients per unit
+// length, and the Henyey-Greenstein asymmetry of its phase function.
+struct SceneMedium {
+  uint32_t kind = MEDIUM_HOMOGENEOUS;
+  std::string name;  // for messages
+  glm::vec3 sigmaA{0.0f};  // absorption
+  glm::vec3 sigmaS{0.0f};  // scattering
+  glm::vec3 sigmaN{0.0f};  // null (fictitious particles)
+  float g = 0.0f;
 };
 
 // A punctual light (PointLight in types.glsl): a point light's radiant
@@ -255,6 +273,8 @@ struct Scene {
   std::vector<SceneTexture> textures;  // materials refer to these by index
   std::vector<LinearImage> images;     // image textures refer to these by index
   std::vector<ScenePointLight> pointLights;
+  std::vector<SceneMedium> media;
+  uint32_t cameraMedium = WP_INVALID;  // the medium the camera sits in (index into media), WP_INVALID the vacuum
   std::vector<SceneTriangle> triangles;
   std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;

@@ -336,7 +336,7 @@ class TestRunner {
       q[i].dir = t.rayDirection;
       q[i].tmax = WP_INF;
       q[i].path = probe_path(PROBE_INTERSECT, 0);
-      q[i].pad = i;  // PROBE_ANSWER_HIT, _POINT, _GEOMETRIC_NORMAL, _SHADING_NORMAL
+      q[i].media = i;  // PROBE_ANSWER_HIT, _POINT, _GEOMETRIC_NORMAL, _SHADING_NORMAL
     }
     std::vector<Hit> a = prober.run(q);
     const bool hit = a[PROBE_ANSWER_HIT].prim != WP_INVALID;
