@@ -5,7 +5,8 @@
 # dragon (512x512, 64 spp, 8 bounces), ray casting (camera, diffuse-bounce and
 # shadow rays) on the Cornell dragon and on 10 M triangles at 1024x1024 and
 # 4096x4096 rays (a large GPU needs many rays in flight), wall time of whole
-# renders (setup included), and the 0.1 to 10 M triangle grid. Builds nothing:
+# renders (setup included), participating media against the same scene
+# without (scripts/bench-media.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
 # bin folder). About 3 minutes on an H200; on lavapipe about an hour.
 # Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
@@ -66,6 +67,9 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
         -o "$work/$scene.png" 2>&1 | grep -E "max bounces|^total"
     done
   done
+
+  stage "participating media against the same scene without, 1280x960, 64 spp"
+  WIDTH=1280 HEIGHT=960 scripts/bench-media.sh "$build" 3 "${dev[@]}"
 
   stage "scaling"
   scripts/bench-scale.sh "$build" 1 10 100

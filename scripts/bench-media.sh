@@ -8,8 +8,9 @@
 # rays), a dense chromatic fog inside an interface ball, and a milky medium
 # inside a glass ball. ROUNDS interleaved rounds on the default Vulkan device
 # (or --cpu), medians of the render time; samples per second and the ratio
-# to the scene without media.
-# Usage: [VARIANTS="clear haze ..."] scripts/bench-media.sh [BUILD_DIR] [ROUNDS] [extra render options]   (default: build 3)
+# to the scene without media. WIDTH and HEIGHT change the image's size (a
+# GPU needs more than 320x240 to fill it).
+# Usage: [VARIANTS="clear haze ..."] [WIDTH=w HEIGHT=h] scripts/bench-media.sh [BUILD_DIR] [ROUNDS] [extra render options]   (default: build 3)
 set -euo pipefail
 build=${1:-build}
 rounds=${2:-3}
@@ -40,9 +41,11 @@ declare -A media=(
   [milk-glass]='{"type": "homogeneous", "name": "milk", "albedo": 0.95, "total": 6}'
 )
 variants=${VARIANTS:-"clear vacuum haze haze-null fog-ball milk-glass"}
+width=${WIDTH:-320}
+height=${HEIGHT:-240}
 for v in $variants; do
   cat >"$out/$v.json" <<SCENE
-{"camera": {"transform": {"from": [0, 1.2, 3.2], "at": [0, 0.5, 0], "up": [0, 1, 0]}, "vfov": 35, "resolution": [320, 240]${camera[$v]}},
+{"camera": {"transform": {"from": [0, 1.2, 3.2], "at": [0, 0.5, 0], "up": [0, 1, 0]}, "vfov": 35, "resolution": [$width, $height]${camera[$v]}},
  "sampler": {"samples": 64}, "integrator": {"type": "path tracer mis", "max bounces": 8}, "background": 0.1,
  "media": [${media[$v]}],
  "surfaces": [{"type": "quad", "size": 8, "material": $white, "transform": {"rotate": [-90, 1, 0, 0]}},
@@ -53,4 +56,4 @@ SCENE
 done
 
 . scripts/bench-rounds.sh
-bench_rounds "$build" "$rounds" "$out" "$variants" $((320 * 240 * 64)) "$@"
+bench_rounds "$build" "$rounds" "$out" "$variants" $((width * height * 64)) "$@"
