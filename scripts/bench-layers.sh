@@ -16,8 +16,6 @@ shift $(( $# > 2 ? 2 : $# ))
 cd "$(dirname "$0")/.."
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
-"$build/wavepath" devices | sed -n 2p
 
 base='{"type": "metal_rough", "base_color": [0.7, 0.2, 0.1], "metallic": 0, "roughness": 0.5'
 declare -A material=(

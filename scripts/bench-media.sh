@@ -18,8 +18,6 @@ shift $(( $# > 2 ? 2 : $# ))
 cd "$(dirname "$0")/.."
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
-"$build/wavepath" devices | sed -n 2p
 
 white='{"type": "lambertian", "albedo": 0.6}'
 glass='{"type": "dielectric", "ior": 1.33}'

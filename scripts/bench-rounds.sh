@@ -1,13 +1,16 @@
 # bench-rounds.sh — sourced by the benchmarks that time scene variants in
 # interleaved rounds (bench-layers.sh, bench-media.sh):
 #   bench_rounds BUILD ROUNDS DIR "VARIANTS" SAMPLES [render options]
-# renders DIR/VARIANT.json once each to compile its kernels, then ROUNDS
+# prints the machine and the default device, renders DIR/VARIANT.json once
+# each to compile its kernels, then ROUNDS
 # rounds of every variant in turn, and prints each variant's median render
 # time, its samples per second (SAMPLES per render) and its ratio to the
 # first variant's.
 bench_rounds() {
   local build=$1 rounds=$2 dir=$3 variants=$4 samples=$5
   shift 5
+  echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
+  "$build/wavepath" devices | sed -n 2p
   seconds() { sed -n 's/.*max bounces, \([0-9.]*\) s on .*/\1/p'; }
   median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
   local v

@@ -41,7 +41,7 @@ Medium load_medium(uint i) {
 // The media material `material` bounds: x inside, y outside (WP_INVALID:
 // none, the surface is not a boundary).
 uvec2 material_media(uint material) {
-  uvec4 t = texelFetch(materialTexels, int(material) * MATERIAL_TEXELS + 8);
+  uvec4 t = texelFetch(materialTexels, int(material) * MATERIAL_TEXELS + MATERIAL_MEDIA_TEXEL);
   return uvec2(t.x, t.y);
 }
 

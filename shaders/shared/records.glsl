@@ -119,7 +119,7 @@ Material load_material(uint i) {
   m.volume = FEATURE_COMPILED(FEATURE_VOLUME) ? texel_vec4(texelFetch(materialTexels, at + 5)) : vec4(0.0f);
   m.iridescence = FEATURE_COMPILED(FEATURE_IRIDESCENCE) ? texel_vec4(texelFetch(materialTexels, at + 6)) : vec4(0.0f);
   m.anisotropy = FEATURE_COMPILED(FEATURE_ANISOTROPY) ? texel_vec4(texelFetch(materialTexels, at + 7)) : vec4(0.0f);
-  m.media = FEATURE_COMPILED(FEATURE_MEDIA) ? texelFetch(materialTexels, at + 8) : uvec4(WP_INVALID);
+  m.media = FEATURE_COMPILED(FEATURE_MEDIA) ? texelFetch(materialTexels, at + MATERIAL_MEDIA_TEXEL) : uvec4(WP_INVALID);
   return m;
 }
 

@@ -149,6 +149,7 @@ struct WideNode {
 #define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
 #define MATERIAL_TEXELS 9
+#define MATERIAL_MEDIA_TEXEL 8  // Material.media, which material_media (media.glsl) reads alone
 #define MEDIUM_TEXELS 4
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 3
@@ -322,7 +323,7 @@ struct SceneParams {
   vec4 mis;          // x: exponent of the MIS heuristic (darts' "power": 2 the power heuristic, 1 the balance heuristic)
   vec4 camWindow;    // the part of the camera's frame the image covers: its top-left corner and size, as
                      // fractions of the frame ((0, 0, 1, 1): all of it; CS184's -p renders a cell)
-  uvec4 media;       // x: the medium the camera sits in (FEATURE_MEDIA; 0 the vacuum), y: the media, zw: unused
+  uvec4 media;       // x: the medium the camera sits in (FEATURE_MEDIA; 0 the vacuum), yzw: unused
 };
 
 

@@ -352,13 +352,13 @@ static shader::Material pack_material(const SceneMaterial& in) {
 }
 
 static shader::Medium pack_medium(const SceneMedium& in) {
-  shader::Medium m{};
+  shader::Medium m{};  // a vacuum: kind 0, nothing in it
+  if (in.kind == MEDIUM_VACUUM) return m;
   m.info = glm::uvec4(in.kind, 0u, 0u, 0u);
   const glm::vec3 total = in.sigmaA + in.sigmaS + in.sigmaN;
   m.sigmaA = glm::vec4(in.sigmaA, in.g);
   m.sigmaS = glm::vec4(in.sigmaS, std::max(total.x, std::max(total.y, total.z)));
   m.sigmaN = glm::vec4(in.sigmaN, 0.0f);
-  if (in.kind == MEDIUM_VACUUM) m = shader::Medium{};
   return m;
 }
 
@@ -688,7 +688,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     return m.boundsMedia || m.kind == MAT_INTERFACE;
   });
   if (media) kinds.w |= KIND_BIT(FEATURE_MEDIA);
-  p.media = glm::uvec4(scene.cameraMedium == WP_INVALID ? 0u : scene.cameraMedium + 1u, uint32_t(out.media.size()), 0u, 0u);
+  p.media = glm::uvec4(scene.cameraMedium == WP_INVALID ? 0u : scene.cameraMedium + 1u, 0u, 0u, 0u);
   p.kinds = kinds;
   return out;
 }
