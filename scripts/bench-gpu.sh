@@ -6,7 +6,8 @@
 # shadow rays) on the Cornell dragon and on 10 M triangles at 1024x1024 and
 # 4096x4096 rays (a large GPU needs many rays in flight), wall time of whole
 # renders (setup included), participating media against the same scene
-# without (scripts/bench-media.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
+# without (scripts/bench-media.sh), grid media's majorants
+# (scripts/bench-majorants.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
 # bin folder). About 3 minutes on an H200; on lavapipe about an hour.
 # Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
@@ -70,6 +71,8 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
 
   stage "participating media against the same scene without, 1280x960, 64 spp"
   WIDTH=1280 HEIGHT=960 scripts/bench-media.sh "$build" 3 "${dev[@]}"
+  stage "grid media: one majorant against majorant grids, 960x1280, 16 spp"
+  WIDTH=960 HEIGHT=1280 VARIANTS="m1 m8 default" scripts/bench-majorants.sh "$build" 3 "${dev[@]}"
 
   stage "scaling"
   scripts/bench-scale.sh "$build" 1 10 100

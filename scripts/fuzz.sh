@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes wavepath's input loaders (darts JSON scenes and test files, OBJ meshes, image files,
-# partial renders, glTF models, CS184 COLLADA scenes)
+# partial renders, glTF models, CS184 COLLADA scenes, NanoVDB density grids)
 # with libFuzzer, under AddressSanitizer and UndefinedBehaviorSanitizer.
 #
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [BUILD_DIR]
@@ -18,7 +18,7 @@ src=$(cd "$(dirname "$0")/.." && pwd)
 
 CC=clang CXX=clang++ cmake -S "$src" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWAVEPATH_FUZZ=ON \
   -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -fsanitize=fuzzer-no-link" >/dev/null
-cmake --build "$build" -j"$(nproc)" --target fuzz_scene fuzz_obj fuzz_image fuzz_partial fuzz_gltf fuzz_collada
+cmake --build "$build" -j"$(nproc)" --target fuzz_scene fuzz_obj fuzz_image fuzz_partial fuzz_gltf fuzz_collada fuzz_nvdb wavepath-volume
 
 seeds() {  # the seed corpus of one kind, in a folder of its own
   local kind=$1 dir=$build/fuzz-seeds/$1
@@ -41,6 +41,11 @@ seeds() {  # the seed corpus of one kind, in a folder of its own
       for f in "$src"/tests/data/gltf/*.glb; do { printf '\1'; cat "$f"; } >"$dir/$(basename "$f")"; done
       ;;
     collada) cp "$src"/tests/data/collada/*.dae "$dir"/ ;;
+    nvdb)
+      cp "$src"/scenes/*.nvdb "$dir"/
+      "$build/wavepath-volume" ramp "$dir/ramp.nvdb" 12 0.5 0.1
+      "$build/wavepath-volume" plume "$dir/plume-small.nvdb" 16
+      ;;
   esac
   if [ -d "$src/tests/fuzz/findings/$kind" ]; then cp "$src/tests/fuzz/findings/$kind"/* "$dir"/ 2>/dev/null || true; fi
   echo "$dir"
@@ -49,7 +54,7 @@ seeds() {  # the seed corpus of one kind, in a folder of its own
 # Leaks inside third-party decoders that wavepath cannot free (see the file).
 export LSAN_OPTIONS="suppressions=$src/tests/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 status=0
-for kind in scene obj image partial gltf collada; do
+for kind in scene obj image partial gltf collada nvdb; do
   out=$build/fuzz-out/$kind corpus=$build/fuzz-corpus/$kind
   mkdir -p "$out" "$corpus"
   echo "== fuzz_$kind for ${seconds}s"

@@ -178,6 +178,17 @@ check "a .dae's merged parts give the PNG of its whole render" $?
 "$wavepath" render -s 4 -m 2 -r 20 15 --samples 2:4 -c "$work/cam.txt" -f "$work/cbother.png" --cpu -q "$dae"
 expect_error "merging a part of another view" 2 "cbother.exr|other settings|view" -- "$wavepath" merge "$work/cbpart0.exr" "$work/cbother.exr" -o "$work/out.png"
 
+# Grid media: a .nvdb that is not one, named by a scene; the plume renders.
+printf 'not a grid' >"$work/fake.nvdb"
+cat >"$work/grid.json" <<EOF
+{ "camera": { "transform": { "from": [0, 0, 5], "at": [0, 0, 0], "up": [0, 1, 0] }, "medium": "m" },
+  "media": [ { "type": "nanovdb", "name": "m", "filename": "fake.nvdb" } ],
+  "surfaces": [ { "type": "sphere", "radius": 1, "material": { "type": "lambertian" } } ] }
+EOF
+expect_error "a .nvdb that is not one" 2 "fake.nvdb|not a NanoVDB file|grid.json at /media/0" -- "$wavepath" render "$work/grid.json" -o "$out" --spp 1
+"$wavepath" render "$(dirname "$0")/../scenes/plume.json" -r 24 32 --spp 2 -o "$work/plume.png" -q
+check "scenes/plume.json renders" $([ -s "$work/plume.png" ]; echo $?)
+
 # The scaling scenes' generator: usage without arguments, scenes that load.
 scale="$(dirname "$0")/../scripts/make-scale-scenes.py"
 "$scale" >/dev/null 2>&1

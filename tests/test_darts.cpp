@@ -164,7 +164,6 @@ TEST(DartsKeys, TyposGetASuggestionAndOtherWordsTheList) {
 }
 
 TEST(DartsKeys, WhatWavepathCannotHonourIsRefusedWithTheReason) {
-  expect_error(R"({"media": [{"type": "nanovdb", "name": "smoke", "filename": "smoke.nvdb"}]})", {"/media/0/type", "not supported yet"});
   expect_error(R"({"type": "tests", "tests": []})", {"/type", "wavepath test"});
   expect_error(R"({"camera": {"transform": {"matrix": 2}}})", {"/camera/transform/matrix", "16 numbers"});
 }

@@ -20,7 +20,7 @@ namespace {
 TEST(Loaders, FuzzFindingsAreHandledAsRecorded) {
   const std::filesystem::path root = test::source_path("tests/fuzz/findings");
   int replayed = 0;
-  for (const char* kind : {"scene", "obj", "image", "partial", "gltf", "collada"}) {
+  for (const char* kind : {"scene", "obj", "image", "partial", "gltf", "collada", "nvdb"}) {
     const std::filesystem::path folder = root / kind;
     if (!std::filesystem::is_directory(folder)) continue;
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {

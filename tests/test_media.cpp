@@ -163,7 +163,7 @@ TEST(Media, DeltaTrackingSamplesTheFreeFlightDensity) {
     for (int i = 0; i < n; ++i) {
       glm::vec3 throughput(1.0f);
       float t;
-      uint32_t event = v.medium_free_flight(m, tmax, rng, throughput, t);
+      uint32_t event = v.medium_free_flight(m, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), tmax, rng, throughput, t);
       if (majorantScale == 1.0f) {
         EXPECT_EQ(throughput, glm::vec3(1.0f));  // grey: every weight is 1
       }
@@ -310,7 +310,7 @@ TEST(Media, BadMediaAreRefusedWithTheirPlace) {
   expect_error(scene(R"({ "type": "homogeneous", "name": "fog", "albedo": 1.5 })"), {"/media/0/albedo", "[0, 1]"});
   expect_error(scene(R"({ "type": "homogeneous", "name": "fog", "real fraction": 2 })"), {"/media/0/real fraction", "[0, 1]"});
   expect_error(scene(R"({ "type": "homogenous", "name": "fog" })"), {"/media/0/type", "did you mean \"homogeneous\""});
-  expect_error(scene(R"({ "type": "nanovdb", "name": "fog", "filename": "smoke.nvdb" })"), {"/media/0/type", "NanoVDB"});
+  expect_error(scene(R"({ "type": "nanovdb", "name": "fog", "filename": "smoke.nvdb" })"), {"smoke.nvdb", "cannot open the NanoVDB file", "/media/0"});
   expect_error(scene(R"({ "type": "homogeneous", "name": "fog", "phase function": { "type": "henyey-greenstein", "g": 1 } })"),
                {"/media/0/phase function/g", "between -1 and 1"});
   expect_error(scene(R"({ "type": "homogeneous", "name": "fog", "phase function": { "type": "henyey_greenstein" } })"),

@@ -252,7 +252,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && p.medium != 0u) {
     Medium med = load_medium(p.medium);
     float t;
-    uint event = medium_free_flight(med, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
+    uint event = medium_free_flight(med, p.origin, p.dir, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
     if (event == MEDIUM_EVENT_ABSORB) return false;
     if (event == MEDIUM_EVENT_SCATTER) return path_scatter_in_medium(p, med, p.origin + t * p.dir, useNee, useMis, srs);
   }
@@ -462,7 +462,7 @@ vec3 shadow_ray_transmittance(ShadowRay sr, INOUT(uint) truncated) {
     }
     if (!interfaces && h.prim != WP_INVALID) return vec3(0.0f);
     float t = h.prim == WP_INVALID ? tmax : h.t;
-    if (medium != 0u) tr *= medium_transmittance(load_medium(medium), t * length(dir), rng);
+    if (medium != 0u) tr *= medium_transmittance(load_medium(medium), o, dir, t, rng);
     if (h.prim == WP_INVALID) return tr;
     SurfaceHit s = surface_at(o, dir, h);
     if (!is_interface(s.material) || !(tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f)) return vec3(0.0f);

@@ -108,7 +108,8 @@
 // "media" types, src/media/*.cpp of darts-2022).
 #define MEDIUM_VACUUM 0u       // nothing: light passes unchanged
 #define MEDIUM_HOMOGENEOUS 1u  // the same coefficients everywhere
-#define WP_MEDIUM_KINDS(X) X(MEDIUM_VACUUM, "vacuum") X(MEDIUM_HOMOGENEOUS, "homogeneous")
+#define MEDIUM_NANOVDB 2u      // coefficients times a density read from a NanoVDB grid (FEATURE_MEDIA_GRID)
+#define WP_MEDIUM_KINDS(X) X(MEDIUM_VACUUM, "vacuum") X(MEDIUM_HOMOGENEOUS, "homogeneous") X(MEDIUM_NANOVDB, "nanovdb")
 
 // Other features a scene may use. Columns: id, name.
 #define FEATURE_SPHERES 0u
@@ -127,6 +128,7 @@
 #define FEATURE_ANISOTROPY 13u          // metal-rough with anisotropic roughness (KHR_materials_anisotropy; Lobe.params4)
 #define FEATURE_DISPERSION 14u          // a volume whose index of refraction depends on the wavelength (KHR_materials_dispersion)
 #define FEATURE_MEDIA 15u               // participating media: the camera or a surface's side in a medium (media.glsl)
+#define FEATURE_MEDIA_GRID 16u          // a medium whose density a NanoVDB grid holds (MEDIUM_NANOVDB; pnanovdb.glsl)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
@@ -134,7 +136,8 @@
   X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
   X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
   X(FEATURE_VOLUME, "volumes") X(FEATURE_IRIDESCENCE, "iridescence") \
-  X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion") X(FEATURE_MEDIA, "participating media")
+  X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion") X(FEATURE_MEDIA, "participating media") \
+  X(FEATURE_MEDIA_GRID, "grid media")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

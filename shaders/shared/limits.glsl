@@ -51,5 +51,13 @@
 #define MEDIUM_CROSSINGS_MAX 16u
 // Media a scene may have: a shadow ray keeps its medium in 16 bits.
 #define MEDIA_MAX 65535u
+// A grid medium's majorant grid has at most this many cells along an axis
+// (Medium.info.w packs them in 10 bits each); a flight walks at most three
+// times this many cells besides its collisions.
+#define MAJORANT_GRID_CELLS_MAX 64u
+// Root tiles a NanoVDB grid may have (each spans 4096^3 voxels): a lookup
+// that misses its accessor's cache searches them one by one, a loop that
+// shares lavapipe's budget.
+#define NANOVDB_ROOT_TILES_MAX 64u
 
 #endif  // WP_LIMITS_GLSL

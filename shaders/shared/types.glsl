@@ -150,7 +150,7 @@ struct WideNode {
 #define SPHERE_TEXELS 7
 #define MATERIAL_TEXELS 9
 #define MATERIAL_MEDIA_TEXEL 8  // Material.media, which material_media (media.glsl) reads alone
-#define MEDIUM_TEXELS 4
+#define MEDIUM_TEXELS 9
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
@@ -254,15 +254,25 @@ struct Material {
                        // ray crossing it stays in its medium. zw: unused
 };
 
-// A participating medium (media.glsl), 64 bytes. Coefficients are per unit
+// A participating medium (media.glsl), 144 bytes. Coefficients are per unit
 // length of the scene; the null coefficient is that of fictitious particles
 // (darts' "real fraction" below 1), which neither absorb nor scatter but
-// make the tracking estimators take null collisions.
+// make the tracking estimators take null collisions. A grid medium
+// (MEDIUM_NANOVDB) scales its coefficients by the density its NanoVDB grid
+// holds at each point, and bounds them by a coarse grid of majorants: the
+// largest density in each cell, over the grid's box in index space.
 struct Medium {
-  uvec4 info;    // x: MEDIUM_* kind; yzw: unused
-  vec4 sigmaA;   // xyz: absorption coefficient; w: the Henyey-Greenstein asymmetry g of its phase function (0: isotropic)
-  vec4 sigmaS;   // xyz: scattering coefficient; w: the majorant, one for all channels, at least sigmaA + sigmaS + sigmaN in each
-  vec4 sigmaN;   // xyz: null coefficient; w: unused
+  uvec4 info;      // x: MEDIUM_* kind. Grid: y the grid's first byte in the volume words (BINDING_VOLUMES), z its
+                   // majorant grid's first word, w the majorant grid's cells along x, y, z (10 bits each)
+  vec4 sigmaA;     // xyz: absorption coefficient (grid: per unit density); w: the Henyey-Greenstein asymmetry g (0: isotropic)
+  vec4 sigmaS;     // xyz: scattering coefficient (grid: per unit density); w: homogeneous: the majorant, one for all
+                   // channels, at least sigmaA + sigmaS + sigmaN in each; grid: the largest of sigmaA + sigmaS
+  vec4 sigmaN;     // xyz: null coefficient (homogeneous only); w: unused
+  vec4 toIndex0;   // grid: the affine map from the scene to the grid's index space (rows; darts' "transform",
+  vec4 toIndex1;   // then the grid's own map, both inverted)
+  vec4 toIndex2;
+  vec4 boundsLo;   // grid: xyz the index-space box outside which the density is 0 (the active voxels' box grown by
+  vec4 boundsHi;   // one voxel: trilinear lookups reach that far); w unused
 };
 
 // A texture; checker textures refer to two other textures. 96 bytes.

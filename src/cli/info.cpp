@@ -48,6 +48,16 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
       std::printf(" %s (%s%s)%s", m.name.c_str(), kind_list(medium_kinds(), KIND_BIT(m.kind)).c_str(),
                   scene.cameraMedium == i ? ", the camera's" : "", i + 1 < scene.media.size() ? "," : "\n");
     }
+    for (const SceneMedium& m : scene.media) {
+      if (!m.grid) continue;
+      const DensityGrid& g = *m.grid;
+      const glm::ivec3 extent = g.indexMax - g.indexMin + 1;
+      const glm::uvec3 cells = m.majorantCells.x > 0u ? m.majorantCells : default_majorant_cells(g);
+      std::printf("grid         %s: \"%s\" of %s, %dx%dx%d voxels (%llu active, %u leaves), largest density %g, %.2f MiB; "
+                  "majorant grid %ux%ux%u\n",
+                  m.name.c_str(), g.name.c_str(), g.file.c_str(), extent.x, extent.y, extent.z, (unsigned long long)g.activeVoxels,
+                  g.leaves, g.maxDensity, double(g.words.size()) * 4.0 / (1 << 20), cells.x, cells.y, cells.z);
+    }
   }
   // gpu-sort shades each class of materials with a kernel of its own kinds.
   std::printf("shade classes");

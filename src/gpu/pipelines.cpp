@@ -86,6 +86,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_TEXTURES:
     case BINDING_POINT_LIGHTS:
     case BINDING_MEDIA:
+    case BINDING_VOLUMES:
     case BINDING_TEXELS:
     case BINDING_FLOAT_TABLES:
     case BINDING_PATH_TEXELS:
@@ -132,6 +133,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_TEXTURES, scene.textures, "textures");
   add_texels(BINDING_POINT_LIGHTS, scene.pointLights, "point lights");
   add_texels(BINDING_MEDIA, scene.media, "media");
+  add_texels(BINDING_VOLUMES, scene.volumeWords, "media's density grids", vk::Format::eR32Uint);
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
   add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
   add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));

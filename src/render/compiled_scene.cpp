@@ -1,11 +1,13 @@
 #include "render/compiled_scene.h"
 
+#include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 #include "bvh/wide_bvh.h"
@@ -167,6 +169,8 @@ shader::SceneView CompiledScene::view() const {
   v.textureTexels = texels_of(textures);
   v.pointLightTexels = texels_of(pointLights);
   v.mediumTexels = texels_of(media);
+  v.volumeWords = volumeWords.data();
+  v.volumeWordCount = volumeWords.size();
   v.imageTexels = texels.data();
   v.floatTables = floatTables.data();
   return v;
@@ -191,7 +195,7 @@ size_t CompiledScene::gpu_bytes() const {
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
-         pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + floatTables.size() * sizeof(float);
+         pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + volumeWords.size() * sizeof(uint32_t) + floatTables.size() * sizeof(float);
 }
 
 std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels) {
@@ -351,14 +355,39 @@ static shader::Material pack_material(const SceneMaterial& in) {
   return m;
 }
 
-static shader::Medium pack_medium(const SceneMedium& in) {
+// A medium's record. A grid medium's grid and majorant grid go to the end
+// of `volumeWords` (BINDING_VOLUMES), each grid once however many media
+// read it.
+static shader::Medium pack_medium(const SceneMedium& in, std::vector<uint32_t>& volumeWords,
+                                  std::map<const DensityGrid*, uint32_t>& gridAt) {
   shader::Medium m{};  // a vacuum: kind 0, nothing in it
   if (in.kind == MEDIUM_VACUUM) return m;
   m.info = glm::uvec4(in.kind, 0u, 0u, 0u);
   const glm::vec3 total = in.sigmaA + in.sigmaS + in.sigmaN;
   m.sigmaA = glm::vec4(in.sigmaA, in.g);
+  // Homogeneous: the majorant. Grid: what scales the majorant grid's
+  // densities into majorants.
   m.sigmaS = glm::vec4(in.sigmaS, std::max(total.x, std::max(total.y, total.z)));
   m.sigmaN = glm::vec4(in.sigmaN, 0.0f);
+  if (in.kind != MEDIUM_NANOVDB) return m;
+  const DensityGrid& g = *in.grid;
+  auto placed = gridAt.find(&g);
+  if (placed == gridAt.end()) {
+    placed = gridAt.emplace(&g, uint32_t(volumeWords.size())).first;
+    volumeWords.insert(volumeWords.end(), g.words.begin(), g.words.end());
+  }
+  const glm::uvec3 cells = in.majorantCells.x > 0u ? in.majorantCells : default_majorant_cells(g);
+  const std::vector<float> majorants = majorant_grid(g, cells);
+  m.info = glm::uvec4(in.kind, placed->second * 4u, uint32_t(volumeWords.size()), cells.x | (cells.y << 10u) | (cells.z << 20u));
+  for (float v : majorants) volumeWords.push_back(glm::floatBitsToUint(v));
+  if (uint64_t(volumeWords.size()) * 4u > 0xffffffffull)
+    throw InputError(g.file + ": the scene's grids take more than the 4 GiB the kernels address");
+  const glm::dmat4 toIndex = g.worldToIndex * glm::inverse(glm::dmat4(in.gridToScene));
+  m.toIndex0 = glm::vec4(glm::row(toIndex, 0));
+  m.toIndex1 = glm::vec4(glm::row(toIndex, 1));
+  m.toIndex2 = glm::vec4(glm::row(toIndex, 2));
+  m.boundsLo = glm::vec4(glm::vec3(g.indexMin) - 1.0f, 0.0f);
+  m.boundsHi = glm::vec4(glm::vec3(g.indexMax) + 1.0f, 0.0f);
   return m;
 }
 
@@ -530,7 +559,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   for (const SceneMaterial& m : scene.materials) out.materials.push_back(pack_material(m));
   if (scene.media.size() >= MEDIA_MAX) throw InputError(scene.sourcePath + ": more than " + std::to_string(MEDIA_MAX - 1) + " media");
   out.media.push_back(shader::Medium{});  // the vacuum
-  for (const SceneMedium& m : scene.media) out.media.push_back(pack_medium(m));
+  std::map<const DensityGrid*, uint32_t> gridAt;
+  for (const SceneMedium& m : scene.media) out.media.push_back(pack_medium(m, out.volumeWords, gridAt));
   // The float tables start with the sheen's albedo (bindings.glsl).
   out.floatTables.assign(std::begin(shader::SHEEN_ALBEDO), std::end(shader::SHEEN_ALBEDO));
   out.textures = std::move(packed.textures);
@@ -688,6 +718,8 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     return m.boundsMedia || m.kind == MAT_INTERFACE;
   });
   if (media) kinds.w |= KIND_BIT(FEATURE_MEDIA);
+  if (std::any_of(scene.media.begin(), scene.media.end(), [](const SceneMedium& m) { return m.kind == MEDIUM_NANOVDB; }))
+    kinds.w |= KIND_BIT(FEATURE_MEDIA_GRID);
   p.media = glm::uvec4(scene.cameraMedium == WP_INVALID ? 0u : scene.cameraMedium + 1u, 0u, 0u, 0u);
   p.kinds = kinds;
   return out;

@@ -37,6 +37,9 @@ inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texel
 #define LIGHT_KINDS_OF_SCENE ALL_KINDS
 #define FEATURES_OF_SCENE ALL_KINDS
 
+// NanoVDB's PNanoVDB.h in C, whose buffer SceneView::volume_buf() gives.
+#include "../../shaders/shared/pnanovdb.glsl"
+
 // The scene-independent functions (RNG, sampling, intersection, BSDFs). They
 // are members only so that C++ treats them as inline; they use no state.
 struct ShaderMath {
@@ -62,6 +65,9 @@ struct SceneView : ShaderMath {
   const uvec4* textureTexels = nullptr;
   const uvec4* pointLightTexels = nullptr;
   const uvec4* mediumTexels = nullptr;
+  const uint32_t* volumeWords = nullptr;  // BINDING_VOLUMES
+  size_t volumeWordCount = 0;
+  pnanovdb_buf_t volume_buf() const { return pnanovdb_buf_t{volumeWords, volumeWordCount}; }
   const uvec2* imageTexels = nullptr;
   const float* floatTables = nullptr;
 
@@ -112,7 +118,8 @@ static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offse
 static_assert(sizeof(Material) == 144 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
               offsetof(Material, params2) == 48 && offsetof(Material, moreTextures) == 64 && offsetof(Material, volume) == 80 &&
               offsetof(Material, iridescence) == 96 && offsetof(Material, anisotropy) == 112 && offsetof(Material, media) == 128);
-static_assert(sizeof(Medium) == 64 && offsetof(Medium, sigmaA) == 16 && offsetof(Medium, sigmaN) == 48);
+static_assert(sizeof(Medium) == 144 && offsetof(Medium, sigmaA) == 16 && offsetof(Medium, sigmaN) == 48 &&
+              offsetof(Medium, toIndex0) == 64 && offsetof(Medium, boundsHi) == 128);
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 48 && offsetof(PointLight, intensity) == 16 && offsetof(PointLight, direction) == 32);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);

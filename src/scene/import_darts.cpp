@@ -234,7 +234,26 @@ class DartsImporter {
       m.sigmaS = total * albedo * real;
       m.sigmaN = total * (1.0f - real);
     } else if (type == "nanovdb") {
-      j["type"].fail("NanoVDB grids (darts' src/media/nanovdb_medium.cpp) are not supported yet");
+      // darts' NanoVDBMedium (src/media/nanovdb_medium.cpp:43-105).
+      j.allow_only({"type", "name", "phase function", "filename", "gridname", "transform", "sigma_a", "sigma_s", "majorant grid"});
+      m.kind = MEDIUM_NANOVDB;
+      m.sigmaA = coefficient(j, "sigma_a", glm::vec3(0.2f));
+      m.sigmaS = coefficient(j, "sigma_s", glm::vec3(0.8f));
+      const std::string path = resolve(j["filename"].string());
+      const std::string gridName = j.has("gridname") ? j["gridname"].string() : "density";
+      auto& grid = grids_[path + '\n' + gridName];
+      if (!grid) grid = std::make_shared<const DensityGrid>(read_nanovdb(path, gridName, "read by " + file_ + " at " + j.path()));
+      m.grid = grid;
+      if (j.has("transform")) m.gridToScene = parse_transform(j["transform"]);
+      if (j.has("majorant grid")) {
+        // wavepath's: the majorant cells along each axis (1: one majorant
+        // for the whole grid), in place of default_majorant_cells.
+        const JsonCursor cells = j["majorant grid"];
+        const float n = cells.number();
+        if (!(n >= 1.0f && n <= float(MAJORANT_GRID_CELLS_MAX) && n == std::floor(n)))
+          cells.fail("the majorant grid's cells per axis must be a whole number from 1 to " + std::to_string(MAJORANT_GRID_CELLS_MAX));
+        m.majorantCells = glm::uvec3(uint32_t(n));
+      }
     } else {
       std::vector<std::string> kinds;
       for (const KindInfo& k : medium_kinds()) kinds.push_back(k.name);
@@ -1059,6 +1078,7 @@ class DartsImporter {
   std::map<std::string, float> phases_;     // named phase functions: their g
   std::map<std::string, uint32_t> media_;   // named media
   std::set<std::string> unused_media_;      // named media no surface or camera names yet
+  std::map<std::string, std::shared_ptr<const DensityGrid>> grids_;  // by file and grid name: each read once
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> bounding_;  // (material, interior, exterior): its copy bounding them
   uint32_t interface_ = WP_INVALID;         // the material of surfaces with "material": null
 };

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -19,6 +20,7 @@
 #include "../../shaders/shared/limits.glsl"
 #include "image/image_file.h"
 #include "scene/kinds.h"
+#include "scene/nanovdb_grid.h"
 #include "scene/texture_image.h"
 
 namespace wp {
@@ -192,10 +194,16 @@ struct SceneMaterial {
 struct SceneMedium {
   uint32_t kind = MEDIUM_HOMOGENEOUS;
   std::string name;  // for messages
-  glm::vec3 sigmaA{0.0f};  // absorption
-  glm::vec3 sigmaS{0.0f};  // scattering
-  glm::vec3 sigmaN{0.0f};  // null (fictitious particles)
+  glm::vec3 sigmaA{0.0f};  // absorption (a grid medium's: per unit density)
+  glm::vec3 sigmaS{0.0f};  // scattering (a grid medium's: per unit density)
+  glm::vec3 sigmaN{0.0f};  // null (fictitious particles; homogeneous media only)
   float g = 0.0f;
+  // A grid medium (MEDIUM_NANOVDB): its density grid (shared by the media
+  // that read the same grid), where the grid's world space sits in the scene
+  // (darts' "transform"), and its majorant cells (0: default_majorant_cells).
+  std::shared_ptr<const DensityGrid> grid;
+  glm::mat4 gridToScene{1.0f};
+  glm::uvec3 majorantCells{0u};
 };
 
 // A punctual light (PointLight in types.glsl): a point light's radiant

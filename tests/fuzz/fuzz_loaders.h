@@ -16,9 +16,10 @@ enum class FuzzedInput {
   Partial,  // a partial render's EXR, read as `wavepath merge` and --resume read one
   Gltf,     // a glTF model, loaded and compiled, after a first byte that picks its name: input.gltf or input.glb (byte % 2)
   Collada,  // a CS184 COLLADA scene, loaded (with --consistent-lights too) and compiled
+  Nvdb,     // a NanoVDB file, the density grid of a medium: read, compiled (majorant grid) and tracked through
 };
 
-// The kind a corpus folder holds: "scene", "obj", "image", "partial", "gltf" or "collada".
+// The kind a corpus folder holds: "scene", "obj", "image", "partial", "gltf", "collada" or "nvdb".
 FuzzedInput fuzzed_input_named(const std::string& name);
 
 // Writes the bytes to a file in a private temporary folder (beside a small
