@@ -697,6 +697,8 @@ const FeatureCase kFeatureCases[] = {
      "haze (mis)"},
     {"media-grid.json", IntegratorKind::PathNee, "grid media, path tracer nee"},
     {"media-grid.json", IntegratorKind::PathMats, "grid media, path tracer mats"},
+    {"photons.json", IntegratorKind::PhotonMapper,
+     "the photon mapper: caustics of a glass ball and a mirror ball on a diffuse floor under a sphere light, k-nearest gather"},
     {"../gltf/layers.glb", IntegratorKind::PathMis,
      "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness), specular (textured), thin "
      "film, anisotropy and a dispersive volume under a sun",

@@ -61,7 +61,7 @@ std::vector<Expected> expected_layouts() {
         FIELD(SceneParams, camLens), FIELD(SceneParams, background), FIELD(SceneParams, image), FIELD(SceneParams, counts),
         FIELD(SceneParams, mode), FIELD(SceneParams, environment),
         FIELD(SceneParams, accel), FIELD(SceneParams, kinds), FIELD(SceneParams, mis), FIELD(SceneParams, camWindow),
-        FIELD(SceneParams, media)}},
+        FIELD(SceneParams, media), FIELD(SceneParams, photons)}},
       {"PathState", sizeof(PathState),
        {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
         FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf),
@@ -149,6 +149,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   TwoRecords<PointLight> light;
   TwoRecords<Emitter> emitter;
   TwoRecords<Medium> medium;
+  TwoRecords<Photon> photon;
   SceneView view;
   view.nodeTexels = node.texels();
   view.wideNodeTexels = wide.texels();
@@ -161,6 +162,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   view.pointLightTexels = light.texels();
   view.emitterTexels = emitter.texels();
   view.mediumTexels = medium.texels();
+  view.photonTexels = photon.texels();
   expect_same_bytes(view.load_node(1), node.r[1], "BvhNode");
   expect_same_bytes(view.load_wide_node(1), wide.r[1], "WideNode");
   expect_same_bytes(view.load_triangle(1), tri.r[1], "Triangle");
@@ -172,6 +174,7 @@ TEST(Layout, TexelRecordsDecodeToTheHostStructs) {
   expect_same_bytes(view.load_point_light(1), light.r[1], "PointLight");
   expect_same_bytes(view.load_emitter(1), emitter.r[1], "Emitter");
   expect_same_bytes(view.load_medium(1), medium.r[1], "Medium");
+  expect_same_bytes(view.load_photon(1), photon.r[1], "Photon");
 }
 
 }  // namespace

@@ -36,7 +36,8 @@
 #define BINDING_VERTEX_DATA 27
 #define BINDING_MEDIA 28
 #define BINDING_VOLUMES 29  // grid media's NanoVDB grids and majorant grids, R32UI words (pnanovdb.glsl)
-#define BINDING_COUNT 30
+#define BINDING_PHOTONS 30  // the photon map (INTEGRATOR_PHOTONS), RGBA32UI texels
+#define BINDING_COUNT 31
 
 // Where each table starts in the float tables (BINDING_FLOAT_TABLES).
 #include "sheen_albedo.glsl"
@@ -111,6 +112,7 @@ layout(set = 0, binding = BINDING_TEXTURES) uniform usamplerBuffer textureTexels
 layout(set = 0, binding = BINDING_POINT_LIGHTS) uniform usamplerBuffer pointLightTexels;
 layout(set = 0, binding = BINDING_MEDIA) uniform usamplerBuffer mediumTexels;
 layout(set = 0, binding = BINDING_VOLUMES) uniform usamplerBuffer volumeWords;
+layout(set = 0, binding = BINDING_PHOTONS) uniform usamplerBuffer photonTexels;
 // Image texels, RG32UI: RGBA half floats (linear), all images back to back
 // (lavapipe has no descriptor indexing, so one buffer holds every image).
 layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;

@@ -318,6 +318,11 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (FEATURE_COMPILED(FEATURE_MEDIA)) srs.ray[j].media = shadow_ray_media(medium_beyond(p.medium, s.material, s.ng, ls.wi), p.rng, j);
   }
 
+  // Photon mapping: the photons give all but the direct light here, and
+  // only a specular bounce goes on (below).
+  bool photons = mode == INTEGRATOR_PHOTONS;
+  if (photons && hasSmooth) p.radiance += p.throughput * photon_radiance(s.p, b, wo);
+
   // The next direction: from the BSDF, or (mixture) from the one-sample
   // mixture of BSDF and emitter sampling with its exact combined density.
   vec4 uBsdf = vec4(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
@@ -351,6 +356,10 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     weight = pdf > 0.0f ? bsdf_eval(b, wo, wi) / pdf : vec3(0.0f);
   }
   if ((!isDelta && pdf <= 0.0f) || (weight.x <= 0.0f && weight.y <= 0.0f && weight.z <= 0.0f)) return false;
+  // (A smooth lobe picked with some probability, a delta one with the rest:
+  // following only the delta picks, weighted by their probability, keeps
+  // the specular paths unbiased.)
+  if (photons && !isDelta) return false;
   p.throughput *= weight;
   p.bsdfPdf = pdf;
   p.origin = offset_ray(s.p, dot(wi, s.ng) >= 0.0f ? s.ng : -s.ng);

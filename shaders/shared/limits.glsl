@@ -59,5 +59,13 @@
 // that misses its accessor's cache searches them one by one, a loop that
 // shares lavapipe's budget.
 #define NANOVDB_ROOT_TILES_MAX 64u
+// Photon mapping (photons.glsl): photons one gather may take (the search count), the
+// levels of its heap, the kd-tree ranges its search keeps (a tree of 2^31
+// photons is 31 deep) and the nodes it visits at most (lavapipe's loop
+// budget; a search that reaches it ends with what it found).
+#define PHOTON_SEARCH_MAX 128u
+#define PHOTON_HEAP_LEVELS 8u
+#define PHOTON_STACK_MAX 64u
+#define PHOTON_SEARCH_STEPS_MAX 16384u
 
 #endif  // WP_LIMITS_GLSL

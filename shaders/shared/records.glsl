@@ -147,6 +147,18 @@ Texture load_texture(uint i) {
   return t;
 }
 
+Photon load_photon(uint i) {
+  int at = int(i) * PHOTON_TEXELS;
+  uvec4 a = texelFetch(photonTexels, at);
+  uvec4 b = texelFetch(photonTexels, at + 1);
+  Photon ph;
+  ph.position = vec3(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(a.z));
+  ph.axis = a.w;
+  ph.power = vec3(uintBitsToFloat(b.x), uintBitsToFloat(b.y), uintBitsToFloat(b.z));
+  ph.from = b.w;
+  return ph;
+}
+
 PointLight load_point_light(uint i) {
   int at = int(i) * POINT_LIGHT_TEXELS;
   PointLight l;

@@ -15,5 +15,6 @@
 #include "material_at.glsl"
 #include "lights.glsl"
 #include "media.glsl"
+#include "photons.glsl"
 
 #endif  // WP_SCENE_GLSL

@@ -45,6 +45,7 @@
 #define INTEGRATOR_NORMALS 1u  // shading normal mapped to colour, (n + 1) / 2
 #define INTEGRATOR_AO 2u       // ambient occlusion: one cosine-weighted visibility ray
 #define INTEGRATOR_MIXTURE 3u  // one direction from the mixture of BSDF and emitter sampling
+#define INTEGRATOR_PHOTONS 4u  // photon mapping: specular paths to a gather from the photon map (photons.glsl)
 
 // PathState.flags bits (above the 16-bit bounce depth).
 #define PATH_DEPTH_MASK 0xffffu
@@ -151,6 +152,7 @@ struct WideNode {
 #define MATERIAL_TEXELS 9
 #define MATERIAL_MEDIA_TEXEL 8  // Material.media, which material_media (media.glsl) reads alone
 #define MEDIUM_TEXELS 9
+#define PHOTON_TEXELS 2
 #define TEXTURE_TEXELS 6
 #define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
@@ -334,6 +336,18 @@ struct SceneParams {
   vec4 camWindow;    // the part of the camera's frame the image covers: its top-left corner and size, as
                      // fractions of the frame ((0, 0, 1, 1): all of it; CS184's -p renders a cell)
   uvec4 media;       // x: the medium the camera sits in (FEATURE_MEDIA; 0 the vacuum), yzw: unused
+  uvec4 photons;     // INTEGRATOR_PHOTONS: x photons in the map, y the search count (0: every photon within the
+                     // search radius), z the search radius squared (float bits), w unused
+};
+
+// A photon of the photon map (photons.glsl), 32 bytes. The map is an
+// implicit balanced kd-tree: the node of index range [lo, hi) is photon
+// (lo + hi) / 2, its children the ranges on either side.
+struct Photon {
+  vec3 position;  // where it landed
+  uint axis;      // the axis its node splits (0, 1, 2)
+  vec3 power;     // its flux, its share of the lights' power
+  uint from;      // the direction it arrived from (pointing back along its way), octahedral, two snorm16
 };
 
 

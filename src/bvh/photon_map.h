@@ -18,10 +18,11 @@ class PhotonMap {
   struct Photon {
     glm::vec3 position;
     glm::vec3 power;
+    uint32_t from = 0;  // the direction it arrived from, packed (photons.glsl); carried, not searched
   };
 
   void reserve(size_t n) { photons_.reserve(n); }
-  void add(glm::vec3 position, glm::vec3 power) { photons_.push_back({position, power}); }
+  void add(glm::vec3 position, glm::vec3 power, uint32_t from = 0) { photons_.push_back({position, power, from}); }
   // Orders the photons as an implicit balanced kd-tree: each range's median
   // on its widest axis is its node, the halves its subtrees. Call after the
   // last add and before searching.
@@ -41,6 +42,8 @@ class PhotonMap {
   };
   Nearest nearest(glm::vec3 q, float radius2, size_t k) const;
   const Photon& photon(uint32_t i) const { return photons_[i]; }
+  // The axis the node at index i splits (after build).
+  uint32_t axis(uint32_t i) const { return axis_[i]; }
 
   // The parts of the k-nearest density estimate at q, power / area: the
   // power of the k nearest photons within sqrt(radius2), and the area of the

@@ -38,6 +38,12 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
               cs.bvhDepth, cs.bvh_sah_cost(), cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
   std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
               prims ? double(gpuBytes) / double(prims) : 0.0);
+  if (cs.params.mode.x == INTEGRATOR_PHOTONS) {
+    const IntegratorSettings& in = scene.integrator;
+    std::printf("photons      %u traced, %zu records (%.2f MiB); the gather takes %s within %g\n", in.photons, cs.photons.size(),
+                double(cs.photons.size() * sizeof(shader::Photon)) / 1048576.0,
+                in.searchCount > 0 ? ("the " + std::to_string(in.searchCount) + " nearest").c_str() : "every photon", double(in.searchRadius));
+  }
   // On a CPU device every branch a kernel has costs each path, taken or not:
   // what the scene uses is what its kernels pay for.
   std::printf("kinds        %s (compiled into the kernels)\n", kinds_description(cs.params.kinds).c_str());

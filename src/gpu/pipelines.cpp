@@ -87,6 +87,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_POINT_LIGHTS:
     case BINDING_MEDIA:
     case BINDING_VOLUMES:
+    case BINDING_PHOTONS:
     case BINDING_TEXELS:
     case BINDING_FLOAT_TABLES:
     case BINDING_PATH_TEXELS:
@@ -134,6 +135,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_POINT_LIGHTS, scene.pointLights, "point lights");
   add_texels(BINDING_MEDIA, scene.media, "media");
   add_texels(BINDING_VOLUMES, scene.volumeWords, "media's density grids", vk::Format::eR32Uint);
+  add_texels(BINDING_PHOTONS, scene.photons, "photon map");
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
   add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
   add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
@@ -175,7 +177,9 @@ uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
   if (scene.params.kinds.w & KIND_BIT(FEATURE_MEDIA))
     throw RenderError("the megakernel cannot fit participating media's tracking into lavapipe's loop budget; use the wavefront kernels");
   const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
-  const uint64_t budget = TRAVERSAL_STEP_BUDGET, traversals = bounces + 1 + bounces * lightSamples;
+  // The photon mapper's one gather per path takes its search's share first.
+  const uint64_t gather = scene.params.mode.x == INTEGRATOR_PHOTONS ? PHOTON_SEARCH_STEPS_MAX : 0u;
+  const uint64_t budget = TRAVERSAL_STEP_BUDGET - gather, traversals = bounces + 1 + bounces * lightSamples;
   const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;
   if (perRay < kMegakernelMinimumCap) {
     throw RenderError("the megakernel variant fits " + std::to_string(bounces) + " bounces into lavapipe's loop budget only with " +

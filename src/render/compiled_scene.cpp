@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "bvh/wide_bvh.h"
+#include "render/photon_pass.h"
 #include "scene/kinds.h"
 #include "image/image.h"
 #include "scene/transform.h"
@@ -171,6 +172,7 @@ shader::SceneView CompiledScene::view() const {
   v.mediumTexels = texels_of(media);
   v.volumeWords = volumeWords.data();
   v.volumeWordCount = volumeWords.size();
+  v.photonTexels = texels_of(photons);
   v.imageTexels = texels.data();
   v.floatTables = floatTables.data();
   return v;
@@ -195,7 +197,8 @@ size_t CompiledScene::gpu_bytes() const {
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
-         pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + volumeWords.size() * sizeof(uint32_t) + floatTables.size() * sizeof(float);
+         pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + volumeWords.size() * sizeof(uint32_t) + photons.size() * sizeof(shader::Photon) +
+         floatTables.size() * sizeof(float);
 }
 
 std::vector<float> environment_cdf(const shader::Texture& t, const std::vector<glm::uvec2>& texels) {
@@ -446,6 +449,22 @@ void set_camera_params(const Camera& cam, shader::SceneParams& p) {
   p.camWindow = cam.window;
 }
 
+// What the photon mapper refuses: light no photon carries (the background,
+// an environment map, lights at infinity, CS184's point lights that do not
+// fall off) and media, which its photons do not cross yet.
+static void check_photon_mapper_scene(const Scene& scene, bool media) {
+  const std::string at = scene.sourcePath + ": the photon mapper ";
+  if (media) throw InputError(at + "does not trace photons through participating media; use a path tracer");
+  if (scene.environment != WP_INVALID || scene.background != glm::vec3(0.0f))
+    throw InputError(at + "carries light from emitters only, and this scene's background or environment lights it too: "
+                          "make the background black (\"background\": 0) or use a path tracer");
+  for (const ScenePointLight& l : scene.pointLights) {
+    if (l.kind == ScenePointLight::Kind::Directional || l.kind == ScenePointLight::Kind::Hemisphere)
+      throw InputError(at + "emits photons from area, sphere, point and spot lights; this scene has a light at infinity");
+    if (!l.falloff) throw InputError(at + "needs point lights that fall off with distance (CS184's do not)");
+  }
+}
+
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
@@ -688,13 +707,16 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   IntegratorKind kind = options.integrator ? *options.integrator : scene.integrator.kind;
   if (kind == IntegratorKind::PathMats) flags |= SCENE_FLAG_NO_NEE;
   if (kind == IntegratorKind::PathHemisphere) flags |= SCENE_FLAG_NO_NEE | SCENE_FLAG_HEMISPHERE;
-  if (kind == IntegratorKind::PathNee) flags |= SCENE_FLAG_NO_BSDF_MIS;
+  // The photon mapper takes direct light by next-event estimation alone and
+  // ends paths at their first non-specular vertex.
+  if (kind == IntegratorKind::PathNee || kind == IntegratorKind::PhotonMapper) flags |= SCENE_FLAG_NO_BSDF_MIS;
   if (scene.cs184Estimator) flags |= SCENE_FLAG_CS184;
   if (scene.cs184LatLong) flags |= SCENE_FLAG_CS184_LATLONG;
   uint32_t mode = INTEGRATOR_PATH;
   if (kind == IntegratorKind::Normals) mode = INTEGRATOR_NORMALS;
   if (kind == IntegratorKind::AmbientOcclusion) mode = INTEGRATOR_AO;
   if (kind == IntegratorKind::PathMixture) mode = INTEGRATOR_MIXTURE;
+  if (kind == IntegratorKind::PhotonMapper) mode = INTEGRATOR_PHOTONS;
   // The mixture's exact light density visits every emitter at every bounce;
   // the shade kernel's loop budget (and patience) bound how many that may be.
   if (mode == INTEGRATOR_MIXTURE && prims.size() > MAX_MIXTURE_EMITTERS) {
@@ -722,6 +744,12 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     kinds.w |= KIND_BIT(FEATURE_MEDIA_GRID);
   p.media = glm::uvec4(scene.cameraMedium == WP_INVALID ? 0u : scene.cameraMedium + 1u, 0u, 0u, 0u);
   p.kinds = kinds;
+  if (mode == INTEGRATOR_PHOTONS) {
+    check_photon_mapper_scene(scene, media);
+    const IntegratorSettings& s = scene.integrator;
+    p.photons = glm::uvec4(0u, s.searchCount, glm::floatBitsToUint(s.searchRadius * s.searchRadius), 0u);
+    build_photon_map(out, s.photons, s.photonSeed);
+  }
   return out;
 }
 

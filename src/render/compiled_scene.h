@@ -59,6 +59,7 @@ struct CompiledScene {
   std::vector<shader::PointLight> pointLights;
   std::vector<shader::Medium> media;  // 0: the vacuum, then the scene's (Scene::media)
   std::vector<uint32_t> volumeWords;   // BINDING_VOLUMES: grid media's NanoVDB grids and majorant grids
+  std::vector<shader::Photon> photons;  // BINDING_PHOTONS: the photon map (INTEGRATOR_PHOTONS), a balanced kd-tree
   std::vector<float> floatTables;  // BINDING_FLOAT_TABLES: the sheen's albedo, the environment map's distribution
   std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)
   EightBitCurve eightBitCurve = EightBitCurve::Srgb;  // Scene::eightBitCurve

@@ -39,6 +39,7 @@ std::string integrator_name(const shader::SceneParams& p) {
     case INTEGRATOR_NORMALS: return "normals";
     case INTEGRATOR_AO: return "ao";
     case INTEGRATOR_MIXTURE: return "path tracer mixture";
+    case INTEGRATOR_PHOTONS: return "photon mapper";
     default: break;
   }
   if (flags & SCENE_FLAG_HEMISPHERE) return "path tracer hemisphere";

@@ -68,6 +68,7 @@ struct SceneView : ShaderMath {
   const uint32_t* volumeWords = nullptr;  // BINDING_VOLUMES
   size_t volumeWordCount = 0;
   pnanovdb_buf_t volume_buf() const { return pnanovdb_buf_t{volumeWords, volumeWordCount}; }
+  const uvec4* photonTexels = nullptr;  // BINDING_PHOTONS
   const uvec2* imageTexels = nullptr;
   const float* floatTables = nullptr;
 
@@ -106,7 +107,7 @@ static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 
               sizeof(TriangleVertexData) == 16 * TRIANGLE_VERTEX_DATA_TEXELS &&
               sizeof(Sphere) == 16 * SPHERE_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
               sizeof(Texture) == 16 * TEXTURE_TEXELS && sizeof(PointLight) == 16 * POINT_LIGHT_TEXELS &&
-              sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(Medium) == 16 * MEDIUM_TEXELS && sizeof(PathState) == 16 * PATH_STATE_TEXELS &&
+              sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(Medium) == 16 * MEDIUM_TEXELS && sizeof(Photon) == 16 * PHOTON_TEXELS && sizeof(PathState) == 16 * PATH_STATE_TEXELS &&
               sizeof(Hit) == 16 * HIT_TEXELS && sizeof(ShadowRay) == 16 * SHADOW_RAY_TEXELS);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
@@ -123,9 +124,11 @@ static_assert(sizeof(Medium) == 144 && offsetof(Medium, sigmaA) == 16 && offseto
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);
 static_assert(sizeof(PointLight) == 48 && offsetof(PointLight, intensity) == 16 && offsetof(PointLight, direction) == 32);
 static_assert(sizeof(Emitter) == 16 && offsetof(Emitter, pmf) == 12);
-static_assert(sizeof(SceneParams) == 224 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
+static_assert(sizeof(Photon) == 32 && offsetof(Photon, power) == 16 && offsetof(Photon, from) == 28);
+static_assert(sizeof(SceneParams) == 240 && offsetof(SceneParams, mode) == 112 && offsetof(SceneParams, environment) == 128 &&
               offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160 && offsetof(SceneParams, mis) == 176 &&
-              offsetof(SceneParams, camWindow) == 192 && offsetof(SceneParams, media) == 208);
+              offsetof(SceneParams, camWindow) == 192 && offsetof(SceneParams, media) == 208 &&
+              offsetof(SceneParams, photons) == 224);
 static_assert(sizeof(PathState) == 80 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60 &&
               offsetof(PathState, medium) == 64 && offsetof(PathState, crossings) == 72);
 static_assert(sizeof(Hit) == 16);

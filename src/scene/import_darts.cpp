@@ -372,13 +372,24 @@ class DartsImporter {
   }
 
   void parse_integrator(const JsonCursor& j) {
-    j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power"});
     IntegratorSettings& s = scene_.integrator;
     if (j.has("type")) {
       std::string type = j["type"].string();
       std::optional<IntegratorKind> kind = integrator_named(type);
       if (!kind) j["type"].fail("unknown integrator type \"" + type + "\" (expected " + kIntegratorNames + ")");
       s.kind = *kind;
+    }
+    if (s.kind == IntegratorKind::PhotonMapper) {
+      // wavepath's photon mapper (darts leaves the integrator to the final
+      // project); the search keys are those of darts' photon map test.
+      j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power", "photons", "search radius", "search count", "photon seed"});
+      s.photons = uint32_t(j.integer_or("photons", int(s.photons), 1, 1 << 22));
+      s.searchRadius = j.number_or("search radius", s.searchRadius);
+      if (!(s.searchRadius > 0.0f && std::isfinite(s.searchRadius))) j["search radius"].fail("the search radius must be positive");
+      s.searchCount = uint32_t(j.integer_or("search count", int(s.searchCount), 0, int(PHOTON_SEARCH_MAX)));
+      s.photonSeed = uint32_t(j.integer_or("photon seed", int(s.photonSeed), 0, 1 << 30));
+    } else {
+      j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power"});
     }
     s.maxBounces = j.integer_or("max bounces", s.maxBounces, 0, 1024);
     if (j.has("russian roulette")) {

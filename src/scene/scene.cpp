@@ -12,14 +12,15 @@
 namespace wp {
 
 const char* const kIntegratorNames =
-    "normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture or path tracer hemisphere";
+    "normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture, path tracer hemisphere or photon mapper";
 
 std::optional<IntegratorKind> integrator_named(const std::string& name) {
   static const std::pair<const char*, IntegratorKind> kKinds[] = {
       {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
       {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
       {"path tracer hemisphere", IntegratorKind::PathHemisphere},
-      {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion}};
+      {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion},
+      {"photon mapper", IntegratorKind::PhotonMapper}};
   for (const auto& [n, kind] : kKinds) {
     if (name == n) return kind;
   }

@@ -71,7 +71,7 @@ struct AcceleratorSettings {
 
 // PathHemisphere: BSDF-sampling-only path tracing with directions uniform
 // over the hemisphere (CS184's -H), a wavepath extension of the darts names.
-enum class IntegratorKind { PathMis, PathNee, PathMats, PathMixture, PathHemisphere, Normals, AmbientOcclusion };
+enum class IntegratorKind { PathMis, PathNee, PathMats, PathMixture, PathHemisphere, Normals, AmbientOcclusion, PhotonMapper };
 
 enum class SamplerKind { Independent, Cmj };
 
@@ -86,6 +86,15 @@ struct IntegratorSettings {
   int maxBounces = 64;
   int russianRouletteDepth = 3;  // first depth at which paths may be ended at random
   float misPower = 2.0f;          // exponent of the MIS heuristic (darts "power"): 2 power, 1 balance heuristic
+  // The photon mapper's (photons.glsl): photons traced from the lights, the
+  // gather's search radius and count (darts' photon map test's "search
+  // radius" and "search count"; count 0: every photon within the radius),
+  // and which photons (the map is the same for every render of a seed, so
+  // partial renders merge and renderers compare on one map).
+  uint32_t photons = 200000;
+  float searchRadius = 0.1f;
+  uint32_t searchCount = 50;
+  uint32_t photonSeed = 0;
 };
 
 struct SceneTriangle {
