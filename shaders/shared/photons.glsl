@@ -162,6 +162,13 @@ bool photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
   return stored;
 }
 
+// What photon ph gives towards wo through b, per unit area: nothing where it
+// arrived from the other side of the surface.
+vec3 photon_contribution(Photon ph, Bsdf b, vec3 wo) {
+  vec3 wi = unpack_unit_vector(ph.from);
+  return (dot(wi, b.ng) > 0.0f) == (dot(wo, b.ng) > 0.0f) ? photon_bsdf(b, wo, wi) * ph.power : vec3(0.0f);
+}
+
 // The photons' estimate of the radiance that leaves point x towards wo,
 // through BSDF b: the photons nearest x (the search count, darts' "search
 // count"; 0: all within the search radius), their power weighted by the
@@ -201,8 +208,7 @@ vec3 photon_radiance(vec3 x, Bsdf b, vec3 wo) {
     float dist2 = dot(v, v);
     if (dist2 <= radius2) {
       if (want == 0u) {
-        vec3 wi = unpack_unit_vector(ph.from);
-        if ((dot(wi, b.ng) > 0.0f) == (dot(wo, b.ng) > 0.0f)) sum += photon_bsdf(b, wo, wi) * ph.power;
+        sum += photon_contribution(ph, b, wo);
       } else if (heapSize < want) {
         // Sift up.
         uint c = heapSize;
@@ -258,9 +264,7 @@ vec3 photon_radiance(vec3 x, Bsdf b, vec3 wo) {
   for (uint i = 0u; i < PHOTON_SEARCH_MAX + 1u; ++i) {
     if (i >= heapSize) break;
     if (heapSize == want && i == 0u) continue;
-    Photon ph = load_photon(heapI[i]);
-    vec3 wi = unpack_unit_vector(ph.from);
-    if ((dot(wi, b.ng) > 0.0f) == (dot(wo, b.ng) > 0.0f)) sum += photon_bsdf(b, wo, wi) * ph.power;
+    sum += photon_contribution(load_photon(heapI[i]), b, wo);
   }
   return sum / area;
 }

@@ -58,7 +58,7 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
       if (!m.grid) continue;
       const DensityGrid& g = *m.grid;
       const glm::ivec3 extent = g.indexMax - g.indexMin + 1;
-      const glm::uvec3 cells = m.majorantCells.x > 0u ? m.majorantCells : default_majorant_cells(g);
+      const glm::uvec3 cells = majorant_cells(m);
       std::printf("grid         %s: \"%s\" of %s, %dx%dx%d voxels (%llu active, %u leaves), largest density %g, %.2f MiB; "
                   "majorant grid %ux%ux%u\n",
                   m.name.c_str(), g.name.c_str(), g.file.c_str(), extent.x, extent.y, extent.z, (unsigned long long)g.activeVoxels,

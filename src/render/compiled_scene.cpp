@@ -379,7 +379,7 @@ static shader::Medium pack_medium(const SceneMedium& in, std::vector<uint32_t>& 
     placed = gridAt.emplace(&g, uint32_t(volumeWords.size())).first;
     volumeWords.insert(volumeWords.end(), g.words.begin(), g.words.end());
   }
-  const glm::uvec3 cells = in.majorantCells.x > 0u ? in.majorantCells : default_majorant_cells(g);
+  const glm::uvec3 cells = majorant_cells(in);
   const std::vector<float> majorants = majorant_grid(g, cells);
   m.info = glm::uvec4(in.kind, placed->second * 4u, uint32_t(volumeWords.size()), cells.x | (cells.y << 10u) | (cells.z << 20u));
   for (float v : majorants) volumeWords.push_back(glm::floatBitsToUint(v));

@@ -215,6 +215,11 @@ struct SceneMedium {
   glm::uvec3 majorantCells{0u};
 };
 
+// The majorant cells a grid medium is tracked through: its own, or the default.
+inline glm::uvec3 majorant_cells(const SceneMedium& m) {
+  return m.majorantCells.x > 0u ? m.majorantCells : default_majorant_cells(*m.grid);
+}
+
 // A punctual light (PointLight in types.glsl): a point light's radiant
 // intensity (W/sr) in every direction (CS184's, glTF's); a spot light's
 // within its cone, falling off between the inner and the outer cone's
