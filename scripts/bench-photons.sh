@@ -57,6 +57,23 @@ import json
 scene = json.load(open("tests/data/features/photons.json"))
 scene["integrator"].update({"photons": 2000000, "search count": 30, "search radius": 0.05})
 print(json.dumps(scene))' >"$out/photons.json"
+# The photon pass alone, 2M photons: on the host's cores (as the CPU
+# reference traces them; `wavepath info`) and by the device's photons kernel
+# (a GPU renderer's; `render --stage-times`), with the ordering, balancing
+# and upload that follow both. The caustic scene, open, loses most photons
+# after a bounce or two; the Cornell box keeps them for many.
+python3 -c '
+import json
+scene = json.load(open("scenes/cornell-box.json"))
+scene["integrator"] = {"type": "photon mapper", "photons": 2000000}
+print(json.dumps(scene))' >"$out/cornell-photons.json"
+sed -i "s#\"filename\": \"#\"filename\": \"$PWD/scenes/#g" "$out/cornell-photons.json"
+printf '%-28s %10s %10s %10s\n' "photon pass, 2M photons" "records" "host s" "device s"
+for s in "$out/photons.json" "$out/cornell-photons.json"; do
+  host=$("$build/wavepath" info "$s" | sed -n 's/^photons .* in \([0-9.]*\) s, \([0-9]*\) records.*/\1 \2/p')
+  device=$("$build/wavepath" render "$s" -r 64 64 --spp 1 --stage-times --photon-pass kernels -o "$out/pass.pfm" "$@" | sed -n 's/^photon map: .* in \([0-9.]*\) s.*/\1/p')
+  printf '%-28s %10s %10s %10s\n' "$(basename "$s")" "${host#* }" "${host% *}" "${device:-(cpu)}"
+done
 reference=${REF_FILE:-$out/ref.pfm}
 [ -f "$reference" ] || "$build/wavepath" render "$scene" -r "$width" "$height" --integrator "path tracer mis" --spp "$ref" -o "$reference" "$@" >/dev/null
 printf '%-26s %8s %10s %10s\n' "estimator" "time s" "rel. RMSE" "rel. MAE"

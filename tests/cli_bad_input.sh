@@ -37,6 +37,12 @@ expect_error "JSON syntax error" 2 "bad-syntax.json:4:24|JSON syntax error" -- "
 expect_error "unknown key" 2 "bad-unknown-key.json|/camera/fov|unknown key \"fov\"" -- "$wavepath" render "$data/bad-unknown-key.json" -o "$out"
 expect_error "unknown material type" 2 "bad-material-type.json|/surfaces/0/material/type|velvet" -- "$wavepath" render "$data/bad-material-type.json" -o "$out"
 expect_error "negative radius" 2 "bad-radius.json|/surfaces/0/radius" -- "$wavepath" render "$data/bad-radius.json" -o "$out"
+expect_error "an image the host's memory cannot hold (-r), before the scene loads" 2 \
+  "a 8000x4000 image needs about|more than WAVEPATH_HOST_MEMORY_MIB's 1000 MiB" -- \
+  env WAVEPATH_HOST_MEMORY_MIB=1000 "$wavepath" render "$data/no-such.json" -r 8000 4000 -o "$out"
+printf '{ "camera": { "resolution": [3000, 2000] }, "surfaces": [] }' >"$work/big.json"
+expect_error "an image the host's memory cannot hold (the scene's size)" 2 "a 3000x2000 image needs about|more than" -- \
+  env WAVEPATH_HOST_MEMORY_MIB=64 "$wavepath" render "$work/big.json" -o "$out"
 expect_error "OBJ index out of range" 2 "bad-index.obj:4|vertex 99" -- "$wavepath" render "$data/mesh-bad-index.json" -o "$out"
 expect_error "OBJ negative index out of range" 2 "bad-negative.obj:4|vertex -7" -- "$wavepath" render "$data/mesh-bad-negative.json" -o "$out"
 expect_error "OBJ that does not parse" 2 "bad-token.obj:4|not a vertex index" -- "$wavepath" render "$data/mesh-bad-token.json" -o "$out"

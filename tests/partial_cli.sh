@@ -26,6 +26,39 @@ check "the merged file holds samples 0:48, complete" \
 "$wavepath" compare --images "$work/merged.exr" "$work/whole.exr" >"$work/out" 2>&1
 check "the merged image agrees with one render (compare exit 0)" $?
 
+# Tiles (--tile-pixels far below lavapipe's limit, so that this small render
+# takes several): a tiled part merges with an untiled one into what one
+# render gives; a tiled render stopped by its time budget and resumed, tiled,
+# is complete and agrees with one uninterrupted render.
+"$wavepath" render "$scene" "${r[@]}" --samples 0:16 --tile-pixels 333 -o "$work/tile-a.png"
+"$wavepath" render "$scene" "${r[@]}" --samples 16:48 -o "$work/tile-b.png"
+"$wavepath" merge "$work/tile-a.exr" "$work/tile-b.exr" -o "$work/tile-merged.png" -q
+check "a part rendered in tiles merges with an untiled one" $?
+"$wavepath" compare --images "$work/tile-merged.exr" "$work/whole.exr" >"$work/out" 2>&1
+check "the merged tiled and untiled parts agree with one render" $?
+"$wavepath" render "$scene" -r 64 64 --spp 100000 --tile-pixels 1000 --time 2s -q -o "$work/tile-stop.png" --checkpoint "$work/tile-ck.exr"
+stopped=$(exr_attr "$work/tile-stop.exr" wavepath:samples)
+check "a tiled render stops at its budget with samples 0:N (got $stopped)" $(echo "$stopped" | grep -qE '^0:[0-9]+$'; echo $?)
+"$wavepath" render "$scene" -r 64 64 --spp 100000 --tile-pixels 1000 --time 2s -q -o "$work/tile-res.png" --resume "$work/tile-stop.exr"
+resumed=$(exr_attr "$work/tile-res.exr" wavepath:samples)
+check "resumed in tiles: the samples grew ($stopped to $resumed)" $([ "${resumed#0:}" -gt "${stopped#0:}" ]; echo $?)
+"$wavepath" render "$scene" -r 64 64 --spp 100000 --samples "${resumed:-0:1}" -q -o "$work/tile-whole.png"
+"$wavepath" compare --images "$work/tile-res.exr" "$work/tile-whole.exr" >"$work/out" 2>&1
+check "resumed in tiles: agrees with one uninterrupted render of samples $resumed" $?
+
+# The photon mapper: parts whose photon maps were traced by the kernels
+# (--photon-pass kernels) and by the CPU reference merge into what one
+# render gives; the pass is reported.
+pm=(-r 32 24 --spp 16 -q)
+"$wavepath" render "$data/features/photons.json" "${pm[@]}" --photon-pass kernels --stage-times -o "$work/pm-whole.png" >"$work/out" 2>&1
+check "--photon-pass kernels: the photon map's pass is reported" $(grep -q "^photon map: [1-9][0-9]* records" "$work/out"; echo $?)
+"$wavepath" render "$data/features/photons.json" "${pm[@]}" --samples 0:8 --photon-pass kernels -o "$work/pm-a.png"
+"$wavepath" render "$data/features/photons.json" "${pm[@]}" --samples 8:16 --cpu -o "$work/pm-b.png"
+"$wavepath" merge "$work/pm-a.exr" "$work/pm-b.exr" -o "$work/pm-merged.png" -q
+check "photon-mapped parts of the kernels' and the host's maps merge" $?
+"$wavepath" compare --images "$work/pm-merged.exr" "$work/pm-whole.exr" >"$work/out" 2>&1
+check "the merged photon-mapped image agrees with one render" $?
+
 # Several renderers in one process: lavapipe twice, lavapipe and the CPU
 # reference; chunks of samples go to whichever is free.
 for devices in 0,0 0,cpu; do

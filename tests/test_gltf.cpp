@@ -83,7 +83,7 @@ TEST(Gltf, RendersTheSameImageAsItsDartsTwin) {
     s.camera.width = 40;
     s.camera.height = 32;
     RenderOptions o;
-    o.spp = 64;
+    o.spp = 256;  // at 64 its small light left the image mean's test a p of 0.002 to fail by on one seed pair
     o.seed = seed;
     Progress quiet("", 0, false);
     return render_cpu(compile_scene(s, reference_options(o)), 0, quiet);

@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "gpu/wavefront.h"
+#include "render/photon_pass.h"
 #include "scene/importers.h"
 #include "scene/kinds.h"
 #include "stats/compare.h"
@@ -845,6 +846,79 @@ TEST_F(Gpu, MediaAgreeWithTheCpuReferenceAndAPlantedSigmaErrorIsCaught) {
     CompareResult planted = compare_images(render(compile_scene(scene, o)), cpu);
     EXPECT_FALSE(planted.passed()) << file << ": sigma 5 % off went unnoticed: " << planted.summary();
   }
+}
+
+// The photons kernel traces the host's photons (the code is shared): photon
+// by photon the same records, to rounding. A GPU may fuse multiply-adds, so
+// now and then a photon's Russian roulette or a grazing hit goes the other
+// way; every other photon's records agree. Traced with another seed, they
+// do not.
+TEST_F(Gpu, PhotonsTracedByTheKernelsAreTheHostsToRounding) {
+  CompiledScene cs = compile_scene(load_scene(source_path("tests/data/features/photons.json")), RenderOptions{});
+  cs.photonCount = 30000;  // several batches of the renderer's path slots
+  const std::vector<shader::Photon> host = trace_photons(cs);
+  WavefrontRenderer renderer(*ctx_, cs);
+  auto by_photon = [](const std::vector<shader::Photon>& records) {
+    std::map<uint32_t, std::vector<shader::Photon>> m;
+    uint32_t last = 0;
+    for (const shader::Photon& p : records) {
+      EXPECT_GE(p.axis, last) << "records out of photon order";
+      last = p.axis;
+      m[p.axis].push_back(p);
+    }
+    return m;
+  };
+  auto same = [](const std::vector<shader::Photon>& a, const std::vector<shader::Photon>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (glm::length(a[i].position - b[i].position) > 1e-3f) return false;
+      if (glm::length(a[i].power - b[i].power) > 1e-4f * glm::length(a[i].power)) return false;
+    }
+    return true;
+  };
+  const auto hostPhotons = by_photon(host);
+  ASSERT_GT(hostPhotons.size(), 1000u);
+  auto agreeing = [&](uint32_t seed) {
+    const auto gpuPhotons = by_photon(renderer.trace_photons(cs.photonCount, seed));
+    size_t agree = 0;
+    for (const auto& [photon, records] : hostPhotons) {
+      auto found = gpuPhotons.find(photon);
+      agree += found != gpuPhotons.end() && same(records, found->second);
+    }
+    return double(agree) / double(hostPhotons.size());
+  };
+  const double sameSeed = agreeing(cs.photonSeed), otherSeed = agreeing(cs.photonSeed + 1);
+  std::printf("photons whose records agree: %.4f (seed + 1: %.4f)\n", sameSeed, otherSeed);
+  EXPECT_GE(sameSeed, 0.995);
+  EXPECT_LT(otherSeed, 0.05) << "photons of another seed agreed";
+}
+
+// A photon map the kernels traced (RenderOptions::photonsOnHost false,
+// PhotonPass::Kernels, which lavapipe would leave to the host) renders the
+// image the host's map does; the same comparison sees a map whose photons
+// are 5 % too strong. The CPU reference refuses a scene whose map was left
+// to a GPU.
+TEST_F(Gpu, APhotonMapTracedByTheKernelsRendersAsTheHostsMap) {
+  Scene scene = load_scene(source_path("tests/data/features/photons.json"));
+  RenderOptions o;
+  o.spp = 64;
+  o.seed = 1;
+  o.photonsOnHost = false;
+  CompiledScene onDevice = compile_scene(scene, o);
+  ASSERT_TRUE(onDevice.photonMapLeftToDevice);
+  ASSERT_TRUE(onDevice.photons.empty());
+  WavefrontSettings kernels;
+  kernels.photonPass = PhotonPass::Kernels;
+  Progress quiet("", 0, false);
+  ImageStats gpu = WavefrontRenderer(*ctx_, onDevice, kernels).render(quiet);
+  EXPECT_THROW(render_cpu(onDevice, 0, quiet), RenderError);
+  o.seed = 2;
+  CompiledScene host = compile_scene(scene, reference_options(o));
+  CompareResult r = compare_images(gpu, render_cpu(host, 0, quiet));
+  EXPECT_TRUE(r.passed()) << r.summary();
+  for (shader::Photon& p : host.photons) p.power *= 1.05f;
+  CompareResult planted = compare_images(gpu, render_cpu(host, 0, quiet));
+  EXPECT_FALSE(planted.passed()) << "photons 5 % too strong went unnoticed: " << planted.summary();
 }
 
 // The same comparison has the power to see a 5% bias planted on the GPU in

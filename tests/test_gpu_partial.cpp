@@ -4,6 +4,7 @@
 // kernels record them against the CPU reference.
 #include "test_support.h"
 
+#include <algorithm>
 #include <memory>
 
 #include "gpu/wavefront.h"
@@ -88,6 +89,51 @@ TEST_F(GpuPartial, SplitsAndResumedRendersMatchTheWholeRenderWithinTheBound) {
   for (size_t i = 0; i < whole.sum.size(); ++i)
     if (whole.sum[i] > 0.0) worst = std::max(worst, std::abs(shorter.sum[i] - whole.sum[i]) / whole.sum[i]);
   EXPECT_GT(worst, 100 * kGpuBound);
+}
+
+// An image in tiles (here a limit far below the device's, 333 pixels, so
+// that a 40x40 render takes five, none a whole number of rows) is the
+// untiled image to the bit: a pixel's random numbers come from its own
+// index, and with one sample per submission both renders add the same float
+// sums. So on the wavefront kernels and the megakernel, with AOV layers,
+// with adaptive sampling (its pixel list split by tile), and stopped after
+// a round and resumed.
+TEST_F(GpuPartial, TiledRendersAreTheUntiledImage) {
+  for (const char* variant : {"gpu", "gpu-mega"}) {
+    for (bool adaptive : {false, true}) {
+      Scene s = load_scene(source_path("tests/data/features/materials.json"));
+      s.camera.width = s.camera.height = 40;
+      RenderOptions o;
+      o.spp = 12;
+      o.seed = 5;
+      o.aovs = {"albedo", "depth"};
+      if (adaptive) o.adaptive = AdaptiveSampling{4, 0.05f};
+      const CompiledScene cs = compile_scene(s, variant_options(o, variant));
+      auto render_tiled = [&](uint32_t tilePixels, ImageStats& image, SampleRange range, const PassHook& hook = {}) {
+        WavefrontSettings settings = kernel_variant(variant).settings;
+        settings.targetSubmitSeconds = 0.0;  // one sample per submission
+        settings.maxTilePixels = tilePixels;
+        WavefrontRenderer r(*ctx_, cs, settings);
+        Progress quiet("", 0, false);
+        return r.render(image, range, quiet, hook);
+      };
+      const std::string what = std::string(variant) + (adaptive ? ", adaptive" : "");
+      ImageStats untiled(cs.width, cs.height, image_layers(cs.aovs)), tiled = untiled, resumed = untiled;
+      render_tiled(0, untiled, {0, 12});
+      render_tiled(333, tiled, {0, 12});
+      EXPECT_EQ(tiled.count, untiled.count) << what;
+      EXPECT_EQ(tiled.sum, untiled.sum) << what;
+      EXPECT_EQ(tiled.sumSq, untiled.sumSq) << what;
+      if (adaptive) {
+        EXPECT_LT(*std::min_element(untiled.count.begin(), untiled.count.end()), 12.0) << "no pixel converged early";
+      }
+      // Stopped after the first round of tiles, then the rest.
+      const uint32_t reached = render_tiled(333, resumed, {0, 12}, [](const ImageStats&, uint32_t) { return false; });
+      ASSERT_LT(reached, 12u) << what;
+      render_tiled(333, resumed, {reached, 12});
+      EXPECT_EQ(resumed.sum, untiled.sum) << what << ", resumed from sample " << reached;
+    }
+  }
 }
 
 // Every AOV layer, as the wavefront kernels (shade), the sorted shade kernels

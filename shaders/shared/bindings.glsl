@@ -80,8 +80,8 @@ struct KernelPush {
   uint queueIn;     // 0 or 1: the queue of paths to extend / shade
   uint capacity;    // path slots per queue
   uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
-  uint pad0;
-  uint pad1;
+  uint photonSeed;  // photons kernel: the photon map's seed
+  uint accumBase;   // the first pixel of the tile the accumulators hold (accumulate_path)
 };
 
 #define PREPARE_EXTEND 0u
@@ -91,6 +91,9 @@ struct KernelPush {
 // pixel pixelList[waveStart + i].
 #define GENERATE_CONSECUTIVE 0u
 #define GENERATE_FROM_LIST 1u
+// Photons kernel: start the batch's photons, or take each a bounce further.
+#define PHOTONS_EMIT 0u
+#define PHOTONS_BOUNCE 1u
 
 #ifndef __cplusplus
 layout(std140, set = 0, binding = BINDING_SCENE) uniform SceneBlock { SceneParams scene; };

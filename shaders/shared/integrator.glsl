@@ -45,8 +45,8 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   uint width = scene.image.x;
   uint height = scene.image.y;
   p.rng = rng_seed(pixel, sampleIndex, scene.counts.y);
-  vec2 jitter = vec2(rng_next(p.rng), rng_next(p.rng));
-  vec2 lensU = vec2(rng_next(p.rng), rng_next(p.rng));
+  vec2 jitter = rng_next2(p.rng);
+  vec2 lensU = rng_next2(p.rng);
   // FEATURE_COMPILED: compiled out of the kernels for other samplers, since its
   // integer divisions cost every camera ray even where not taken.
   if (FEATURE_COMPILED(FEATURE_CMJ) && scene.mode.y == SAMPLER_CMJ && sampleIndex < scene.mode.z) {
@@ -146,7 +146,7 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
   vec3 t;
   vec3 bt;
   make_frame(b.ns, t, bt);
-  vec2 u = vec2(rng_next(p.rng), rng_next(p.rng));
+  vec2 u = rng_next2(p.rng);
   vec3 wi = frame_to_world(square_to_cosine_hemisphere(u), t, bt, b.ns);
   if (dot(wi, b.ng) <= 0.0f) return;
   sr.origin = offset_ray(s.p, b.ng);
@@ -199,7 +199,7 @@ bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, bool useNee,
   LightSample ls;
   for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
     if (j >= lightSamples) break;
-    vec3 uLight = vec3(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+    vec3 uLight = rng_next3(p.rng);
     if (!(useNee && sample_emitter(x, uLight, ls))) continue;
     float f = medium_phase(med, p.dir, ls.wi);
     if (ls.pdf <= 0.0f || f <= 0.0f) continue;
@@ -209,7 +209,7 @@ bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, bool useNee,
     aim_shadow_ray(x, ls.wi, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
     srs.ray[j].media = shadow_ray_media(p.medium, p.rng, j);
   }
-  vec2 u = vec2(rng_next(p.rng), rng_next(p.rng));
+  vec2 u = rng_next2(p.rng);
   vec3 wi = medium_sample_phase(med, p.dir, u);
   p.bsdfPdf = medium_phase(med, p.dir, wi);  // the phase function's weight f / pdf is 1
   p.origin = x;
@@ -307,7 +307,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   LightSample ls;
   for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
     if (j >= lightSamples) break;
-    vec3 uLight = vec3(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+    vec3 uLight = rng_next3(p.rng);
     if (!(useNee && hasSmooth && sample_emitter(s.p, uLight, ls))) continue;
     vec3 f = bsdf_eval(b, wo, ls.wi);
     if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
@@ -325,7 +325,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
 
   // The next direction: from the BSDF, or (mixture) from the one-sample
   // mixture of BSDF and emitter sampling with its exact combined density.
-  vec4 uBsdf = vec4(rng_next(p.rng), rng_next(p.rng), rng_next(p.rng), rng_next(p.rng));
+  vec4 uBsdf = rng_next4(p.rng);
   float uStrategy = rng_next(p.rng);
   vec3 wi;
   float pdf = 0.0f;

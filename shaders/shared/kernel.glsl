@@ -188,19 +188,21 @@ void accumulate_path(PathState p, AovSample aov) {
     atomicAdd(counters[COUNTER_NONFINITE], 1u);
     return;
   }
+  // The accumulators hold one tile of the image, from pixel pc.accumBase.
+  uint at = p.pixel - pc.accumBase;
   PixelAccum s = sample_moments(p.radiance);
-  PixelAccum a = accum[p.pixel];
+  PixelAccum a = accum[at];
   a.sum += s.sum;
   a.sumSq += s.sumSq;
-  accum[p.pixel] = a;
+  accum[at] = a;
   if (kAovs) {
     AovAccum s2 = aov_moments(aov);
-    AovAccum b = aovAccum[p.pixel];
+    AovAccum b = aovAccum[at];
     b.sumA += s2.sumA;
     b.sumB += s2.sumB;
     b.sumSqA += s2.sumSqA;
     b.sumSqB += s2.sumSqB;
-    aovAccum[p.pixel] = b;
+    aovAccum[at] = b;
   }
 }
 

@@ -4,9 +4,9 @@
 // bounce; the records are balanced into a kd-tree (src/render/photon_pass.cpp,
 // through PhotonMap); camera paths follow specular bounces to their first
 // non-specular vertex, take its direct light by next-event estimation and
-// everything else from the photons around it (photon_radiance). The host
-// traces the photons with this code (photon_emit, photon_bounce); both
-// renderers gather with it.
+// everything else from the photons around it (photon_radiance). The
+// photons are traced with this code (photon_emit, photon_bounce) by the
+// photons kernel (photons.comp) or on the host; both renderers gather with it.
 #ifndef WP_PHOTONS_GLSL
 #define WP_PHOTONS_GLSL
 
@@ -58,8 +58,8 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
   if (scene.counts.x == 0u) return path;
   float pmf;
   Emitter e = load_emitter(pick_emitter(rng_next(path.rng), pmf));
-  vec2 uPos = vec2(rng_next(path.rng), rng_next(path.rng));
-  vec2 uDir = vec2(rng_next(path.rng), rng_next(path.rng));
+  vec2 uPos = rng_next2(path.rng);
+  vec2 uDir = rng_next2(path.rng);
   if ((e.prim & (EMITTER_POINT_BIT | EMITTER_ENVIRONMENT)) == EMITTER_POINT_BIT) {
     PointLight l = load_point_light(e.prim & ~EMITTER_POINT_BIT);
     vec3 shine = vec3(l.direction.x, l.direction.y, l.direction.z);
@@ -115,22 +115,33 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
   return path;
 }
 
+// What photon_bounce did: PHOTON_STORED where it left a record in ph;
+// PHOTON_TRUNCATED where its ray outran the traversal step cap (the photon
+// is then lost, and the map would be wrong: the caller fails).
+#define PHOTON_STORED 1u
+#define PHOTON_TRUNCATED 2u
+
 // Takes the photon to the next surface on its way. Where that surface has
 // a smooth lobe and the photon has bounced before (the camera pass takes
-// direct light by next-event estimation), it leaves a record there: true,
-// and ph holds it. Then the photon bounces by BSDF sampling with Russian
-// roulette on what the bounce keeps (its power stays about what it left
-// the light with), or ends (alive = 0) where it is absorbed, escapes or has
-// met max bounces surfaces.
-bool photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
+// direct light by next-event estimation), it leaves a record there. Then
+// the photon bounces by BSDF sampling with Russian roulette on what the
+// bounce keeps (its power stays about what it left the light with), or ends
+// (alive = 0) where it is absorbed, escapes or has met max bounces surfaces.
+// Returns PHOTON_* bits.
+uint photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
   ph.position = vec3(0.0f);
   ph.axis = 0u;
   ph.power = vec3(0.0f);
   ph.from = 0u;
+  if (path.alive == 0u) return 0u;
   Hit h;
-  if (path.alive == 0u || trace_ray(path.origin, path.dir, WP_INF, false, h) != TRACE_OK || h.prim == WP_INVALID) {
+  if (trace_ray(path.origin, path.dir, WP_INF, false, h) != TRACE_OK) {
     path.alive = 0u;
-    return false;
+    return PHOTON_TRUNCATED;
+  }
+  if (h.prim == WP_INVALID) {
+    path.alive = 0u;
+    return 0u;
   }
   SurfaceHit s = surface_at(path.origin, path.dir, h);
   vec3 wo = -path.dir;
@@ -144,9 +155,9 @@ bool photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
   path.bounce += 1u;
   if (b.lobeCount == 0u || path.bounce > scene.image.z) {
     path.alive = 0u;
-    return stored;
+    return stored ? PHOTON_STORED : 0u;
   }
-  vec4 u = vec4(rng_next(path.rng), rng_next(path.rng), rng_next(path.rng), rng_next(path.rng));
+  vec4 u = rng_next4(path.rng);
   vec3 wi;
   float pdf;
   bool isDelta;
@@ -154,12 +165,12 @@ bool photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
   float q = min(1.0f, max(weight.x, max(weight.y, weight.z)));
   if (!(q > 0.0f) || rng_next(path.rng) >= q) {
     path.alive = 0u;
-    return stored;
+    return stored ? PHOTON_STORED : 0u;
   }
   path.power *= weight / q;
   path.origin = offset_ray(s.p, dot(wi, s.ng) >= 0.0f ? s.ng : -s.ng);
   path.dir = wi;
-  return stored;
+  return stored ? PHOTON_STORED : 0u;
 }
 
 // What photon ph gives towards wo through b, per unit area: nothing where it

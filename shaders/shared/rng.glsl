@@ -28,6 +28,28 @@ float rng_next(INOUT(uint) state) {
   return float(rng_next_uint(state) >> 8u) * (1.0f / 16777216.0f);
 }
 
+// Two, three or four numbers, drawn in order: C++ leaves the order in which
+// a constructor's arguments are evaluated open (GLSL goes left to right), so
+// vec2(rng_next(s), rng_next(s)) would give the kernels and the CPU
+// reference the same numbers in other places.
+vec2 rng_next2(INOUT(uint) state) {
+  float x = rng_next(state);
+  float y = rng_next(state);
+  return vec2(x, y);
+}
+
+vec3 rng_next3(INOUT(uint) state) {
+  vec2 xy = rng_next2(state);
+  float z = rng_next(state);
+  return vec3(xy, z);
+}
+
+vec4 rng_next4(INOUT(uint) state) {
+  vec2 xy = rng_next2(state);
+  vec2 zw = rng_next2(state);
+  return vec4(xy, zw);
+}
+
 // ---- correlated multi-jittered sampling (Kensler 2013) ------------------------
 // Sample s of an N-sample pattern p: the N points are jittered in an m x n grid
 // (m = floor(sqrt(N))) and stratified in each 1D projection into N strata;

@@ -82,6 +82,9 @@
 // the next (see count_rays in kernel.glsl).
 #define COUNTER_CLOSEST_RAYS 5u
 #define COUNTER_SHADOW_RAYS 7u
+// The photons kernel (photons.comp): records appended, photons still going.
+#define COUNTER_PHOTON_RECORDS 9u
+#define COUNTER_PHOTONS_ALIVE 10u
 #define COUNTER_COUNT 12u
 
 // Sorting paths by material class (variant gpu-sort): between

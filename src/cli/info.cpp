@@ -19,6 +19,7 @@ namespace {
 // What the renderer would build for a scene: sizes, BVH quality and memory.
 int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant, const std::string* kernelsDevice) {
   RenderOptions options = variant_options(RenderOptions{}, variant);  // an unknown variant fails before any work
+  options.photonsOnHost = true;  // the photon map it reports
   if (kernelsDevice && variant == "cpu") throw InputError("--kernels: the cpu reference has no kernels");
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(scenePath);
@@ -40,8 +41,8 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
               prims ? double(gpuBytes) / double(prims) : 0.0);
   if (cs.params.mode.x == INTEGRATOR_PHOTONS) {
     const IntegratorSettings& in = scene.integrator;
-    std::printf("photons      %u traced, %zu records (%.2f MiB); the gather takes %s within %g\n", in.photons, cs.photons.size(),
-                double(cs.photons.size() * sizeof(shader::Photon)) / 1048576.0,
+    std::printf("photons      %u traced on the host in %.3f s, %zu records (%.2f MiB); the gather takes %s within %g\n", in.photons,
+                cs.photonPassSeconds, cs.photons.size(), double(cs.photons.size() * sizeof(shader::Photon)) / 1048576.0,
                 in.searchCount > 0 ? ("the " + std::to_string(in.searchCount) + " nearest").c_str() : "every photon", double(in.searchRadius));
   }
   // On a CPU device every branch a kernel has costs each path, taken or not:

@@ -48,6 +48,9 @@ void print_stage_times(const StageTimes& times) {
   std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
               (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
               (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
+  if (times.photonPassSeconds > 0.0)
+    std::printf("photon map: %llu records, traced, balanced and uploaded in %.3f s (wall)\n", (unsigned long long)times.photonRecords,
+                times.photonPassSeconds);
 }
 
 // The signal that asked the render to stop (SIGINT, SIGTERM), or 0. A second
@@ -171,8 +174,11 @@ int run_render(const RenderArgs& a) {
 
   // The renderers: one (the CPU reference or a variant on --device), or
   // those --devices names, each with the scene compiled for it (a device's
-  // default variant may choose the BVH layout).
+  // default variant may choose the BVH layout). An image the host cannot
+  // hold is refused before any work: -r's before the scene is loaded.
+  if (a.resolution.size() == 2) check_image_fits_host(a.resolution[0], a.resolution[1], a.aovs);
   Scene scene = load_scene_with_overrides(a);
+  check_image_fits_host(scene.camera.width, scene.camera.height, a.aovs);
   std::vector<RenderDevice> devices;
   if (a.devices.empty()) devices.push_back({a.cpu ? "cpu" : resolve_variant(a.variant, a.device), a.device, nullptr});
   for (const std::string& d : a.devices) devices.push_back({d == "cpu" ? "cpu" : resolve_variant(a.variant, d), d == "cpu" ? "" : d, nullptr});

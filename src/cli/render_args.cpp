@@ -7,6 +7,9 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <unistd.h>
+#include <cstdlib>
+#include <fstream>
 #include <filesystem>
 
 #include "cpu/reference.h"
@@ -71,6 +74,44 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   return scene;
 }
 
+void check_image_fits_host(int width, int height, const std::vector<std::string>& aovs) {
+  const ImageStats layout(1, 1, image_layers(aovs));
+  // Per pixel: sums and sums of squares of every channel and a count, in
+  // double (ImageStats); a partial EXR's 92 bytes and more per layer while it is written.
+  const uint64_t perPixel = (2 * layout.stride + 1) * sizeof(double) + 92 + 12 * (layout.layers.size() - 1);
+  const uint64_t need = uint64_t(width) * uint64_t(height) * perPixel;
+  // What this process may use: the machine's memory, or less where its
+  // cgroup (a Slurm job's, a container's) or WAVEPATH_HOST_MEMORY_MIB says so.
+  uint64_t have = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGE_SIZE));
+  std::string where = "this machine's";
+  if (std::ifstream cgroup("/sys/fs/cgroup/memory.max"); cgroup) {
+    uint64_t limit = 0;
+    if (cgroup >> limit && limit > 0 && limit < have) {
+      have = limit;
+      where = "its cgroup's";
+    }
+  }
+  if (const char* env = std::getenv("WAVEPATH_HOST_MEMORY_MIB")) {
+    const uint64_t mib = std::strtoull(env, nullptr, 10);
+    if (mib > 0 && (mib << 20) < have) {
+      have = mib << 20;
+      where = "WAVEPATH_HOST_MEMORY_MIB's";
+    }
+  }
+  if (need > have) {
+    throw InputError("a " + std::to_string(width) + "x" + std::to_string(height) + " image needs about " +
+                     std::to_string((need + (1 << 20) - 1) >> 20) + " MiB of memory to render and write, more than " + where + " " +
+                     std::to_string(have >> 20) + " MiB");
+  }
+}
+
+WavefrontSettings renderer_settings(const KernelVariant& variant, const RenderArgs& a) {
+  WavefrontSettings s = variant.settings;
+  s.photonPass = a.photonPass == "kernels" ? PhotonPass::Kernels : a.photonPass == "host" ? PhotonPass::Host : PhotonPass::Auto;
+  s.maxTilePixels = a.tilePixels;
+  return s;
+}
+
 uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, const RenderArgs& a, ImageStats& image,
                    SampleRange range, const PassHook& afterPass, std::string* where, StageTimes* times) {
   bool progressOn = !a.quiet && Progress::stderr_is_terminal();
@@ -85,7 +126,7 @@ uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, c
   VulkanContext ctx(a.device, validation);
   uint32_t reached;
   {
-    WavefrontRenderer gpu(ctx, compiled, variant.settings);
+    WavefrontRenderer gpu(ctx, compiled, renderer_settings(variant, a));
     Progress progress(ctx.info().name, total, progressOn);
     reached = gpu.render(image, range, progress, afterPass);
     if (times) *times = gpu.stage_times();
@@ -147,7 +188,7 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
       std::unique_ptr<WavefrontRenderer> gpu;
       if (dev.renderer != "cpu") {
         ctx = std::make_unique<VulkanContext>(dev.device, validation);
-        gpu = std::make_unique<WavefrontRenderer>(*ctx, cs, kernel_variant(dev.renderer).settings);
+        gpu = std::make_unique<WavefrontRenderer>(*ctx, cs, renderer_settings(kernel_variant(dev.renderer), a));
       }
       {
         std::lock_guard<std::mutex> lock(mutex);
@@ -223,6 +264,14 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
   app.add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   app.add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
   app.add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default: the device's, as devices shows");
+  app.add_option("--photon-pass", r.photonPass,
+                 "photon mapper on a Vulkan device: who traces the photons, its kernels or the host's cores (default auto: "
+                 "kernels on GPUs, the host beside CPU devices such as lavapipe)")
+      ->check(CLI::IsMember({"auto", "kernels", "host"}));
+  app.add_option("--tile-pixels", r.tilePixels,
+                 "a Vulkan device renders the image in tiles of at most this many consecutive pixels (default: as many as "
+                 "its buffers hold; larger images are tiled anyway)")
+      ->check(CLI::Range(1u, uint32_t(MAX_IMAGE_SIZE) * uint32_t(MAX_IMAGE_SIZE)));
   app.add_option("-r,--resolution", r.resolution, "image size W H, overriding the scene's (CS184: -r)")
       ->expected(2)
       ->check(CLI::Range(1, MAX_IMAGE_SIZE));
@@ -278,6 +327,8 @@ std::string render_command_line(const RenderArgs& a) {
   add("--aov", aovs);
   if (a.seed != 0) add("--seed", std::to_string(a.seed));
   if (!a.variant.empty()) add("--variant", a.variant);
+  if (a.photonPass != "auto") add("--photon-pass", a.photonPass);
+  if (a.tilePixels > 0) add("--tile-pixels", std::to_string(a.tilePixels));
   add("--resume", a.resume);
   return line;
 }

@@ -33,6 +33,8 @@ struct RenderArgs {
   std::vector<int> resolution;
   bool stageTimes = false;
   std::string variant;  // empty: the device's default (default_variant)
+  std::string photonPass = "auto";  // who traces a GPU renderer's photon map: auto, kernels or host (PhotonPass)
+  uint32_t tilePixels = 0;          // a GPU renderer's tiles: at most this many pixels (0: as the device allows)
   std::string integrator;  // darts integrator name, overriding the scene's
   std::string sampler;     // independent or cmj
   float aperture = -1.0f;  // lens radius, overriding the scene's (CS184 -b)
@@ -75,6 +77,14 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed);
 
 // The scene file with the arguments' overrides (resolution, lens, environment).
 Scene load_scene_with_overrides(const RenderArgs& a);
+
+// Throws InputError where a width x height render with `aovs` would need
+// more memory than the host has: the image's double-precision sums, and
+// the files written from them. (A device's own limits only tile it.)
+void check_image_fits_host(int width, int height, const std::vector<std::string>& aovs);
+
+// A GPU renderer's settings: the variant's, with the arguments' photon pass and tiles.
+WavefrontSettings renderer_settings(const KernelVariant& variant, const RenderArgs& a);
 
 // Renders with `renderer`: "cpu" (the reference) or a kernel variant ("gpu",
 // "gpu-mega", ...) on the chosen Vulkan device. Sets *where to a description

@@ -15,6 +15,7 @@ namespace wp {
 
 RenderOptions reference_options(RenderOptions options) {
   options.bvhLayout = BvhLayout::Binary;
+  options.photonsOnHost = true;
   return options;
 }
 
@@ -23,6 +24,7 @@ uint32_t render_cpu(const CompiledScene& cs, int threads, ImageStats& image, Sam
   using namespace shader;
   if (image.width != cs.width || image.height != cs.height || image.aov_names() != cs.aovs)
     throw RenderError("internal error: the image to render into does not match the scene's size or layers");
+  if (cs.photonMapLeftToDevice) throw RenderError("internal error: the CPU reference was given a scene whose photon map was left to a GPU");
   SceneView view = cs.view();  // read-only; shared by all threads
   view.aovs = !cs.aovs.empty();
   const AovLayout aovLayout(image);

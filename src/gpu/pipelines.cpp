@@ -34,7 +34,10 @@ WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, co
   // Paths and shadow rays are also read through texel views (bindings.glsl).
   const uint64_t maxViewBytes = uint64_t(ctx.info().maxTexelBufferElements) * 16u;
   sorting = sort_by_material();
-  capacity = std::min<uint64_t>({pixels, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
+  // A photon map traced here takes batches of path slots: more than a small
+  // image's pixels (the batches' dispatches, not their photons, cost on CPU devices).
+  const uint64_t slots = std::max<uint64_t>(pixels, scene.photonMapLeftToDevice ? kPhotonBatch : 0);
+  capacity = std::min<uint64_t>({slots, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
                                  std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
                                  uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,
                                  std::min<uint64_t>(ctx.info().maxTexelBufferElements, maxRange / sizeof(uint32_t)) / queue_count()});
@@ -46,6 +49,7 @@ WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, co
   auto families = ctx.physical().getQueueFamilyProperties();
   timestamps = props.limits.timestampComputeAndGraphics && families[ctx.queue_family()].timestampValidBits > 0;
   timestampPeriodNs = props.limits.timestampPeriod;
+  if (scene.photonMapLeftToDevice) build_photon_map();
 }
 
 void WavefrontRenderer::Impl::reserve_queries(uint32_t count) {
@@ -120,8 +124,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
   buffers[BINDING_SCENE] = std::make_unique<Buffer>(ctx, sizeof(shader::SceneParams),
                                                     vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
-  shader::SceneParams params = scene.params;
-  params.counts.z = traversal_step_cap();
+  shader::SceneParams params = device_params();
   ctx.upload(*buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
   add_texels(BINDING_NODES, scene.nodes, "BVH nodes");
   add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
@@ -138,7 +141,14 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_PHOTONS, scene.photons, "photon map");
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
   add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
-  add_work(BINDING_PIXEL_LIST, uint64_t(std::max(pixels, 1u)) * sizeof(uint32_t));
+  // The image in tiles of consecutive pixels, as many as the accumulators
+  // (and the AOVs') may hold in one storage buffer: an image too large for
+  // one is rendered tile after tile each round of samples (render_samples).
+  const bool aovs = !scene.aovs.empty();
+  uint64_t tileLimit = maxRange / (aovs ? std::max(sizeof(shader::PixelAccum), sizeof(shader::AovAccum)) : sizeof(shader::PixelAccum));
+  if (settings.maxTilePixels > 0) tileLimit = std::min<uint64_t>(tileLimit, settings.maxTilePixels);
+  tilePixels = uint32_t(std::min<uint64_t>(pixels, tileLimit));
+  add_work(BINDING_PIXEL_LIST, uint64_t(tilePixels) * sizeof(uint32_t));
   add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
   add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * sizeof(shader::Hit));
   // Queues 0 and 1, and with sorting by material class each sort key's.
@@ -147,27 +157,23 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
   add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
   add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
-  uint64_t accumBytes = uint64_t(pixels) * sizeof(shader::PixelAccum);
-  if (accumBytes > maxRange) {
-    throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image needs " +
-                      std::to_string(accumBytes >> 20) + " MiB of accumulators, more than the " +
-                      std::to_string(maxRange >> 20) + " MiB per storage buffer " + ctx.info().name + " allows");
-  }
+  const uint64_t accumBytes = uint64_t(tilePixels) * sizeof(shader::PixelAccum);
   add_work(BINDING_ACCUM, accumBytes);
   readAccum = std::make_unique<Buffer>(ctx, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
-  // AOV layers: a first-hit record per path slot and sums per pixel; a
-  // placeholder each where the render records none.
-  const bool aovs = !scene.aovs.empty();
-  uint64_t aovAccumBytes = aovs ? uint64_t(pixels) * sizeof(shader::AovAccum) : sizeof(shader::AovAccum);
-  if (aovAccumBytes > maxRange) {
-    throw RenderError("a " + std::to_string(scene.width) + "x" + std::to_string(scene.height) + " image with AOV layers needs " +
-                      std::to_string(aovAccumBytes >> 20) + " MiB of AOV accumulators, more than the " +
-                      std::to_string(maxRange >> 20) + " MiB per storage buffer " + ctx.info().name + " allows");
-  }
+  // AOV layers: a first-hit record per path slot and sums per pixel of the
+  // tile; a placeholder each where the render records none.
+  const uint64_t aovAccumBytes = aovs ? uint64_t(tilePixels) * sizeof(shader::AovAccum) : sizeof(shader::AovAccum);
   add_work(BINDING_AOV_SAMPLES, (aovs ? uint64_t(capacity) : 1u) * sizeof(shader::AovSample));
   add_work(BINDING_AOV_ACCUM, aovAccumBytes);
   readAovAccum = std::make_unique<Buffer>(ctx, aovAccumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
   readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
+}
+
+shader::SceneParams WavefrontRenderer::Impl::device_params(bool wholeCap) const {
+  shader::SceneParams params = scene.params;
+  if (!wholeCap) params.counts.z = traversal_step_cap();
+  if (scene.photonMapLeftToDevice) params.photons.x = photonMapSize;
+  return params;
 }
 
 uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
@@ -215,7 +221,7 @@ std::vector<std::pair<std::string, const vk::raii::Pipeline*>> WavefrontRenderer
       {"sort", &sort},         {"shade", &shade},           {"connect", &connect},
       {"accumulate", &accumulate}, {"megakernel", &megakernel}, {"raycast", &raycast},
       {"raycast-single", &raycastSingle}, {"occlude", &occlude}, {"occlude-single", &occludeSingle},
-      {"probe", &probe}};
+      {"probe", &probe}, {"photons", &photons}};
   for (size_t i = 0; i < shadeByKey.size(); ++i)
     k.emplace_back(shadeKeys[i] == SORT_KEY_MISS ? "shade-misses" : "shade-class-" + std::to_string(shadeKeys[i] - 1), &shadeByKey[i]);
   return k;

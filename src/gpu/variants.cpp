@@ -92,6 +92,7 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
   options.bvhLayout = v.bvhLayout;
   options.clusteredBuild = v.clusteredBuild;
   options.wideCollapse = v.wideCollapse;
+  options.photonsOnHost = false;  // the renderer traces the photon map with its kernels
   return options;
 }
 

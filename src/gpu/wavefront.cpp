@@ -39,8 +39,10 @@ void WavefrontRenderer::Impl::dispatch_indirect(vk::CommandBuffer cb, const vk::
   stamp(cb, stage);
 }
 
-void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed) {
+void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed,
+                                          uint32_t accumBase) {
   KernelPush push{};
+  push.accumBase = accumBase;
   push.waveStart = waveStart;
   push.pathCount = pathCount;
   push.sampleIndex = sampleIndex;
@@ -75,12 +77,13 @@ void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveSta
 }
 
 uint32_t WavefrontRenderer::Impl::render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass) {
-  const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
   uint64_t truncated = 0;
   times = StageTimes{};
+  times.photonPassSeconds = photonPassSeconds;
+  times.photonRecords = photonMapSize;
   uint32_t reached = range.begin;
   if (!scene.adaptive.enabled()) {
-    reached = render_samples(image, truncated, progress, range.begin, range.end, pixels, false, afterPass);
+    reached = render_samples(image, truncated, progress, range.begin, range.end, nullptr, afterPass);
   } else {
     // Batches of the whole render's grid (multiples of the batch size from
     // sample 0), so that a range resumed at a batch's start continues it.
@@ -88,8 +91,7 @@ uint32_t WavefrontRenderer::Impl::render(ImageStats& image, SampleRange range, P
     const uint32_t batch = uint32_t(scene.adaptive.batch);
     while (reached < range.end && !active.empty()) {
       uint32_t next = std::min((reached / batch + 1) * batch, range.end);
-      ctx.upload(*buffers[BINDING_PIXEL_LIST], active.data(), active.size() * sizeof(uint32_t));
-      render_samples(image, truncated, progress, reached, next, uint32_t(active.size()), true, {});
+      render_samples(image, truncated, progress, reached, next, &active, {});
       reached = next;
       std::vector<uint32_t> still;
       for (uint32_t p : active) {
@@ -112,71 +114,114 @@ uint32_t WavefrontRenderer::Impl::render(ImageStats& image, SampleRange range, P
   return reached;
 }
 
-uint32_t WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first,
-                                                 uint32_t end, uint32_t count, bool listed, const PassHook& afterPass) {
-  vk::raii::CommandBuffers cbs(ctx.device(), vk::CommandBufferAllocateInfo(*commandPool, vk::CommandBufferLevel::ePrimary, 1));
-  vk::CommandBuffer cb = *cbs[0];
-  vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
-  uint32_t perSubmit = 1;
-  const uint32_t wavesPerSample = (count + capacity - 1) / capacity;
+std::vector<WavefrontRenderer::Impl::Tile> WavefrontRenderer::Impl::tiles_of(uint32_t count, const std::vector<uint32_t>* list) const {
+  std::vector<Tile> tiles;
+  const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+  if (!list) {
+    for (uint32_t base = 0; base < count; base += tilePixels) {
+      const uint32_t span = std::min(tilePixels, count - base);
+      tiles.push_back({base, span, base, span});
+    }
+    return tiles;
+  }
+  for (uint32_t first = 0; first < list->size();) {
+    Tile t;
+    t.base = (*list)[first];
+    t.span = std::min(tilePixels, pixels - t.base);
+    t.first = first;
+    while (first < list->size() && (*list)[first] < t.base + t.span) ++first;
+    t.count = first - t.first;
+    tiles.push_back(t);
+  }
+  return tiles;
+}
+
+double WavefrontRenderer::Impl::submit_tile(vk::CommandBuffer cb, const vk::raii::Fence& fence, const Tile& tile, uint32_t sample, uint32_t n,
+                                            bool listed) {
+  const uint32_t wavesPerSample = (tile.count + capacity - 1) / capacity;
   const uint32_t dispatchesPerBounce = sorting ? 7 : 5;
   const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * path_passes();
   const bool aovs = !scene.aovs.empty();
+  cb.reset();
+  cb.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+  reserve_queries(n * wavesPerSample * dispatchesPerWave + 1);
+  stageOf.clear();
+  if (timestamps) cb.resetQueryPool(*queries, 0, queryCapacity);
+  cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
+  cb.fillBuffer(buffers[BINDING_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
+  if (aovs) cb.fillBuffer(buffers[BINDING_AOV_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
+  cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
+  stage_barrier(cb);
+  if (timestamps) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
+  // Waves start at pixel tile.first, or (listed) at entry 0 of the tile's part of the list.
+  const uint32_t start0 = listed ? 0 : tile.first;
+  for (uint32_t s = sample; s < sample + n; ++s)
+    for (uint32_t at = 0; at < tile.count; at += capacity)
+      record_wave(cb, start0 + at, std::min(capacity, tile.count - at), s, listed, tile.base);
+  const uint64_t accumBytes = uint64_t(tile.span) * sizeof(shader::PixelAccum);
+  cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, accumBytes));
+  if (aovs) {
+    cb.copyBuffer(buffers[BINDING_AOV_ACCUM]->handle(), readAovAccum->handle(),
+                  vk::BufferCopy(0, 0, uint64_t(tile.span) * sizeof(shader::AovAccum)));
+  }
+  cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
+  vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
+  cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
+  cb.end();
+  auto t0 = std::chrono::steady_clock::now();
+  ctx.device().resetFences(*fence);
+  ctx.queue().submit(vk::SubmitInfo({}, {}, cb), *fence);
+  while (ctx.device().waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+uint32_t WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first,
+                                                 uint32_t end, const std::vector<uint32_t>* list, const PassHook& afterPass) {
+  vk::raii::CommandBuffers cbs(ctx.device(), vk::CommandBufferAllocateInfo(*commandPool, vk::CommandBufferLevel::ePrimary, 1));
+  vk::CommandBuffer cb = *cbs[0];
+  vk::raii::Fence fence(ctx.device(), vk::FenceCreateInfo());
+  const std::vector<Tile> tiles = tiles_of(uint32_t(image.pixels()), list);
+  // The listed pixels of the only tile go up once; of several, each tile's before its submission.
+  if (list && tiles.size() == 1) ctx.upload(*buffers[BINDING_PIXEL_LIST], list->data(), list->size() * sizeof(uint32_t));
+  uint32_t perSubmit = 1;
   for (uint32_t sample = first; sample < end;) {
-    uint32_t n = std::min(perSubmit, end - sample);
-    cb.reset();
-    cb.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
-    reserve_queries(n * wavesPerSample * dispatchesPerWave + 1);
-    stageOf.clear();
-    if (timestamps) cb.resetQueryPool(*queries, 0, queryCapacity);
-    cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
-    cb.fillBuffer(buffers[BINDING_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
-    if (aovs) cb.fillBuffer(buffers[BINDING_AOV_ACCUM]->handle(), 0, VK_WHOLE_SIZE, 0);
-    cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
-    stage_barrier(cb);
-    if (timestamps) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
-    for (uint32_t s = sample; s < sample + n; ++s)
-      for (uint32_t start = 0; start < count; start += capacity) record_wave(cb, start, std::min(capacity, count - start), s, listed);
-    cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, readAccum->size()));
-    if (aovs) cb.copyBuffer(buffers[BINDING_AOV_ACCUM]->handle(), readAovAccum->handle(), vk::BufferCopy(0, 0, readAovAccum->size()));
-    cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
-    vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
-    cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
-    cb.end();
-    auto t0 = std::chrono::steady_clock::now();
-    ctx.device().resetFences(*fence);
-    ctx.queue().submit(vk::SubmitInfo({}, {}, cb), *fence);
-    while (ctx.device().waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
+    const uint32_t n = std::min(perSubmit, end - sample);
+    double longest = 0.0;
+    for (const Tile& tile : tiles) {
+      if (list && tiles.size() > 1)
+        ctx.upload(*buffers[BINDING_PIXEL_LIST], list->data() + tile.first, tile.count * sizeof(uint32_t));
+      double seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
+      // A ray past its share of the loop budget (trace_items.glsl): the same
+      // samples again, one ray per invocation from now on.
+      if (static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED] > 0 && tracingRays > 1) {
+        ++oneRayReruns;
+        tracingRays = 1;
+        create_tracing_pipelines();
+        seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
+      }
+      fold(image, tile, truncated);
+      collect_times();
+      progress.add(uint64_t(n) * tile.count);
+      longest = std::max(longest, seconds);
     }
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // A ray past its share of the loop budget (trace_items.glsl): the same
-    // samples again, one ray per invocation from now on.
-    if (static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED] > 0 && tracingRays > 1) {
-      ++oneRayReruns;
-      tracingRays = 1;
-      create_tracing_pipelines();
-      continue;
-    }
-    fold(image, truncated);
-    collect_times();
     sample += n;
-    progress.add(uint64_t(n) * count);
     if (afterPass && sample < end && !afterPass(image, sample)) return sample;
     // Aim for submissions of about targetSubmitSeconds: long enough to keep
     // the device busy, short enough for a live progress line. Float sums in
     // the accumulators stay exact enough for a few hundred samples.
-    if (seconds < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
+    if (longest < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
   }
   return end;
 }
 
-void WavefrontRenderer::Impl::fold(ImageStats& image, uint64_t& truncated) {
+void WavefrontRenderer::Impl::fold(ImageStats& image, const Tile& tile, uint64_t& truncated) {
   const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
-  for (size_t p = 0; p < image.pixels(); ++p) add_to_pixel(image, p, acc[p]);
+  for (size_t p = 0; p < tile.span; ++p) add_to_pixel(image, tile.base + p, acc[p]);
   AovLayout layout(image);
   if (!layout.empty()) {
     const auto* aov = static_cast<const shader::AovAccum*>(readAovAccum->mapped());
-    for (size_t p = 0; p < image.pixels(); ++p) add_aovs_to_pixel(image, layout, p, aov[p]);
+    for (size_t p = 0; p < tile.span; ++p) add_aovs_to_pixel(image, layout, tile.base + p, aov[p]);
   }
   const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
   truncated += counters[COUNTER_TRUNCATED];
@@ -200,8 +245,7 @@ uint32_t WavefrontRenderer::render(ImageStats& image, SampleRange range, Progres
 void WavefrontRenderer::update_params() {
   if (kernel_defining_params(impl_->scene.params) != kernel_defining_params(impl_->compiledParams))
     throw RenderError("internal error: the scene's parameters changed in a way its kernels were not made for");
-  shader::SceneParams params = impl_->scene.params;
-  params.counts.z = impl_->traversal_step_cap();
+  shader::SceneParams params = impl_->device_params();
   impl_->ctx.upload(*impl_->buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
 }
 

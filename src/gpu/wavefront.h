@@ -23,6 +23,10 @@ struct StageTimes {
   uint64_t dispatches[kStages] = {};
   uint64_t closestHitRays = 0;  // extension rays (camera rays included)
   uint64_t shadowRays = 0;      // next-event estimation's any-hit rays
+  // The photon map this renderer traced (photonMapLeftToDevice): the pass's
+  // wall time (the photons kernel, ordering, balancing, upload) and records.
+  double photonPassSeconds = 0.0;
+  uint64_t photonRecords = 0;
   // Rays per second of GPU time in the stage that traced them; 0 where that
   // stage did not run (the megakernel traces every ray in one kernel).
   double closest_hit_rays_per_second() const { return seconds[kExtend] > 0.0 ? double(closestHitRays) / seconds[kExtend] : 0.0; }
@@ -42,7 +46,15 @@ struct StageTimes {
 // thread and 2-14 % of its ray rate; docs/benchmarks.md).
 enum class TraversalStack { Auto, Registers, Indexed };
 
+// Who traces a photon map the scene left to its renderer
+// (CompiledScene::photonMapLeftToDevice). Auto: the photons kernel on GPUs,
+// the host's code (photon_pass.h) beside a CPU device, where lavapipe
+// traced 2M photons 1.3 to 2.5 times slower than the same code compiled
+// for the host (docs/benchmarks.md).
+enum class PhotonPass { Auto, Kernels, Host };
+
 struct WavefrontSettings {
+  PhotonPass photonPass = PhotonPass::Auto;
   uint32_t workgroupSize = WORKGROUP_SIZE;  // invocations per workgroup of every kernel
   TraversalStack stack = TraversalStack::Auto;  // the wide walk's stack (the binary walk always indexes)
   bool compaction = true;                   // later bounces dispatch only live paths (kernel.glsl)
@@ -55,6 +67,10 @@ struct WavefrontSettings {
   // scenes on two cores (docs/benchmarks.md); GPUs are not measured yet.
   bool sortByMaterial = false;
   uint32_t maxPathsPerWave = 1u << 20;  // path slots; a larger image runs in several waves
+  // Pixels whose accumulators the device holds at once (0: as many as one
+  // storage buffer allows); a larger image renders in tiles of this many
+  // consecutive pixels, each round of samples tile after tile.
+  uint32_t maxTilePixels = 0;
   double targetSubmitSeconds = 0.5;     // samples per submission grow until one takes about this long
   bool captureStatistics = false;       // keep the driver's statistics of each pipeline (kernel_statistics)
   bool specializeSpirv = true;          // apply the specialization constants to the SPIR-V before the driver (gpu/specialize.h)
@@ -91,7 +107,8 @@ const KernelVariant& default_variant(const GpuDeviceInfo& device);
 // scene is compiled, since a variant may choose the BVH layout.
 std::string resolve_variant(const std::string& variant, const std::string& deviceSelector);
 // `options` with the compile-time choices of `renderer`: a kernel variant's
-// name, or "cpu" for the CPU reference (reference_options).
+// name (its BVH; a photon map left to its kernels), or "cpu" for the CPU
+// reference (reference_options).
 RenderOptions variant_options(RenderOptions options, const std::string& renderer);
 
 class WavefrontRenderer {
@@ -146,6 +163,11 @@ class WavefrontRenderer {
   // The probes of probes.glsl (run_probe) on the GPU, one answer a query
   // (an intersection past the step cap answers PROBE_TRUNCATED).
   std::vector<shader::Hit> run_probes(const std::vector<shader::ShadowRay>& queries);
+
+  // The photons kernel's records of `count` photons of `seed` through the
+  // scene, in the host's order and with each one's photon in `axis`
+  // (trace_photons in photon_pass.h, which the tests compare).
+  std::vector<shader::Photon> trace_photons(uint32_t count, uint32_t seed);
 
   // The driver's statistics of every kernel this renderer compiled. Needs
   // settings.captureStatistics; throws RenderError naming the device if its

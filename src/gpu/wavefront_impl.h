@@ -57,13 +57,18 @@ struct WavefrontRenderer::Impl {
   // buffer per call made an H100's ray casts 4 to 5 times slower after a few
   // dozen calls. The staging buffer only where the rays' buffer is not mapped.
   std::unique_ptr<Buffer> rayStaging, readHits;
+  // trace_photons' read-back of the records, where the shadow-ray buffer is not mapped.
+  std::unique_ptr<Buffer> readRecords;
+  // Records in the photon map this renderer traced (photonMapLeftToDevice), else the scene's.
+  uint32_t photonMapSize = 0;
+  double photonPassSeconds = 0.0;  // build_photon_map's wall time
   vk::raii::DescriptorSetLayout setLayout{nullptr};
   vk::raii::PipelineLayout pipelineLayout{nullptr};
   vk::raii::DescriptorPool pool{nullptr};
   vk::raii::DescriptorSet set{nullptr};
   vk::raii::Pipeline generate{nullptr}, prepare{nullptr}, extend{nullptr}, sort{nullptr}, shade{nullptr}, connect{nullptr},
       accumulate{nullptr}, megakernel{nullptr}, raycast{nullptr}, raycastSingle{nullptr}, occlude{nullptr},
-      occludeSingle{nullptr}, probe{nullptr};
+      occludeSingle{nullptr}, probe{nullptr}, photons{nullptr};
   // Sorting by material class: one shade kernel per sort key that can occur,
   // specialized to its class (shadeKeys[i] is shadeByKey[i]'s key), the
   // misses' first.
@@ -130,6 +135,10 @@ struct WavefrontRenderer::Impl {
   // in one invocation: up to max bounces + 1 closest-hit rays and light
   // samples x max bounces shadow rays, and the bounce loop's own iterations.
   uint32_t traversal_step_cap() const;
+  // The scene's parameters as the kernels get them: the step cap of
+  // traversal_step_cap (or, wholeCap, the scene's own, for kernels that
+  // trace one ray an invocation), the photon map's size.
+  shader::SceneParams device_params(bool wholeCap = false) const;
   // Extend-shade-connect passes per wave: path_passes_max (integrator.glsl).
   uint32_t path_passes() const {
     const bool interfaces = (scene.params.kinds.w & KIND_BIT(FEATURE_MEDIA)) && (scene.params.kinds.x & KIND_BIT(MAT_INTERFACE));
@@ -216,19 +225,36 @@ struct WavefrontRenderer::Impl {
                          bool last = true);
 
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
-  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed);
+  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed, uint32_t accumBase);
+
+  // A tile: pixels [base, base + span) of the image, whose accumulators the
+  // device holds at once. Consecutive pixels: waves over the span; listed
+  // (adaptive sampling): `count` entries of the pixel list from `first`, all
+  // within the span.
+  struct Tile {
+    uint32_t base = 0, span = 0;
+    uint32_t first = 0, count = 0;
+  };
+  // The tiles of `count` consecutive pixels, or of the ascending `list`.
+  std::vector<Tile> tiles_of(uint32_t count, const std::vector<uint32_t>* list) const;
+  // Pixels a tile holds: as many as the device's buffers allow, at most
+  // settings.maxTilePixels.
+  uint32_t tilePixels = 0;
 
   // Renders samples `range` of every pixel into `image`; with adaptive
   // sampling, in batches, dropping the pixels that have converged after
   // each batch. Returns the sample reached (WavefrontRenderer::render).
   uint32_t render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass);
 
-  // Samples [first, end) of `count` pixels: consecutive ones, or (listed)
-  // those in the pixel-list buffer. Folds the results into `image`. Calls
-  // `afterPass` (if any) after each submission, and stops where it returns
-  // false; returns the sample reached.
-  uint32_t render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end, uint32_t count,
-                          bool listed, const PassHook& afterPass);
+  // Samples [first, end) of the image's pixels, or (list) of the listed
+  // ones, tile after tile each round of samples. Folds the results into
+  // `image`. Calls `afterPass` (if any) after each round, when every pixel
+  // has the same samples, and stops where it returns false; returns the
+  // sample reached.
+  uint32_t render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end,
+                          const std::vector<uint32_t>* list, const PassHook& afterPass);
+  // One submission: samples [sample, sample + n) of a tile; its seconds.
+  double submit_tile(vk::CommandBuffer cb, const vk::raii::Fence& fence, const Tile& tile, uint32_t sample, uint32_t n, bool listed);
 
   // The ray caster (raycast.comp), made on first use: renders never need it.
   // single: one ray per invocation; anyHit: the shadow rays' query. One ray
@@ -249,9 +275,22 @@ struct WavefrontRenderer::Impl {
   std::vector<shader::Hit> run_on_rays(const vk::raii::Pipeline& kernel, const vk::raii::Pipeline* single,
                                        const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds);
 
+  // The photons kernel (photons.comp), made on first use: the records of
+  // `count` photons of `seed`, in the order the host's trace_photons gives
+  // them (photon_pass.h). Throws RenderError where a photon's ray outran the
+  // step cap.
+  std::vector<shader::Photon> trace_photons(uint32_t count, uint32_t seed);
+
+  static constexpr uint64_t kPhotonBatch = 1u << 18;
+  // Traces the scene's photons (photonMapLeftToDevice; settings.photonPass
+  // says where), balances them into the map and binds it in place of the
+  // scene's empty one.
+  void build_photon_map();
+
   // Adds one submission's float accumulators into the double-precision image,
   // and its counters into the totals.
-  void fold(ImageStats& image, uint64_t& truncated);
+  // (The accumulators hold `tile`.)
+  void fold(ImageStats& image, const Tile& tile, uint64_t& truncated);
 };
 
 }  // namespace wp

@@ -748,7 +748,15 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     check_photon_mapper_scene(scene, media);
     const IntegratorSettings& s = scene.integrator;
     p.photons = glm::uvec4(0u, s.searchCount, glm::floatBitsToUint(s.searchRadius * s.searchRadius), 0u);
-    build_photon_map(out, s.photons, s.photonSeed);
+    out.photonCount = s.photons;
+    out.photonSeed = s.photonSeed;
+    out.photonMapLeftToDevice = !options.photonsOnHost;
+    if (options.photonsOnHost) {
+      const auto start = std::chrono::steady_clock::now();
+      out.photons = balance_photons(trace_photons(out));
+      p.photons.x = uint32_t(out.photons.size());
+      out.photonPassSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
   }
   return out;
 }

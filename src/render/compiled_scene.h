@@ -39,6 +39,10 @@ struct RenderOptions {
   std::optional<SamplerKind> sampler;
   // AOV layers to record beside the colour (layers.glsl names).
   std::vector<std::string> aovs;
+  // The photon mapper's photons: traced while compiling, on the host, or
+  // left to the GPU renderer, which traces them with its kernels
+  // (CompiledScene::photonMapLeftToDevice).
+  bool photonsOnHost = true;
 };
 
 struct CompiledScene {
@@ -60,6 +64,12 @@ struct CompiledScene {
   std::vector<shader::Medium> media;  // 0: the vacuum, then the scene's (Scene::media)
   std::vector<uint32_t> volumeWords;   // BINDING_VOLUMES: grid media's NanoVDB grids and majorant grids
   std::vector<shader::Photon> photons;  // BINDING_PHOTONS: the photon map (INTEGRATOR_PHOTONS), a balanced kd-tree
+  // The photons the map is traced from, and their seed; where the map was
+  // left to the device (RenderOptions::photonsOnHost false), photons is
+  // empty and each GPU renderer traces it.
+  uint32_t photonCount = 0, photonSeed = 0;
+  bool photonMapLeftToDevice = false;
+  double photonPassSeconds = 0.0;  // the host's trace and balance, where it built the map
   std::vector<float> floatTables;  // BINDING_FLOAT_TABLES: the sheen's albedo, the environment map's distribution
   std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)
   EightBitCurve eightBitCurve = EightBitCurve::Srgb;  // Scene::eightBitCurve

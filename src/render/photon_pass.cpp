@@ -4,34 +4,50 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 
+#include "util/error.h"
 
 namespace wp {
 
-void build_photon_map(CompiledScene& cs, uint32_t count, uint32_t seed) {
+std::vector<shader::Photon> trace_photons(const CompiledScene& cs) {
   shader::SceneView view = cs.view();  // read-only: shared by the threads
-  // Each photon's records in its own list, so the map does not depend on
-  // how the threads share the work; a block of photons at a time.
+  // Each photon's records in its own list, so that the order does not depend
+  // on how the threads share the work; a block of photons at a time.
   constexpr uint32_t kBlock = 1u << 14;
+  const uint32_t count = cs.photonCount;
   std::vector<std::vector<shader::Photon>> records(std::min(count, kBlock));
-  PhotonMap map;
+  std::vector<shader::Photon> out;
+  std::atomic<uint32_t> truncated{0};
   for (uint32_t first = 0; first < count; first += kBlock) {
     const uint32_t n = std::min(kBlock, count - first);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 256), [&](const tbb::blocked_range<uint32_t>& r) {
       for (uint32_t i = r.begin(); i < r.end(); ++i) {
         records[i].clear();
-        shader::SceneView::PhotonPath path = view.photon_emit(first + i, count, seed);
+        shader::SceneView::PhotonPath path = view.photon_emit(first + i, count, cs.photonSeed);
         shader::Photon ph;
-        while (path.alive != 0u)
-          if (view.photon_bounce(path, ph)) records[i].push_back(ph);
+        while (path.alive != 0u) {
+          const uint32_t status = view.photon_bounce(path, ph);
+          if (status & PHOTON_STORED) {
+            ph.axis = first + i;
+            records[i].push_back(ph);
+          }
+          if (status & PHOTON_TRUNCATED) truncated.fetch_add(1, std::memory_order_relaxed);
+        }
       }
     });
-    for (uint32_t i = 0; i < n; ++i)
-      for (const shader::Photon& ph : records[i]) map.add(ph.position, ph.power, ph.from);
+    for (uint32_t i = 0; i < n; ++i) out.insert(out.end(), records[i].begin(), records[i].end());
   }
+  if (truncated > 0)
+    throw RenderError(std::to_string(truncated.load()) + " photon(s) outran the traversal step cap; the photon map would be wrong");
+  return out;
+}
+
+std::vector<shader::Photon> balance_photons(const std::vector<shader::Photon>& records) {
+  PhotonMap map;
+  for (const shader::Photon& ph : records) map.add(ph.position, ph.power, ph.from);
   map.build();
-  cs.photons = pack_photon_map(map);
-  cs.params.photons.x = uint32_t(map.size());
+  return pack_photon_map(map);
 }
 
 std::vector<shader::Photon> pack_photon_map(const PhotonMap& map) {

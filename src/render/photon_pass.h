@@ -1,7 +1,8 @@
 // photon_pass.h — the photon map of a photon-mapping render
 // (INTEGRATOR_PHOTONS): photons traced from the lights by the shared code
-// (photons.glsl, trace_photon) on the host, balanced into a kd-tree and
-// packed for the kernels and the CPU reference, which both gather from it.
+// (photons.glsl), on the host here or by the GPU renderer's photons kernel
+// (WavefrontRenderer, photon_tracer.cpp), then balanced into a kd-tree that
+// the kernels and the CPU reference both gather from.
 #pragma once
 
 #include "bvh/photon_map.h"
@@ -9,12 +10,18 @@
 
 namespace wp {
 
-// A built photon map as the kernels read it (BINDING_PHOTONS).
-std::vector<shader::Photon> pack_photon_map(const PhotonMap& map);
+// The records of cs.photonCount photons of seed cs.photonSeed, traced on
+// the host: photon by photon, each one's in the order it left them, with
+// the photon's index in `axis` (which balance_photons sets). Throws
+// RenderError where a photon's ray outran the traversal step cap.
+std::vector<shader::Photon> trace_photons(const CompiledScene& cs);
 
-// Traces `count` photons through compiled scene cs (seed: which photons)
-// and stores their records in cs.photons, a balanced kd-tree; sets
-// cs.params.photons.x to their number.
-void build_photon_map(CompiledScene& cs, uint32_t count, uint32_t seed);
+// Photon records, in the order trace_photons gives them, balanced into the
+// kd-tree the kernels read (BINDING_PHOTONS). The same records give the
+// same map.
+std::vector<shader::Photon> balance_photons(const std::vector<shader::Photon>& records);
+
+// A built photon map as the kernels read it.
+std::vector<shader::Photon> pack_photon_map(const PhotonMap& map);
 
 }  // namespace wp

@@ -361,7 +361,7 @@ class Viewer {
     compiled_ = std::make_unique<CompiledScene>(compile_scene(scene_, options()));
     if (bounces_ < 0) bounces_ = int(compiled_->params.image.z);
     acc_.set_stratified(compiled_->params.mode.y == SAMPLER_CMJ);
-    WavefrontSettings settings = kernel_variant(variant_).settings;
+    WavefrontSettings settings = cli::renderer_settings(kernel_variant(variant_), r_);
     settings.targetSubmitSeconds = 1.0 / 15.0;  // a refresh after each submission
     renderer_ = std::make_unique<WavefrontRenderer>(*ctx_, *compiled_, settings);
     restart();
