@@ -8,7 +8,8 @@
 # renders (setup included), participating media against the same scene
 # without (scripts/bench-media.sh), grid media's majorants
 # (scripts/bench-majorants.sh), the photon mapper against the path tracer
-# (scripts/bench-photons.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
+# (scripts/bench-photons.sh, the photon pass by the kernels included), an 8K
+# render in tiles (scripts/bench-tiles.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
 # bin folder). About 3 minutes on an H200; on lavapipe about an hour.
 # Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
@@ -76,6 +77,9 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   WIDTH=960 HEIGHT=1280 VARIANTS="m1 m8 default" scripts/bench-majorants.sh "$build" 3 "${dev[@]}"
   stage "the photon mapper against the path tracer on caustics, 768x576"
   WIDTH=768 HEIGHT=576 REF_SPP=4096 scripts/bench-photons.sh "$build" "${dev[@]}"
+
+  stage "tiles: 2048x2048 against 8K, the Cornell box at 1 spp"
+  scripts/bench-tiles.sh "$build" 2048x2048 7680x4320 -- "${dev[@]}"
 
   stage "scaling"
   scripts/bench-scale.sh "$build" 1 10 100

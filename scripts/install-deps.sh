@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools spirv-tools
-  libglm-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libtinygltf-dev libpugixml-dev libstb-dev libtinyexr-dev libtbb-dev libnanovdb-dev
+  libglm-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libtinygltf-dev libpugixml-dev libstb-dev libopenexr-dev libtbb-dev libnanovdb-dev
   libembree-dev python3-numpy python3-matplotlib
   libglfw3-dev xvfb xauth xdotool imagemagick
   libgtest-dev chromium

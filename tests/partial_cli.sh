@@ -46,6 +46,18 @@ check "resumed in tiles: the samples grew ($stopped to $resumed)" $([ "${resumed
 "$wavepath" compare --images "$work/tile-res.exr" "$work/tile-whole.exr" >"$work/out" 2>&1
 check "resumed in tiles: agrees with one uninterrupted render of samples $resumed" $?
 
+# Merge memory: parts are read and added a block of rows at a time, so the
+# merge's peak resident memory stays below the sums of the image it writes
+# (2048x1024: 151 MB in double); a merge holding the image whole needs twice that.
+for i in 0 1; do
+  "$wavepath" render "$data/features/materials.json" -r 2048 1024 --spp 2 --samples $i:$((i + 1)) --cpu -q -o "$work/big$i.png"
+done
+peak=$(python3 -c 'import resource, subprocess, sys
+subprocess.run(sys.argv[1:], check=True)
+print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024)' "$wavepath" merge "$work/big0.exr" "$work/big1.exr" -q -o "$work/big.png")
+check "a 2048x1024 merge peaks at ${peak} MiB, under the image's 144 MiB of sums" $([ -n "$peak" ] && [ "$peak" -lt 144 ] && [ -s "$work/big.png" ]; echo $?)
+rm -f "$work"/big*.exr
+
 # The photon mapper: parts whose photon maps were traced by the kernels
 # (--photon-pass kernels) and by the CPU reference merge into what one
 # render gives; the pass is reported.

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <gtest/gtest.h>
-#include <tinyexr.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +20,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "cpu/reference.h"
+#include "image/exr.h"
 #include "render/compiled_scene.h"
 #include "render/shader_cpp.h"
 #include "scene/load_scene.h"
@@ -70,18 +70,19 @@ inline void expect_error(const std::string& text, std::initializer_list<const ch
   }
 }
 
-// The red channel of any EXR tinyexr reads (a plain RGB image too).
+// The red channel of an EXR (a render's or a plain RGB image's).
 inline std::vector<float> read_exr_red_channel(const std::string& path, int& w, int& h) {
-  float* rgba = nullptr;
-  const char* err = nullptr;
-  if (LoadEXR(&rgba, &w, &h, path.c_str(), &err) != 0) {
-    ADD_FAILURE() << path << ": " << (err ? err : "?");
+  try {
+    ExrReader exr(path);
+    w = exr.width();
+    h = exr.height();
+    std::vector<float> red(size_t(w) * size_t(h));
+    exr.read(0, h, {{"R", red.data()}}, {ExrType::Float});
+    return red;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
     return {};
   }
-  std::vector<float> red(size_t(w) * size_t(h));
-  for (size_t i = 0; i < red.size(); ++i) red[i] = rgba[4 * i];
-  std::free(rgba);
-  return red;
 }
 
 // Histogram of directions over (cos theta, phi) cells of equal solid angle,

@@ -124,7 +124,12 @@ RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const
   std::error_code ec;
   if (a.resume == a.checkpoint && !std::filesystem::exists(a.resume, ec)) return plan;  // the first run of a restartable render
   PartialFile part = read_partial(a.resume);
-  PartialFile self{"this render", std::move(plan.image), identity, {}};  // its image is replaced by the part's below
+  PartialFile self;  // its image is replaced by the part's below
+  self.path = "this render";
+  self.width = compiled.width;
+  self.height = compiled.height;
+  self.aovs = compiled.aovs;
+  self.record = identity;
   require_same_render(self, part);
   for (SampleRange r : part.ranges) {
     if (r.begin < plan.range.begin || r.end > plan.range.end)

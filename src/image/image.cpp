@@ -1,22 +1,17 @@
 #include "image/image.h"
 
 #include <stb_image_write.h>
-#include <tinyexr.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <deque>
 #include <filesystem>
-#include <map>
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include "../../shaders/shared/layers.glsl"
 #include "../../shaders/shared/limits.glsl"
+#include "image/exr.h"
 #include "image/image_file.h"
 #include "util/error.h"
 
@@ -201,14 +196,6 @@ void write_sample_rate_png(const std::string& path, const ImageStats& image, int
 
 namespace {
 
-// One EXR channel to write: its name, pixel type and values.
-struct ExrPlane {
-  std::string name;
-  int type = TINYEXR_PIXELTYPE_FLOAT;
-  std::vector<float> f;
-  std::vector<uint32_t> u;
-};
-
 // The EXR names of an image's channels: the colour's as they are (R, G, B, Y),
 // an AOV layer's as LAYER.CHANNEL.
 std::string channel_name(const ImageLayer& l, size_t c) {
@@ -223,264 +210,210 @@ std::string* record_field(RenderRecord& r, int i) {
   return fields[i];
 }
 
-}  // namespace
+// One channel of a render's EXR and where its values come from.
+struct RenderChannel {
+  enum Kind { Mean, Variance, Count, AovMean, SumHi, SumLo } kind;
+  size_t layer = 0, channel = 0;  // of the image's layers
+  int moment = 0;                 // SumHi / SumLo: 0 the sum, 1 the sum of squares
+  std::string name;
+};
 
-void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& recordIn, bool exactSums) {
-  const size_t n = image.pixels();
-  const bool sums = exactSums || image.layers.size() > 1;  // AOV layers' variances are in their sums alone
-  std::deque<ExrPlane> planes;  // a deque: the references plane() returns stay valid as it grows
-  auto plane = [&](const std::string& name, int type) -> ExrPlane& {
-    planes.push_back({name, type, {}, {}});
-    if (type == TINYEXR_PIXELTYPE_FLOAT) planes.back().f.resize(n);
-    else planes.back().u.resize(n);
-    return planes.back();
-  };
-  // What a viewer shows: the colour's mean, variance and count.
+std::vector<RenderChannel> render_channels(const std::vector<ImageLayer>& layers, bool sums) {
+  std::vector<RenderChannel> out;
   const char* rgb[3] = {"R", "G", "B"};
-  ExrPlane* mean[3];
-  ExrPlane* var[3];
-  for (int c = 0; c < 3; ++c) {
-    mean[c] = &plane(rgb[c], TINYEXR_PIXELTYPE_FLOAT);
-    var[c] = &plane(std::string("var.") + rgb[c], TINYEXR_PIXELTYPE_FLOAT);
+  for (size_t c = 0; c < 3; ++c) {
+    out.push_back({RenderChannel::Mean, 0, c, 0, rgb[c]});
+    out.push_back({RenderChannel::Variance, 0, c, 0, std::string("var.") + rgb[c]});
   }
-  for (size_t p = 0; p < n; ++p) {
-    const glm::dvec3 m = image.mean(p), v = image.variance(p);
-    for (int c = 0; c < 3; ++c) {
-      mean[c]->f[p] = float(m[c]);
-      var[c]->f[p] = float(v[c]);
-    }
-  }
-  ExrPlane& count = plane("n", TINYEXR_PIXELTYPE_FLOAT);
-  for (size_t p = 0; p < n; ++p) count.f[p] = float(image.count[p]);
-  // The AOV layers' means; depth over the samples that hit (A, the
-  // coverage, is its last channel), infinite where none did.
-  for (size_t li = 1; li < image.layers.size(); ++li) {
-    const ImageLayer& l = image.layers[li];
-    bool depth = l.name == "depth";
-    for (size_t c = 0; c < l.channels.size(); ++c) {
-      ExrPlane& m = plane(channel_name(l, c), TINYEXR_PIXELTYPE_FLOAT);
-      for (size_t p = 0; p < n; ++p) {
-        double s = image.sum[p * image.stride + l.first + c];
-        double over = depth && c == 0 ? image.sum[p * image.stride + l.first + 1] : image.count[p];
-        m.f[p] = over > 0.0 ? float(s / over) : (depth && c == 0 ? INFINITY : 0.0f);
+  out.push_back({RenderChannel::Count, 0, 0, 0, "n"});
+  for (size_t li = 1; li < layers.size(); ++li)
+    for (size_t c = 0; c < layers[li].channels.size(); ++c) out.push_back({RenderChannel::AovMean, li, c, 0, channel_name(layers[li], c)});
+  for (size_t li = 0; sums && li < layers.size(); ++li) {
+    for (size_t c = 0; c < layers[li].channels.size(); ++c) {
+      for (int moment = 0; moment < 2; ++moment) {
+        const std::string base = std::string(moment == 0 ? "sum." : "sumsq.") + channel_name(layers[li], c);
+        out.push_back({RenderChannel::SumHi, li, c, moment, base + ".hi"});
+        out.push_back({RenderChannel::SumLo, li, c, moment, base + ".lo"});
       }
     }
   }
-  // The exact sums, for merging: each double as its high and low 32 bits.
-  for (const ImageLayer& l : sums ? image.layers : std::vector<ImageLayer>{}) {
-    for (size_t c = 0; c < l.channels.size(); ++c) {
-      for (int moment = 0; moment < 2; ++moment) {
-        const std::vector<double>& src = moment == 0 ? image.sum : image.sumSq;
-        std::string base = std::string(moment == 0 ? "sum." : "sumsq.") + channel_name(l, c);
-        ExrPlane& hi = plane(base + ".hi", TINYEXR_PIXELTYPE_UINT);
-        ExrPlane& lo = plane(base + ".lo", TINYEXR_PIXELTYPE_UINT);
-        for (size_t p = 0; p < n; ++p) {
+  return out;
+}
+
+bool is_word(const RenderChannel& c) {
+  return c.kind == RenderChannel::SumHi || c.kind == RenderChannel::SumLo;
+}
+
+}  // namespace
+
+RenderExrWriter::RenderExrWriter(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers,
+                                 const RenderRecord& record, bool exactSums)
+    : layers_(layers), sums_(exactSums || layers.size() > 1) {  // AOV layers' variances are in their sums alone
+  std::vector<ExrChannel> channels;
+  for (const RenderChannel& c : render_channels(layers_, sums_)) channels.push_back({c.name, is_word(c) ? ExrType::Uint : ExrType::Float});
+  std::vector<std::pair<std::string, std::string>> attributes;
+  RenderRecord r = record;
+  for (int i = 0; i < 6; ++i)
+    if (!record_field(r, i)->empty()) attributes.emplace_back(kRecordKeys[i], *record_field(r, i));
+  writer_ = std::make_unique<ExrWriter>(path, width, height, channels, attributes, !sums_);
+}
+
+RenderExrWriter::~RenderExrWriter() = default;
+
+void RenderExrWriter::write(const ImageStats& rows) {
+  const size_t n = rows.pixels();
+  const std::vector<RenderChannel> channels = render_channels(layers_, sums_);
+  std::vector<std::vector<uint32_t>> values(channels.size(), std::vector<uint32_t>(n));
+  std::vector<ExrPlane> planes;
+  for (size_t k = 0; k < channels.size(); ++k) {
+    const RenderChannel& ch = channels[k];
+    const ImageLayer& l = rows.layers[ch.layer];
+    uint32_t* out = values[k].data();
+    auto put = [&](size_t p, float v) { std::memcpy(&out[p], &v, sizeof v); };
+    const bool depth = l.name == "depth";
+    for (size_t p = 0; p < n; ++p) {
+      switch (ch.kind) {
+        case RenderChannel::Mean: put(p, float(rows.mean(p)[int(ch.channel)])); break;
+        case RenderChannel::Variance: put(p, float(rows.variance(p)[int(ch.channel)])); break;
+        case RenderChannel::Count: put(p, float(rows.count[p])); break;
+        case RenderChannel::AovMean: {
+          // Depth over the samples that hit (A, the coverage, is its last
+          // channel), infinite where none did.
+          const double sum = rows.sum[p * rows.stride + l.first + ch.channel];
+          const double over = depth && ch.channel == 0 ? rows.sum[p * rows.stride + l.first + 1] : rows.count[p];
+          put(p, over > 0.0 ? float(sum / over) : (depth && ch.channel == 0 ? INFINITY : 0.0f));
+          break;
+        }
+        case RenderChannel::SumHi:
+        case RenderChannel::SumLo: {
+          const std::vector<double>& src = ch.moment == 0 ? rows.sum : rows.sumSq;
           uint64_t bits;
-          std::memcpy(&bits, &src[p * image.stride + l.first + c], sizeof bits);
-          hi.u[p] = uint32_t(bits >> 32);
-          lo.u[p] = uint32_t(bits);
+          std::memcpy(&bits, &src[p * rows.stride + l.first + ch.channel], sizeof bits);
+          out[p] = ch.kind == RenderChannel::SumHi ? uint32_t(bits >> 32) : uint32_t(bits);
+          break;
         }
       }
     }
+    planes.push_back({ch.name, out});
   }
-  // EXR wants channels sorted by name.
-  std::sort(planes.begin(), planes.end(), [](const ExrPlane& a, const ExrPlane& b) { return a.name < b.name; });
+  writer_->write(rows.height, planes);
+}
 
-  RenderRecord record = recordIn;
-  std::vector<EXRAttribute> attributes;
-  for (int i = 0; i < 6; ++i) {
-    const std::string& value = *record_field(record, i);
-    if (value.empty()) continue;
-    EXRAttribute a{};
-    std::snprintf(a.name, sizeof a.name, "%s", kRecordKeys[i]);
-    std::snprintf(a.type, sizeof a.type, "string");
-    a.value = reinterpret_cast<unsigned char*>(const_cast<char*>(value.data()));
-    a.size = int(value.size());
-    attributes.push_back(a);
-  }
+int exr_block_rows(int width, const std::vector<ImageLayer>& layers) {
+  const size_t rowBytes = size_t(std::max(width, 1)) * (2 * ImageStats(1, 1, layers).stride + 1) * sizeof(double);
+  return int(std::max<size_t>(1, (size_t(16) << 20) / rowBytes));
+}
 
-  EXRHeader header;
-  InitEXRHeader(&header);
-  EXRImage exr;
-  InitEXRImage(&exr);
-  const int kChannels = int(planes.size());
-  std::vector<unsigned char*> ptrs(planes.size());
-  std::vector<EXRChannelInfo> channels(planes.size());
-  std::vector<int> types(planes.size());
-  for (size_t c = 0; c < planes.size(); ++c) {
-    ptrs[c] = planes[c].type == TINYEXR_PIXELTYPE_FLOAT ? reinterpret_cast<unsigned char*>(planes[c].f.data())
-                                                        : reinterpret_cast<unsigned char*>(planes[c].u.data());
-    std::snprintf(channels[c].name, sizeof(channels[c].name), "%s", planes[c].name.c_str());
-    types[c] = planes[c].type;
-  }
-  exr.images = ptrs.data();
-  exr.num_channels = kChannels;
-  exr.width = image.width;
-  exr.height = image.height;
-  header.num_channels = kChannels;
-  header.channels = channels.data();
-  header.pixel_types = types.data();
-  header.requested_pixel_types = types.data();
-  header.compression_type = sums ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
-  header.num_custom_attributes = int(attributes.size());
-  header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
+ImageStats ImageStats::rows(int y0, int y1) const {
+  ImageStats out(width, y1 - y0, layers);
+  const size_t first = size_t(y0) * size_t(width), n = out.pixels();
+  std::copy(sum.begin() + ptrdiff_t(first * stride), sum.begin() + ptrdiff_t((first + n) * stride), out.sum.begin());
+  std::copy(sumSq.begin() + ptrdiff_t(first * stride), sumSq.begin() + ptrdiff_t((first + n) * stride), out.sumSq.begin());
+  std::copy(count.begin() + ptrdiff_t(first), count.begin() + ptrdiff_t(first + n), out.count.begin());
+  return out;
+}
+
+void ImageStats::set_rows(int y0, const ImageStats& r) {
+  const size_t first = size_t(y0) * size_t(width);
+  std::copy(r.sum.begin(), r.sum.end(), sum.begin() + ptrdiff_t(first * stride));
+  std::copy(r.sumSq.begin(), r.sumSq.end(), sumSq.begin() + ptrdiff_t(first * stride));
+  std::copy(r.count.begin(), r.count.end(), count.begin() + ptrdiff_t(first));
+}
+
+void write_exr(const std::string& path, const ImageStats& image, const RenderRecord& record, bool exactSums) {
   write_atomically(path, "EXR", [&](const std::string& tmp, std::string& error) {
-    const char* err = nullptr;
-    int rc = SaveEXRImageToFile(&exr, &header, tmp.c_str(), &err);
-    if (err) {
-      error = err;
-      FreeEXRErrorMessage(err);
+    try {
+      RenderExrWriter w(tmp, image.width, image.height, image.layers, record, exactSums);
+      // A block of rows at a time: the file's channels of a whole 8K image
+      // would take 3 GB more.
+      const int blockRows = exr_block_rows(image.width, image.layers);
+      for (int y0 = 0; y0 < image.height; y0 += blockRows) w.write(image.rows(y0, std::min(image.height, y0 + blockRows)));
+      return true;
+    } catch (const std::exception& e) {
+      error = e.what();
+      return false;
     }
-    return rc == TINYEXR_SUCCESS;
   });
 }
 
-namespace {
-
-// A file mapped read-only: tinyexr's *FromFile functions read a whole file
-// into a buffer of their own first, a third of a merge's memory at 4096x4096.
-class MappedFile {
- public:
-  explicit MappedFile(const std::string& path) {
-    int fd = ::open(path.c_str(), O_RDONLY);
-    if (fd < 0) return;
-    struct stat st {};
-    if (::fstat(fd, &st) == 0 && st.st_size > 0) {
-      void* p = ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
-      if (p != MAP_FAILED) {
-        data_ = static_cast<const unsigned char*>(p);
-        size_ = size_t(st.st_size);
-      }
-    }
-    ::close(fd);
-  }
-  ~MappedFile() {
-    if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
-  }
-  MappedFile(const MappedFile&) = delete;
-  MappedFile& operator=(const MappedFile&) = delete;
-  const unsigned char* data() const { return data_; }
-  size_t size() const { return size_; }
-
- private:
-  const unsigned char* data_ = nullptr;
-  size_t size_ = 0;
-};
-
-}  // namespace
-
-ImageStats read_exr(const std::string& path, RenderRecord* recordOut) {
-  MappedFile file(path);
-  EXRVersion version;
-  if (!file.data() || ParseEXRVersionFromMemory(&version, file.data(), file.size()) != TINYEXR_SUCCESS)
-    throw InputError(path + ": not an OpenEXR file (or cannot be read)");
-  EXRHeader header;
-  InitEXRHeader(&header);
-  const char* err = nullptr;
-  auto fail = [&](const std::string& what) {
-    std::string msg = path + ": " + what + (err ? std::string(": ") + err : "");
-    if (err) FreeEXRErrorMessage(err);
-    throw InputError(msg);
-  };
-  if (ParseEXRHeaderFromMemory(&header, &version, file.data(), file.size(), &err) != TINYEXR_SUCCESS) fail("bad EXR header");
-  // tinyexr allocates whatever the header declares before decoding: refuse
-  // sizes no render has, and more pixel data than deflate (at most about
-  // 1032:1) can have packed into the file.
-  {
-    const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1;
-    const long long h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
-    const long long channels = header.num_channels;
-    const bool renderSized = w > 0 && h > 0 && w <= MAX_IMAGE_SIZE && h <= MAX_IMAGE_SIZE && channels <= 256;
-    if (!renderSized || w * h * channels * 4 > 1100LL * (long long)file.size()) {
-      FreeEXRHeader(&header);
-      throw InputError(path + ": EXR declares " + std::to_string(w) + "x" + std::to_string(h) + " pixels of " +
-                       std::to_string(channels) + " channels, more than a wavepath render or the file holds");
-    }
-  }
-  // Floats as floats, the exact sums' words as they are.
-  for (int c = 0; c < header.num_channels; ++c)
-    header.requested_pixel_types[c] = header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT ? TINYEXR_PIXELTYPE_UINT : TINYEXR_PIXELTYPE_FLOAT;
-  RenderRecord record;
-  for (int a = 0; a < header.num_custom_attributes; ++a) {
-    const EXRAttribute& attr = header.custom_attributes[a];
-    for (int i = 0; i < 6; ++i) {
-      if (std::strcmp(attr.name, kRecordKeys[i]) == 0 && std::strcmp(attr.type, "string") == 0 && attr.size >= 0)
-        record_field(record, i)->assign(reinterpret_cast<const char*>(attr.value), size_t(attr.size));
-    }
-  }
-  EXRImage exr;
-  InitEXRImage(&exr);
-  if (LoadEXRImageFromMemory(&exr, &header, file.data(), file.size(), &err) != TINYEXR_SUCCESS) {
-    FreeEXRHeader(&header);
-    fail("cannot decode EXR");
-  }
-  // Channels by name: float planes and the words of the exact sums.
-  std::map<std::string, const float*> floats;
-  std::map<std::string, const uint32_t*> words;
-  for (int c = 0; c < header.num_channels; ++c) {
-    const unsigned char* data = exr.images ? exr.images[c] : nullptr;
-    if (!data) continue;
-    if (header.pixel_types[c] == TINYEXR_PIXELTYPE_UINT) words[header.channels[c].name] = reinterpret_cast<const uint32_t*>(data);
-    else floats[header.channels[c].name] = reinterpret_cast<const float*>(data);
-  }
-  std::string problem;
+RenderExrReader::RenderExrReader(const std::string& path) : file_(path), path_(path) {
   std::string missing;
   for (const char* n : {"R", "G", "B", "n", "var.R", "var.G", "var.B"})
-    if (!floats.count(n)) missing += std::string(missing.empty() ? "" : ", ") + n;
+    if (!file_.type_of(n)) missing += std::string(missing.empty() ? "" : ", ") + n;
+  if (!missing.empty()) throw InputError(path + ": EXR lacks the channels wavepath writes (" + missing + "): not a wavepath render");
+  for (int i = 0; i < 6; ++i) *record_field(record_, i) = file_.attribute(kRecordKeys[i]);
   // The AOV layers the file holds sums of (their means alone carry no
   // variance: a file with AOVs always has the sums).
   std::vector<std::string> aovs;
   for (const ImageLayer& l : image_layers(all_aov_names()))
-    if (l.name != "color" && words.count("sum." + channel_name(l, 0) + ".hi")) aovs.push_back(l.name);
-  ImageStats out;
-  if (missing.empty()) {
-    out = ImageStats(exr.width, exr.height, image_layers(aovs));
-    const float* countPlane = floats["n"];
-    for (size_t p = 0; p < out.pixels(); ++p) out.count[p] = countPlane[p];
-    // Exact sums where every channel has both words of both moments.
-    bool exact = true;
-    for (const ImageLayer& l : out.layers)
-      for (size_t c = 0; c < l.channels.size(); ++c)
-        for (const char* m : {"sum.", "sumsq."})
-          exact = exact && words.count(m + channel_name(l, c) + ".hi") && words.count(m + channel_name(l, c) + ".lo");
-    record.exactSums = exact;
-    if (exact) {
-      for (const ImageLayer& l : out.layers) {
-        for (size_t c = 0; c < l.channels.size(); ++c) {
-          for (int moment = 0; moment < 2; ++moment) {
-            std::string base = std::string(moment == 0 ? "sum." : "sumsq.") + channel_name(l, c);
-            const uint32_t* hi = words[base + ".hi"];
-            const uint32_t* lo = words[base + ".lo"];
-            std::vector<double>& dst = moment == 0 ? out.sum : out.sumSq;
-            for (size_t p = 0; p < out.pixels(); ++p) {
-              uint64_t bits = uint64_t(hi[p]) << 32 | lo[p];
-              std::memcpy(&dst[p * out.stride + l.first + c], &bits, sizeof bits);
-            }
-          }
-        }
-      }
-    } else {
-      // A file without them (written by an older wavepath or another
-      // program): the colour's sums from mean, variance and count, to float
-      // precision; no illuminance squares, no AOVs.
-      const char* rgb[3] = {"R", "G", "B"};
-      for (size_t p = 0; p < out.pixels(); ++p) {
-        double n = out.count[p];
-        for (int c = 0; c < 3; ++c) {
-          double m = floats[rgb[c]][p];
-          double v = floats[std::string("var.") + rgb[c]][p];
-          out.sum[p * out.stride + size_t(c)] = m * n;
-          out.sumSq[p * out.stride + size_t(c)] = v * std::max(n - 1.0, 0.0) + n * m * m;
-        }
-        out.sum[p * out.stride + ImageStats::kY] = 0.2126 * out.sum[p * out.stride] + 0.7152 * out.sum[p * out.stride + 1] +
-                                                   0.0722 * out.sum[p * out.stride + 2];
-      }
+    if (l.name != "color" && file_.type_of("sum." + channel_name(l, 0) + ".hi")) aovs.push_back(l.name);
+  layers_ = image_layers(aovs);
+  // Exact sums where every channel has both words of both moments.
+  bool exact = true;
+  for (const RenderChannel& c : render_channels(layers_, true))
+    if (is_word(c)) exact = exact && file_.type_of(c.name);
+  record_.exactSums = exact;
+}
+
+ImageStats RenderExrReader::rows(int y0, int y1) {
+  ImageStats out(width(), y1 - y0, layers_);
+  const size_t n = out.pixels();
+  const std::vector<RenderChannel> channels = render_channels(layers_, record_.exactSums);
+  std::vector<std::vector<uint32_t>> values(channels.size(), std::vector<uint32_t>(n));
+  std::vector<ExrPlane> planes;
+  std::vector<ExrType> types;
+  for (size_t k = 0; k < channels.size(); ++k) {
+    // The AOVs' means are in their sums; so are the colour's, where the file has them.
+    const bool inSums = channels[k].kind == RenderChannel::AovMean ||
+                        (record_.exactSums && (channels[k].kind == RenderChannel::Mean || channels[k].kind == RenderChannel::Variance));
+    if (inSums) continue;
+    planes.push_back({channels[k].name, values[k].data()});
+    types.push_back(is_word(channels[k]) ? ExrType::Uint : ExrType::Float);
+  }
+  file_.read(y0, y1, planes, types);
+  auto f = [&](size_t k, size_t p) {
+    float v;
+    std::memcpy(&v, &values[k][p], sizeof v);
+    return double(v);
+  };
+  for (size_t k = 0; k < channels.size(); ++k) {
+    const RenderChannel& ch = channels[k];
+    if (ch.kind == RenderChannel::Count)
+      for (size_t p = 0; p < n; ++p) out.count[p] = f(k, p);
+    if (ch.kind != RenderChannel::SumHi) continue;
+    // Its .lo is the next channel.
+    std::vector<double>& dst = ch.moment == 0 ? out.sum : out.sumSq;
+    const size_t at = out.layers[ch.layer].first + ch.channel;
+    for (size_t p = 0; p < n; ++p) {
+      const uint64_t bits = uint64_t(values[k][p]) << 32 | values[k + 1][p];
+      std::memcpy(&dst[p * out.stride + at], &bits, sizeof bits);
     }
   }
-  FreeEXRImage(&exr);
-  FreeEXRHeader(&header);
-  if (!missing.empty()) throw InputError(path + ": EXR lacks the channels wavepath writes (" + missing + "): not a wavepath render");
-  if (recordOut) *recordOut = record;
+  if (!record_.exactSums) {
+    // A file without them (written by an older wavepath or another
+    // program): the colour's sums from mean, variance and count, to float
+    // precision; no illuminance squares, no AOVs. Channels 0-5 are R,
+    // var.R, G, var.G, B, var.B (render_channels).
+    for (size_t p = 0; p < n; ++p) {
+      const double count = out.count[p];
+      for (size_t c = 0; c < 3; ++c) {
+        const double m = f(2 * c, p), v = f(2 * c + 1, p);
+        out.sum[p * out.stride + c] = m * count;
+        out.sumSq[p * out.stride + c] = v * std::max(count - 1.0, 0.0) + count * m * m;
+      }
+      out.sum[p * out.stride + ImageStats::kY] =
+          0.2126 * out.sum[p * out.stride] + 0.7152 * out.sum[p * out.stride + 1] + 0.0722 * out.sum[p * out.stride + 2];
+    }
+  }
+  return out;
+}
+
+ImageStats read_exr(const std::string& path, RenderRecord* record) {
+  RenderExrReader r(path);
+  if (record) *record = r.record();
+  ImageStats out(r.width(), r.height(), r.layers());
+  const int blockRows = exr_block_rows(r.width(), r.layers());
+  for (int y0 = 0; y0 < r.height(); y0 += blockRows) out.set_rows(y0, r.rows(y0, std::min(r.height(), y0 + blockRows)));
   return out;
 }
 

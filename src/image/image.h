@@ -7,9 +7,11 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "image/exr.h"
 #include "image/image_file.h"
 
 namespace wp {
@@ -62,6 +64,9 @@ struct ImageStats {
   // Adds another image's sums and counts (same size and layers) to this one:
   // the exact merge of two disjoint sample ranges, in double precision.
   void add(const ImageStats& other);
+  // Rows [y0, y1) as an image of their own, and such rows put back from row y0.
+  ImageStats rows(int y0, int y1) const;
+  void set_rows(int y0, const ImageStats& rows);
 };
 
 // A layer of `image` seen as a colour image (its first three channels as
@@ -114,6 +119,46 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
 // Reads what write_exr wrote: the exact sums where the file has them, else
 // sums rebuilt from the float mean, variance and count (to float precision).
 ImageStats read_exr(const std::string& path, RenderRecord* record = nullptr);
+
+// Rows of a width-pixel image with `layers` to read or write an EXR by: about
+// 16 MiB of sums.
+int exr_block_rows(int width, const std::vector<ImageLayer>& layers);
+
+// write_exr's file a block of rows at a time (wavepath merge): the layers
+// and the record up front, then the rows top to bottom, `height` in all.
+// Into `path` as it is: the caller writes a temporary file (write_atomically).
+class RenderExrWriter {
+ public:
+  RenderExrWriter(const std::string& path, int width, int height, const std::vector<ImageLayer>& layers, const RenderRecord& record,
+                  bool exactSums);
+  ~RenderExrWriter();
+  void write(const ImageStats& rows);  // the next rows.height rows
+
+ private:
+  std::vector<ImageLayer> layers_;
+  bool sums_;
+  std::unique_ptr<class ExrWriter> writer_;
+};
+
+// read_exr a block of rows at a time: the header (size, layers, record)
+// when opened, rows on demand. Throws InputError naming the file where it
+// is not a wavepath render, or where its data is damaged.
+class RenderExrReader {
+ public:
+  explicit RenderExrReader(const std::string& path);
+  int width() const { return file_.width(); }
+  int height() const { return file_.height(); }
+  const std::vector<ImageLayer>& layers() const { return layers_; }
+  const RenderRecord& record() const { return record_; }
+  // Rows [y0, y1) as an image of width x (y1 - y0).
+  ImageStats rows(int y0, int y1);
+
+ private:
+  ExrReader file_;
+  std::string path_;
+  std::vector<ImageLayer> layers_;
+  RenderRecord record_;
+};
 
 
 }  // namespace wp

@@ -1,7 +1,6 @@
 #include "image/image_file.h"
 
 #include <stb_image_write.h>
-#include <tinyexr.h>
 
 #include <algorithm>
 #include <cctype>
@@ -11,6 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <unistd.h>
+
+#include "image/exr.h"
 
 #include "util/error.h"
 
@@ -75,30 +76,11 @@ bool write_exr_rgb(const std::string& path, const RgbImage& image, std::string& 
     planes[c].resize(n);
     for (size_t p = 0; p < n; ++p) planes[c][p] = image.rgb[3 * p + size_t(c)];
   }
-  // Channels in the alphabetical order readers expect: B, G, R.
-  float* pointers[3] = {planes[2].data(), planes[1].data(), planes[0].data()};
-  EXRHeader header;
-  InitEXRHeader(&header);
-  EXRImage exr;
-  InitEXRImage(&exr);
-  exr.num_channels = 3;
-  exr.images = reinterpret_cast<unsigned char**>(pointers);
-  exr.width = image.width;
-  exr.height = image.height;
-  EXRChannelInfo channels[3] = {};
-  int types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
-  const char* names[3] = {"B", "G", "R"};
-  for (int c = 0; c < 3; ++c) std::snprintf(channels[c].name, sizeof(channels[c].name), "%s", names[c]);
-  header.num_channels = 3;
-  header.channels = channels;
-  header.pixel_types = types;
-  header.requested_pixel_types = types;
-  header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;
-  const char* err = nullptr;
-  int rc = SaveEXRImageToFile(&exr, &header, path.c_str(), &err);
-  if (rc != TINYEXR_SUCCESS) {
-    error = err ? err : "tinyexr error " + std::to_string(rc);
-    if (err) FreeEXRErrorMessage(err);
+  try {
+    ExrWriter w(path, image.width, image.height, {{"R", ExrType::Float}, {"G", ExrType::Float}, {"B", ExrType::Float}}, {}, true);
+    w.write(image.height, {{"R", planes[0].data()}, {"G", planes[1].data()}, {"B", planes[2].data()}});
+  } catch (const std::exception& e) {
+    error = e.what();
     return false;
   }
   return true;
@@ -196,20 +178,22 @@ void write_atomically(const std::string& path, const char* what, const std::func
   }
 }
 
+std::vector<uint8_t> encode_8bit_pixels(const RgbImage& image, EightBitCurve curve) {
+  // Non-finite values show as magenta, as darts shows them.
+  std::vector<uint8_t> bytes(image.rgb.size());
+  for (size_t i = 0; i < image.rgb.size(); i += 3) {
+    bool finite = std::isfinite(image.rgb[i]) && std::isfinite(image.rgb[i + 1]) && std::isfinite(image.rgb[i + 2]);
+    for (size_t c = 0; c < 3; ++c) bytes[i + c] = finite ? encode_8bit_value(image.rgb[i + c], curve) : (c == 1 ? 0 : 255);
+  }
+  return bytes;
+}
+
 void write_image(const std::string& path, const RgbImage& image, EightBitCurve curve) {
   std::optional<ImageFormat> format = image_format_of(path);
   if (!format) throw InputError(path + ": unknown image format (expected the extension of one of " + image_format_names() + ")");
   if (image.rgb.size() != size_t(image.width) * size_t(image.height) * 3 || image.width <= 0 || image.height <= 0)
     throw InputError(path + ": internal error: the image's size does not match its pixels");
-  std::vector<uint8_t> bytes;
-  if (!is_float_format(*format)) {
-    // Non-finite values show as magenta, as darts shows them.
-    bytes.resize(image.rgb.size());
-    for (size_t i = 0; i < image.rgb.size(); i += 3) {
-      bool finite = std::isfinite(image.rgb[i]) && std::isfinite(image.rgb[i + 1]) && std::isfinite(image.rgb[i + 2]);
-      for (size_t c = 0; c < 3; ++c) bytes[i + c] = finite ? encode_8bit_value(image.rgb[i + c], curve) : (c == 1 ? 0 : 255);
-    }
-  }
+  const std::vector<uint8_t> bytes = is_float_format(*format) ? std::vector<uint8_t>() : encode_8bit_pixels(image, curve);
   if (*format == ImageFormat::Exr) {
     write_atomically(path, "image", [&](const std::string& tmp, std::string& error) { return write_exr_rgb(tmp, image, error); });
     return;

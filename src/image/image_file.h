@@ -39,6 +39,9 @@ struct RgbImage {
   std::vector<float> rgb;  // 3 floats a pixel, rows top to bottom
 };
 
+// An image's pixels as 8-bit RGB in `curve`, non-finite ones magenta.
+std::vector<uint8_t> encode_8bit_pixels(const RgbImage& image, EightBitCurve curve);
+
 // Writes `image` in the format of `path`'s extension, 8-bit formats through
 // `curve`; an InputError names the file where the extension is not a format
 // or the write fails.

@@ -146,10 +146,16 @@ uint32_t samples_of_settings(const std::string& settings) {
   return uint32_t(std::strtoul(render_setting(settings, "spp").c_str(), nullptr, 10));
 }
 
-PartialFile read_partial(const std::string& path) {
+namespace {
+
+// A partial file's header (its reader's), checked as read_partial checks it.
+PartialFile partial_of(const std::string& path, const RenderExrReader& exr) {
   PartialFile f;
   f.path = path;
-  f.image = read_exr(path, &f.record);
+  f.width = exr.width();
+  f.height = exr.height();
+  for (size_t l = 1; l < exr.layers().size(); ++l) f.aovs.push_back(exr.layers()[l].name);
+  f.record = exr.record();
   if (f.record.sceneHash.empty() || f.record.settings.empty() || f.record.samples.empty())
     throw InputError(path + ": not a partial render (its header lacks wavepath's render record)");
   if (!f.record.exactSums) throw InputError(path + ": not a partial render (it lacks the exact sums a merge adds up)");
@@ -160,13 +166,26 @@ PartialFile read_partial(const std::string& path) {
   return f;
 }
 
+}  // namespace
+
+PartialFile read_partial(const std::string& path) {
+  PartialFile f = read_partial_header(path);
+  f.image = read_exr(path);
+  return f;
+}
+
+PartialFile read_partial_header(const std::string& path) {
+  RenderExrReader exr(path);
+  return partial_of(path, exr);
+}
+
 void require_same_render(const PartialFile& a, const PartialFile& b) {
   if (a.record.sceneHash != b.record.sceneHash)
     throw InputError(b.path + " is a render of another scene than " + a.path + " (scene content " + b.record.sceneHash + " vs " +
                      a.record.sceneHash + ")");
   if (a.record.settings != b.record.settings)
     throw InputError(b.path + " is a render with other settings than " + a.path + " (" + first_difference(b.record.settings, a.record.settings) + ")");
-  if (a.image.width != b.image.width || a.image.height != b.image.height || a.image.aov_names() != b.image.aov_names())
+  if (a.width != b.width || a.height != b.height || a.aovs != b.aovs)
     throw InputError(b.path + " has another size or other layers than " + a.path);
 }
 
@@ -196,7 +215,7 @@ void PartialMerger::add(PartialFile part) {
   if (empty_) {
     total_ = std::move(part);
     empty_ = false;
-  } else {
+  } else if (!part.image.sum.empty()) {
     total_.image.add(part.image);
   }
 }

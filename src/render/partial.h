@@ -46,7 +46,9 @@ uint32_t samples_of_settings(const std::string& settings);
 // A partial file as read back: its image (exact sums), record and ranges.
 struct PartialFile {
   std::string path;
-  ImageStats image;
+  ImageStats image;  // empty where only the header was read (read_partial_header)
+  int width = 0, height = 0;
+  std::vector<std::string> aovs;  // the AOV layers it holds
   RenderRecord record;
   std::vector<SampleRange> ranges;  // sorted, disjoint
 };
@@ -54,6 +56,9 @@ struct PartialFile {
 // Reads a partial file, refusing (InputError, naming the file) one without
 // a render record or exact sums.
 PartialFile read_partial(const std::string& path);
+// The same from its header alone, the image left empty (a merge reads the
+// pixels a block of rows at a time).
+PartialFile read_partial_header(const std::string& path);
 
 // Throws InputError, naming both files and what differs, unless `b` is a part
 // of the same render as `a` (same scene content, same settings).
@@ -70,6 +75,8 @@ std::vector<SampleRange> missing_ranges(const std::vector<SampleRange>& ranges, 
 // when they are the whole render.
 class PartialMerger {
  public:
+  // Checks `part` against those added and adds its image (if it was read)
+  // to theirs.
   void add(PartialFile part);
   PartialFile finish(bool allowGaps);
 

@@ -1,7 +1,6 @@
 #include "scene/texture_image.h"
 
 #include <stb_image.h>
-#include <tinyexr.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "image/exr.h"
 #include "util/error.h"
 #include "util/files.h"
 
@@ -50,43 +50,30 @@ void check_size(const std::string& name, long long w, long long h) {
     throw InputError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
 }
 
-// The size an OpenEXR image's header declares, read before LoadEXR, which
-// allocates whatever the header asks for.
-void check_exr_size(const std::vector<unsigned char>& bytes, const std::string& name) {
-  EXRVersion version;
-  if (ParseEXRVersionFromMemory(&version, bytes.data(), bytes.size()) != TINYEXR_SUCCESS) throw InputError(name + ": not an OpenEXR image");
-  EXRHeader header;
-  InitEXRHeader(&header);
-  const char* err = nullptr;
-  if (ParseEXRHeaderFromMemory(&header, &version, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS) {
-    std::string reason = err ? err : "unknown error";
-    if (err) FreeEXRErrorMessage(err);
-    FreeEXRHeader(&header);
-    throw InputError(name + ": cannot read EXR image: " + reason);
-  }
-  const long long w = (long long)header.data_window.max_x - header.data_window.min_x + 1;
-  const long long h = (long long)header.data_window.max_y - header.data_window.min_y + 1;
-  FreeEXRHeader(&header);
-  check_size(name, w, h);
-}
-
+// An OpenEXR image's colour: R, G and B; a luminance image's Y (or its one
+// channel) in all three.
 LinearImage decode_exr(const std::vector<unsigned char>& bytes, const std::string& name) {
-  check_exr_size(bytes, name);
-  float* rgba = nullptr;
-  int w = 0;
-  int h = 0;
-  const char* err = nullptr;
-  if (LoadEXRFromMemory(&rgba, &w, &h, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS) {
-    std::string reason = err ? err : "unknown error";
-    if (err) FreeEXRErrorMessage(err);
-    throw InputError(name + ": cannot read EXR image: " + reason);
+  ExrReader exr(bytes, name);
+  check_size(name, exr.width(), exr.height());
+  const size_t n = size_t(exr.width()) * size_t(exr.height());
+  std::vector<std::string> names = {"R", "G", "B"};
+  if (!exr.type_of("R") && !exr.type_of("G") && !exr.type_of("B")) {
+    const std::string grey = exr.type_of("Y") ? "Y" : exr.channels().size() == 1 ? exr.channels()[0].name : "R";
+    names = {grey, grey, grey};
   }
+  std::vector<float> planes[3];
+  std::vector<ExrPlane> wanted;
+  for (int c = 0; c < 3; ++c) {
+    planes[c].assign(n, 0.0f);
+    if (c == 0 || names[c] != names[0]) wanted.push_back({names[c], planes[c].data()});
+  }
+  exr.read(0, exr.height(), wanted, std::vector<ExrType>(wanted.size(), ExrType::Float));
+  if (names[1] == names[0]) planes[1] = planes[2] = planes[0];
   LinearImage img;
-  img.width = w;
-  img.height = h;
-  img.pixels.resize(size_t(w) * size_t(h));
-  for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = glm::vec3(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
-  free(rgba);
+  img.width = exr.width();
+  img.height = exr.height();
+  img.pixels.resize(n);
+  for (size_t i = 0; i < n; ++i) img.pixels[i] = glm::vec3(planes[0][i], planes[1][i], planes[2][i]);
   return img;
 }
 

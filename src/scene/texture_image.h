@@ -1,6 +1,6 @@
 // texture_image.h — image files for textures and environment maps, decoded to
 // linear RGB floats: PNG / JPEG / BMP / TGA (sRGB, decoded) and HDR through
-// stb_image, OpenEXR through tinyexr.
+// stb_image, OpenEXR through the OpenEXR library (image/exr.h).
 #pragma once
 
 #include <glm/glm.hpp>

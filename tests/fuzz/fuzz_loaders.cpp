@@ -80,7 +80,7 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         load_obj(path);
         break;
       case FuzzedInput::Image: {
-        // The name's extension matters: .exr goes to tinyexr, .tga lets stb_image try TGA.
+        // The name's extension matters: .exr goes to OpenEXR, .tga lets stb_image try TGA.
         const char* names[3] = {"input.png", "input.exr", "input.tga"};
         path = write_input(names[size > 0 ? data[0] % 3 : 0], size > 0 ? data + 1 : data, size > 0 ? size - 1 : 0);
         load_linear_image(path);
