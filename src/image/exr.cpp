@@ -7,10 +7,14 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/openexr.h>
 
 #include <Iex.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 
 #include "../../shaders/shared/limits.glsl"
@@ -45,6 +49,129 @@ class MemoryStream : public Imf::IStream {
   uint64_t at_ = 0;
 };
 
+// OpenEXR's C++ reader allocates an attribute's value by the size its
+// header declares, and line buffers by the data window, the channels and
+// the rows a compressed block holds. So the header is read first by
+// OpenEXR's core library (OpenEXRCore), which checks every size against
+// the file, and refused where it is damaged, deep or multi-part, or
+// declares pixel data far beyond what the file can hold (deflate's best is
+// about 1032:1).
+struct MemorySource {
+  const unsigned char* data;
+  uint64_t size;
+};
+
+int64_t read_memory(exr_const_context_t, void* user, void* buffer, uint64_t sz, uint64_t offset, exr_stream_error_func_ptr_t) {
+  const auto* m = static_cast<const MemorySource*>(user);
+  if (offset >= m->size) return 0;
+  const uint64_t n = std::min(sz, m->size - offset);
+  std::memcpy(buffer, m->data + offset, n);
+  return int64_t(n);
+}
+
+int64_t size_of_memory(exr_const_context_t, void* user) {
+  return int64_t(static_cast<const MemorySource*>(user)->size);
+}
+
+void quiet_errors(exr_const_context_t, exr_result_t, const char*) {}
+
+// OpenEXR's C++ reader reads an attribute of a known type by its type, not
+// by the size its header gives (a channel list up to its empty name, a
+// box as 16 bytes), and reads on from where it stopped; OpenEXRCore skips
+// by the size. Where the two disagree the C++ reader reads garbage as the
+// next attribute: the sizes of those types must be what their values take.
+bool attribute_sizes_agree(const unsigned char* data, uint64_t n) {
+  static const std::pair<const char*, uint32_t> kFixed[] = {
+      {"box2i", 16}, {"box2f", 16}, {"compression", 1}, {"lineOrder", 1}, {"envmap", 1}, {"deepImageState", 1},
+      {"float", 4},  {"int", 4},    {"double", 8},      {"v2i", 8},       {"v2f", 8},    {"v2d", 16},
+      {"v3i", 12},   {"v3f", 12},   {"v3d", 24},        {"m33f", 36},     {"m33d", 72},  {"m44f", 64},
+      {"m44d", 128}, {"rational", 8}, {"timecode", 8},  {"keycode", 28},  {"chromaticities", 32}, {"tiledesc", 9}};
+  uint64_t at = 8;
+  auto cstring = [&](std::string& out) {
+    const uint64_t start = at;
+    while (at < n && data[at] != 0) ++at;
+    if (at >= n) return false;
+    out.assign(reinterpret_cast<const char*>(data + start), at - start);
+    ++at;
+    return true;
+  };
+  for (;;) {
+    std::string attribute, type;
+    if (!cstring(attribute)) return false;
+    if (attribute.empty()) return true;
+    if (!cstring(type) || at + 4 > n) return false;
+    uint32_t size;
+    std::memcpy(&size, data + at, 4);
+    at += 4;
+    if (size > n - at) return false;
+    for (const auto& [t, bytes] : kFixed)
+      if (type == t && size != bytes) return false;
+    if (type == "chlist") {
+      uint64_t c = at;
+      while (c < at + size && data[c] != 0) {
+        while (c < at + size && data[c] != 0) ++c;
+        c += 17;
+      }
+      if (c + 1 != at + size) return false;
+    }
+    if (type == "preview") {
+      if (size < 8) return false;
+      uint32_t wh[2];
+      std::memcpy(wh, data + at, 8);
+      if (uint64_t(wh[0]) * wh[1] * 4 + 8 != size) return false;
+    }
+    at += size;
+  }
+}
+
+void check_header(const std::string& path, const std::vector<unsigned char>* bytes, uint64_t fileBytes, const std::string& name) {
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.error_handler_fn = quiet_errors;
+  init.max_image_width = MAX_IMAGE_SIZE;
+  init.max_image_height = MAX_IMAGE_SIZE;
+  MemorySource source{bytes ? bytes->data() : nullptr, bytes ? bytes->size() : 0};
+  if (bytes) {
+    init.user_data = &source;
+    init.read_fn = read_memory;
+    init.size_fn = size_of_memory;
+  }
+  exr_context_t ctx = nullptr;
+  std::string problem;
+  int parts = 0;
+  exr_storage_t storage = EXR_STORAGE_SCANLINE;
+  exr_attr_box2i_t window{};
+  const exr_attr_chlist_t* channels = nullptr;
+  int32_t rows = 1;
+  // The header's first bytes (no real header is larger) for the C++ reader's walk.
+  std::vector<unsigned char> head;
+  if (bytes) {
+    head.assign(bytes->begin(), bytes->begin() + ptrdiff_t(std::min<size_t>(bytes->size(), 1 << 20)));
+  } else if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+    head.resize(1 << 20);
+    head.resize(std::fread(head.data(), 1, head.size(), f));
+    std::fclose(f);
+  }
+  if (exr_start_read(&ctx, bytes ? name.c_str() : path.c_str(), &init) != EXR_ERR_SUCCESS) {
+    problem = "a damaged or unreadable header";
+  } else if (!attribute_sizes_agree(head.data(), head.size())) {
+    problem = "an attribute whose size is not what its value takes";
+  } else if (exr_get_count(ctx, &parts) != EXR_ERR_SUCCESS || parts != 1 || exr_get_storage(ctx, 0, &storage) != EXR_ERR_SUCCESS ||
+             (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)) {
+    problem = "deep or multi-part images are not read";
+  } else if (exr_get_data_window(ctx, 0, &window) != EXR_ERR_SUCCESS || exr_get_channels(ctx, 0, &channels) != EXR_ERR_SUCCESS) {
+    problem = "no data window or channels";
+  } else {
+    if (storage == EXR_STORAGE_SCANLINE && exr_get_scanlines_per_chunk(ctx, 0, &rows) != EXR_ERR_SUCCESS) rows = 256;
+    const int64_t width = int64_t(window.max.x) - window.min.x + 1, height = int64_t(window.max.y) - window.min.y + 1;
+    const int64_t count = channels ? channels->num_channels : 0;
+    const int64_t declared = width * std::max<int64_t>(height, rows) * std::max<int64_t>(count, 1) * 4;
+    if (width <= 0 || height <= 0 || count > 256 || uint64_t(declared) > 1100 * fileBytes + (1 << 20))
+      problem = std::to_string(width) + "x" + std::to_string(height) + " pixels of " + std::to_string(count) + " channels, more than the file holds";
+  }
+  if (ctx) exr_finish(&ctx);
+  if (!problem.empty()) throw InputError(name + ": not an OpenEXR " + (bytes ? "image" : "file") + " wavepath reads (" + problem + ")");
+}
+
 Imf::PixelType pixel_type(ExrType t) {
   return t == ExrType::Uint ? Imf::UINT : Imf::FLOAT;
 }
@@ -58,6 +185,10 @@ struct ExrReader::Impl {
 
 ExrReader::ExrReader(const std::string& path) : impl_(std::make_unique<Impl>()), name_(path) {
   limit_image_size();
+  std::error_code ec;
+  fileBytes_ = uint64_t(std::filesystem::file_size(path, ec));
+  if (ec) throw InputError(path + ": cannot read (" + ec.message() + ")");
+  check_header(path, nullptr, fileBytes_, path);
   try {
     impl_->file = std::make_unique<Imf::InputFile>(path.c_str(), 0);
   } catch (const std::exception& e) {
@@ -66,8 +197,10 @@ ExrReader::ExrReader(const std::string& path) : impl_(std::make_unique<Impl>()),
   describe();
 }
 
-ExrReader::ExrReader(const std::vector<unsigned char>& bytes, const std::string& name) : impl_(std::make_unique<Impl>()), name_(name) {
+ExrReader::ExrReader(const std::vector<unsigned char>& bytes, const std::string& name)
+    : impl_(std::make_unique<Impl>()), name_(name), fileBytes_(bytes.size()) {
   limit_image_size();
+  check_header("", &bytes, fileBytes_, name);
   try {
     impl_->stream = std::make_unique<MemoryStream>(bytes, name);
     impl_->file = std::make_unique<Imf::InputFile>(*impl_->stream, 0);
@@ -87,6 +220,13 @@ void ExrReader::describe() {
   height_ = w.max.y - w.min.y + 1;
   for (auto it = impl_->file->header().channels().begin(); it != impl_->file->header().channels().end(); ++it)
     channels_.push_back({it.name(), it.channel().type == Imf::UINT ? ExrType::Uint : ExrType::Float});
+  // A reader sizes its planes by what the header declares: refuse more pixel
+  // data than the file can hold, deflate's best (about 1032:1) included.
+  const uint64_t declared = uint64_t(width_) * uint64_t(height_) * std::max<uint64_t>(channels_.size(), 1) * 4;
+  if (width_ <= 0 || height_ <= 0 || channels_.size() > 256 || declared > 1100 * fileBytes_) {
+    throw InputError(name_ + ": EXR declares " + std::to_string(width_) + "x" + std::to_string(height_) + " pixels of " +
+                     std::to_string(channels_.size()) + " channels, more than an image or the file holds");
+  }
 }
 
 const ExrType* ExrReader::type_of(const std::string& channel) const {

@@ -7,6 +7,7 @@
 // (image_file.cpp) and EXR textures (texture_image.cpp).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -57,6 +58,7 @@ class ExrReader {
   std::unique_ptr<Impl> impl_;
   std::string name_;
   int width_ = 0, height_ = 0, minX_ = 0, minY_ = 0;
+  uint64_t fileBytes_ = 0;
   std::vector<ExrChannel> channels_;
 };
 
