@@ -30,8 +30,12 @@ int run_merge(const MergeArgs& m) {
   for (const std::string& path : {m.output, exr}) require_output_directory(path);
   // The parts' headers first: parts of other renders, overlaps and gaps are
   // refused before a pixel is read.
+  std::vector<std::unique_ptr<RenderExrReader>> parts;
   PartialMerger merger;
-  for (const std::string& p : m.parts) merger.add(read_partial_header(p));
+  for (const std::string& p : m.parts) {
+    parts.push_back(std::make_unique<RenderExrReader>(p));
+    merger.add(read_partial_header(p, *parts.back()));
+  }
   const PartialFile merged = merger.finish(m.allowGaps);
   // Then a block of rows at a time, every part's rows added up and written
   // on: what the merge holds is a block per part and the PNG's bytes.
@@ -43,8 +47,6 @@ int run_merge(const MergeArgs& m) {
   std::vector<uint8_t> rgb8(size_t(width) * size_t(height) * 3);
   write_atomically(exr, "EXR", [&](const std::string& tmp, std::string& error) {
     try {
-      std::vector<std::unique_ptr<RenderExrReader>> parts;
-      for (const std::string& p : m.parts) parts.push_back(std::make_unique<RenderExrReader>(p));
       RenderExrWriter out(tmp, width, height, layers, merged.record, true);
       for (int y0 = 0; y0 < height; y0 += blockRows) {
         const int y1 = std::min(height, y0 + blockRows);

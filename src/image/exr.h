@@ -58,7 +58,6 @@ class ExrReader {
   std::unique_ptr<Impl> impl_;
   std::string name_;
   int width_ = 0, height_ = 0, minX_ = 0, minY_ = 0;
-  uint64_t fileBytes_ = 0;
   std::vector<ExrChannel> channels_;
 };
 

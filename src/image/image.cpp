@@ -336,7 +336,7 @@ void write_exr(const std::string& path, const ImageStats& image, const RenderRec
   });
 }
 
-RenderExrReader::RenderExrReader(const std::string& path) : file_(path), path_(path) {
+RenderExrReader::RenderExrReader(const std::string& path) : file_(path) {
   std::string missing;
   for (const char* n : {"R", "G", "B", "n", "var.R", "var.G", "var.B"})
     if (!file_.type_of(n)) missing += std::string(missing.empty() ? "" : ", ") + n;
@@ -408,13 +408,17 @@ ImageStats RenderExrReader::rows(int y0, int y1) {
   return out;
 }
 
+ImageStats RenderExrReader::all() {
+  ImageStats out(width(), height(), layers_);
+  const int blockRows = exr_block_rows(width(), layers_);
+  for (int y0 = 0; y0 < height(); y0 += blockRows) out.set_rows(y0, rows(y0, std::min(height(), y0 + blockRows)));
+  return out;
+}
+
 ImageStats read_exr(const std::string& path, RenderRecord* record) {
   RenderExrReader r(path);
   if (record) *record = r.record();
-  ImageStats out(r.width(), r.height(), r.layers());
-  const int blockRows = exr_block_rows(r.width(), r.layers());
-  for (int y0 = 0; y0 < r.height(); y0 += blockRows) out.set_rows(y0, r.rows(y0, std::min(r.height(), y0 + blockRows)));
-  return out;
+  return r.all();
 }
 
 }  // namespace wp

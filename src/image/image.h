@@ -150,12 +150,12 @@ class RenderExrReader {
   int height() const { return file_.height(); }
   const std::vector<ImageLayer>& layers() const { return layers_; }
   const RenderRecord& record() const { return record_; }
-  // Rows [y0, y1) as an image of width x (y1 - y0).
+  // Rows [y0, y1) as an image of width x (y1 - y0); all of them, read a block at a time.
   ImageStats rows(int y0, int y1);
+  ImageStats all();
 
  private:
   ExrReader file_;
-  std::string path_;
   std::vector<ImageLayer> layers_;
   RenderRecord record_;
 };

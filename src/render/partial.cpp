@@ -146,10 +146,7 @@ uint32_t samples_of_settings(const std::string& settings) {
   return uint32_t(std::strtoul(render_setting(settings, "spp").c_str(), nullptr, 10));
 }
 
-namespace {
-
-// A partial file's header (its reader's), checked as read_partial checks it.
-PartialFile partial_of(const std::string& path, const RenderExrReader& exr) {
+PartialFile read_partial_header(const std::string& path, const RenderExrReader& exr) {
   PartialFile f;
   f.path = path;
   f.width = exr.width();
@@ -166,17 +163,11 @@ PartialFile partial_of(const std::string& path, const RenderExrReader& exr) {
   return f;
 }
 
-}  // namespace
-
 PartialFile read_partial(const std::string& path) {
-  PartialFile f = read_partial_header(path);
-  f.image = read_exr(path);
-  return f;
-}
-
-PartialFile read_partial_header(const std::string& path) {
   RenderExrReader exr(path);
-  return partial_of(path, exr);
+  PartialFile f = read_partial_header(path, exr);
+  f.image = exr.all();
+  return f;
 }
 
 void require_same_render(const PartialFile& a, const PartialFile& b) {

@@ -56,9 +56,9 @@ struct PartialFile {
 // Reads a partial file, refusing (InputError, naming the file) one without
 // a render record or exact sums.
 PartialFile read_partial(const std::string& path);
-// The same from its header alone, the image left empty (a merge reads the
-// pixels a block of rows at a time).
-PartialFile read_partial_header(const std::string& path);
+// The same from the header of `exr` (the file at `path`) alone, the image
+// left empty: a merge reads the pixels a block of rows at a time.
+PartialFile read_partial_header(const std::string& path, const RenderExrReader& exr);
 
 // Throws InputError, naming both files and what differs, unless `b` is a part
 // of the same render as `a` (same scene content, same settings).
