@@ -9,7 +9,8 @@
 # without (scripts/bench-media.sh), grid media's majorants
 # (scripts/bench-majorants.sh), the photon mapper against the path tracer
 # (scripts/bench-photons.sh, the photon pass by the kernels included), an 8K
-# render in tiles (scripts/bench-tiles.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
+# render in tiles (scripts/bench-tiles.sh), a forest of a million instances
+# (scripts/bench-forest.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
 # bin folder). About 3 minutes on an H200; on lavapipe about an hour.
 # Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
@@ -80,6 +81,8 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
 
   stage "tiles: 2048x2048 against 8K, the Cornell box at 1 spp"
   scripts/bench-tiles.sh "$build" 2048x2048 7680x4320 -- "${dev[@]}"
+  stage "instancing: a forest of a million trees against the flat Cornell dragon"
+  scripts/bench-forest.sh "$build" 1000000 1000000 -- "${dev[@]}"
 
   stage "scaling"
   scripts/bench-scale.sh "$build" 1 10 100

@@ -28,6 +28,14 @@ third-party asset, no licence to track):
   layers.glb      KHR_materials_clearcoat, _sheen, _specular, _iridescence,
                   _anisotropy and _volume, each with its textures (the
                   channels each reads), under a sun.
+  instances.gltf  meshes placed by several nodes (instances): a smooth,
+                  normal-mapped, one-sided pebble with tangents and vertex
+                  colours placed plain, turned, stretched, mirrored, sheared,
+                  nested two groups deep and by EXT_mesh_gpu_instancing (one
+                  of those mirrored); a flat-shaded block (no NORMAL) placed
+                  three times (mirrored, sheared, nested); an emissive quad
+                  placed twice; a floor placed once. No surface touches
+                  another, so every ray's closest hit is unambiguous.
 
 Run it from the repository root: python3 scripts/make-gltf-test-assets.py
 """
@@ -599,6 +607,102 @@ def layers():
         out.write(glb(doc, buf.data))
 
 
+# ---- instances.gltf --------------------------------------------------------
+
+def instances():
+    buf = Buffer()
+
+    def f(kind, values):
+        return buf.accessor("f", FLOAT, kind, values)
+
+    def unit(v):
+        n = math.sqrt(sum(c * c for c in v))
+        return [c / n for c in v]
+
+    # The pebble: a squashed UV sphere with smooth normals, UVs, tangents
+    # along u and vertex colours; poles without degenerate triangles.
+    rings, segments = 6, 10
+    pos, nrm, uv, tan, col, idx = [], [], [], [], [], []
+    for r in range(rings + 1):
+        theta = math.pi * r / rings
+        for s_ in range(segments + 1):
+            phi = 2 * math.pi * s_ / segments
+            p = [math.sin(theta) * math.cos(phi), 0.8 * math.cos(theta), math.sin(theta) * math.sin(phi)]
+            pos.append(p)
+            nrm.append(unit([p[0], p[1] / 0.64, p[2]]))
+            uv.append([s_ / segments, r / rings])
+            tan.append(unit([-math.sin(phi), 0.0, math.cos(phi)]) + [1.0])
+            col.append([0.6 + 0.4 * (s_ % 2), 0.8, 0.6 + 0.4 * (r % 2), 1.0])
+    for r in range(rings):
+        for s_ in range(segments):
+            a, b = r * (segments + 1) + s_, (r + 1) * (segments + 1) + s_
+            if r != 0:
+                idx += [a, a + 1, b]
+            if r != rings - 1:
+                idx += [a + 1, b + 1, b]
+    pebble = {"attributes": {"POSITION": f("VEC3", pos), "NORMAL": f("VEC3", nrm), "TEXCOORD_0": f("VEC2", uv),
+                             "TANGENT": f("VEC4", tan), "COLOR_0": f("VEC4", col)},
+              "indices": buf.accessor("I", UINT, "SCALAR", idx), "material": 0}
+    # The block: a unit cube without normals (flat shading, barycentric UVs).
+    cube_pos, _, _, cube_idx = cube()
+    block = {"attributes": {"POSITION": f("VEC3", cube_pos)}, "indices": buf.accessor("H", USHORT, "SCALAR", cube_idx), "material": 1}
+    lamp_pos, _, _, lamp_idx = quad(1.0, 1.0, 0.0, facing_down=True)
+    lamp = {"attributes": {"POSITION": f("VEC3", lamp_pos)}, "indices": buf.accessor("H", USHORT, "SCALAR", lamp_idx), "material": 2}
+    floor_pos, floor_nrm, _, floor_idx = quad(16.0, 16.0, 0.0)
+    floor = {"attributes": {"POSITION": f("VEC3", floor_pos), "NORMAL": f("VEC3", floor_nrm)},
+             "indices": buf.accessor("H", USHORT, "SCALAR", floor_idx), "material": 3}
+    # Three pebbles by EXT_mesh_gpu_instancing, the last mirrored.
+    gpu_instances = {"TRANSLATION": f("VEC3", [[-2.2, 0.3, 1.8], [-1.0, 0.5, 2.4], [0.2, 0.4, 2.0]]),
+                     "ROTATION": f("VEC4", [unit([0, 0.3, 0, 1]), unit([0.4, 0, 0.2, 1]), [0, 0, 0, 1]]),
+                     "SCALE": f("VEC3", [[0.3, 0.3, 0.3], [0.25, 0.5, 0.25], [-0.35, 0.3, 0.3]])}
+    for a in gpu_instances.values():  # instance attributes are no vertex data: their views have no target
+        buf.views[buf.accessors[a]["bufferView"]].pop("target", None)
+    nodes = [
+        {"name": "pebble", "mesh": 0, "translation": [-2.0, 0.8, 0.0]},
+        {"name": "pebble turned, smaller", "mesh": 0, "translation": [-0.6, 0.5, -0.5], "rotation": axis_angle([0, 0, 1], 35),
+         "scale": [0.6, 0.6, 0.6]},
+        {"name": "pebble stretched", "mesh": 0, "translation": [0.8, 0.6, 0.2], "scale": [0.5, 1.1, 0.8]},
+        {"name": "pebble mirrored", "mesh": 0, "translation": [2.0, 0.7, 0.0], "rotation": axis_angle([0, 1, 0], 30),
+         "scale": [-0.7, 0.7, 0.7]},
+        {"name": "pebble sheared", "mesh": 0, "matrix": [0.6, 0, 0, 0, 0.45, 0.6, 0.2, 0, 0, 0, 0.6, 0, -1.0, 0.6, 1.2, 1]},
+        {"name": "group", "translation": [0.5, 0.0, -2.0], "rotation": axis_angle([0, 1, 0], -25), "scale": [0.8, 0.8, 0.8],
+         "children": [6]},
+        {"name": "subgroup", "translation": [1.0, 0.2, 0.0], "rotation": axis_angle([1, 0, 0], 15), "children": [7, 8]},
+        {"name": "pebble nested", "mesh": 0, "translation": [0.0, 0.8, 0.0], "scale": [0.9, 0.6, 0.9]},
+        {"name": "block nested, mirrored", "mesh": 1, "translation": [-1.5, 0.6, 0.3], "rotation": axis_angle([1, 1, 0], 40),
+         "scale": [1.0, -0.8, 1.2]},
+        {"name": "block", "mesh": 1, "translation": [-2.8, 0.53, -1.5], "rotation": axis_angle([0, 1, 0], 20)},
+        {"name": "block sheared", "mesh": 1, "matrix": [0.9, 0.0, 0.3, 0, 0.0, 0.7, 0, 0, 0.0, 0.5, 0.8, 0, 2.6, 0.4, -1.6, 1]},
+        {"name": "lamp", "mesh": 2, "translation": [-1.0, 3.5, 0.5], "scale": [1.5, 1.0, 0.8]},
+        {"name": "lamp turned", "mesh": 2, "translation": [1.5, 3.2, -0.5], "rotation": axis_angle([0, 0, 1], 20), "scale": [0.8, 1.0, 1.6]},
+        {"name": "floor", "mesh": 3},
+        {"name": "pebbles by EXT_mesh_gpu_instancing", "mesh": 0, "translation": [0.0, 0.0, 0.2], "rotation": axis_angle([0, 1, 0], 10),
+         "extensions": {"EXT_mesh_gpu_instancing": {"attributes": gpu_instances}}},
+        {"name": "camera", "camera": 0, "translation": [0.0, 4.2, 7.5], "rotation": axis_angle([1, 0, 0], -28)},
+    ]
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "extensionsUsed": ["EXT_mesh_gpu_instancing", "KHR_materials_emissive_strength"],
+        "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 14, 15]}], "nodes": nodes,
+        "meshes": [{"name": "pebble", "primitives": [pebble]}, {"name": "block", "primitives": [block]},
+                   {"name": "lamp", "primitives": [lamp]}, {"name": "floor", "primitives": [floor]}],
+        "materials": [
+            {"name": "pebble", "doubleSided": False, "normalTexture": {"index": 0, "scale": 0.8},
+             "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.5, 0.3, 1], "metallicFactor": 0.0, "roughnessFactor": 0.45}},
+            {"name": "block", "pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.5, 0.8, 1], "metallicFactor": 0.6, "roughnessFactor": 0.3}},
+            {"name": "lamp", "doubleSided": False, "emissiveFactor": [1, 0.9, 0.7],
+             "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 6}}, "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]}},
+            {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.7, 0.7, 1], "metallicFactor": 0, "roughnessFactor": 1}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(png(8, 8, dimples(0.5))).decode()}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.75, "aspectRatio": 1.5, "znear": 0.1}}],
+        "accessors": buf.accessors, "bufferViews": buf.views,
+        "buffers": [{"byteLength": len(buf.data),
+                     "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(buf.data)).decode()}],
+    }
+    write_json(os.path.join(OUT, "instances.gltf"), doc)
+
+
 def main():
     os.makedirs(os.path.join(OUT, "external"), exist_ok=True)
     darts = box_room()
@@ -608,6 +712,7 @@ def main():
     surface()
     mirror_bumps()
     layers()
+    instances()
 
 
 if __name__ == "__main__":

@@ -137,6 +137,25 @@ check "convergence writes a row per sampler and sample count" $([ $? -eq 0 ] && 
 "$(dirname "$0")/../scripts/plot_convergence.py" "$work/conv.csv" --out "$work/conv.png"
 check "plot_convergence.py draws the chart" $([ -s "$work/conv.png" ]; echo $?)
 
+# The instancing benchmark's forest (scripts/gen-forest.py), small: its two
+# forms (EXT_mesh_gpu_instancing, nested plain nodes) are one forest of
+# instances, and ray casting through it passes the CPU check.
+gen="$(dirname "$0")/../scripts/gen-forest.py"
+python3 "$gen" "$work/ext.gltf" --instances 60 --triangles 3000 >/dev/null &&
+  python3 "$gen" "$work/nodes.gltf" --instances 60 --triangles 3000 --nodes >/dev/null
+check "gen-forest.py writes both forms" $?
+for form in ext nodes; do
+  "$wavepath" info "$work/$form.gltf" >"$work/$form.info" 2>&1
+  check "the forest ($form) holds 60 instances of 3 meshes" $(grep -q "^instances *60 instances of 3 meshes: 3000 unique" "$work/$form.info"; echo $?)
+  "$wavepath" render "$work/$form.gltf" -r 48 27 --spp 16 -q -o "$work/$form.png"
+  check "the forest ($form) renders" $?
+done
+"$wavepath" compare --images "$work/ext.exr" "$work/nodes.exr" >"$work/out" 2>&1
+check "both forms render the same forest" $?
+"$wavepath" bench --raycast --scenes "$work/ext.gltf" --variants gpu,gpu-bvh2 --resolution 32 18 --repeats 1 >"$work/out" 2>&1
+check "ray casting through the instances passes the check" $([ $? -eq 0 ] && grep -q "60 instances placing" "$work/out" &&
+  ! grep -q "not timed" "$work/out"; echo $?)
+
 "$wavepath" bench --variants gpu-wg7 >"$work/out" 2>"$work/err"
 check "unknown variant: exit 2, one line" $([ $? -eq 2 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "gpu-wg7" "$work/err"; echo $?)
 "$wavepath" bench --scenes "$data/bad-unknown-key.json" >"$work/out" 2>"$work/err"

@@ -37,7 +37,8 @@
 #define BINDING_MEDIA 28
 #define BINDING_VOLUMES 29  // grid media's NanoVDB grids and majorant grids, R32UI words (pnanovdb.glsl)
 #define BINDING_PHOTONS 30  // the photon map (INTEGRATOR_PHOTONS), RGBA32UI texels
-#define BINDING_COUNT 31
+#define BINDING_INSTANCES 31  // instances of meshes (FEATURE_INSTANCES)
+#define BINDING_COUNT 32
 
 // Where each table starts in the float tables (BINDING_FLOAT_TABLES).
 #include "sheen_albedo.glsl"
@@ -109,6 +110,7 @@ layout(set = 0, binding = BINDING_TRIANGLES) uniform usamplerBuffer triangleTexe
 layout(set = 0, binding = BINDING_TRIANGLE_SHADING) uniform usamplerBuffer shadingTexels;
 layout(set = 0, binding = BINDING_VERTEX_DATA) uniform usamplerBuffer vertexDataTexels;
 layout(set = 0, binding = BINDING_SPHERES) uniform usamplerBuffer sphereTexels;
+layout(set = 0, binding = BINDING_INSTANCES) uniform usamplerBuffer instanceTexels;
 layout(set = 0, binding = BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
 layout(set = 0, binding = BINDING_EMITTERS) uniform usamplerBuffer emitterTexels;
 layout(set = 0, binding = BINDING_TEXTURES) uniform usamplerBuffer textureTexels;

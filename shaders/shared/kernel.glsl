@@ -131,6 +131,7 @@ Hit read_hit(uint i) {
   h.prim = a.y;
   h.u = uintBitsToFloat(a.z);
   h.v = uintBitsToFloat(a.w);
+  h.instance = FEATURE_COMPILED(FEATURE_INSTANCES) ? texelFetch(hitTexels, int(pc.capacity + i)).x : WP_INVALID;
   return h;
 }
 
@@ -143,6 +144,8 @@ uint read_queue(uint q, uint i) {
 // the read_* functions read.
 void write_hit(uint i, Hit h) {
   hitRecords[i * HIT_TEXELS] = uvec4(floatBitsToUint(h.t), h.prim, floatBitsToUint(h.u), floatBitsToUint(h.v));
+  // Instances: after the capacity's hits, so that scenes without keep 16 bytes a hit.
+  if (FEATURE_COMPILED(FEATURE_INSTANCES)) hitRecords[pc.capacity + i] = uvec4(h.instance, 0u, 0u, 0u);
 }
 
 #ifndef WP_PATH_RADIANCE_ATOMICS

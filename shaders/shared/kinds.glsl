@@ -129,6 +129,7 @@
 #define FEATURE_DISPERSION 14u          // a volume whose index of refraction depends on the wavelength (KHR_materials_dispersion)
 #define FEATURE_MEDIA 15u               // participating media: the camera or a surface's side in a medium (media.glsl)
 #define FEATURE_MEDIA_GRID 16u          // a medium whose density a NanoVDB grid holds (MEDIUM_NANOVDB; pnanovdb.glsl)
+#define FEATURE_INSTANCES 17u           // meshes placed by instances: a two-level BVH (Instance; traverse_*.glsl)
 #define WP_FEATURES(X)                                                                                            \
   X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
   X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
@@ -137,7 +138,7 @@
   X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
   X(FEATURE_VOLUME, "volumes") X(FEATURE_IRIDESCENCE, "iridescence") \
   X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion") X(FEATURE_MEDIA, "participating media") \
-  X(FEATURE_MEDIA_GRID, "grid media")
+  X(FEATURE_MEDIA_GRID, "grid media") X(FEATURE_INSTANCES, "instances")
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

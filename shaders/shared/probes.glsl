@@ -58,8 +58,7 @@ SurfaceHit probe_surface(uint material, vec3 normal) {
 }
 
 Hit probe_answer(vec3 v, uint prim) {
-  Hit h;
-  h.t = v.x;
+  Hit h = no_hit(v.x);
   h.prim = prim;
   h.u = v.y;
   h.v = v.z;
@@ -96,11 +95,7 @@ Hit run_probe(ShadowRay q) {
   }
   if (kind == PROBE_TEXTURE) return probe_answer(texture_eval(index, vec4(q.dir.x, q.dir.y, q.dir.x, q.dir.y), q.origin), 0u);
   // PROBE_INTERSECT
-  Hit h;
-  h.t = q.tmax;
-  h.prim = WP_INVALID;
-  h.u = 0.0f;
-  h.v = 0.0f;
+  Hit h = no_hit(q.tmax);
   if (trace_ray(q.origin, q.dir, q.tmax, false, h) != TRACE_OK) return probe_answer(vec3(0.0f), PROBE_TRUNCATED);
   if (q.media == PROBE_ANSWER_HIT || h.prim == WP_INVALID) return probe_answer(vec3(h.t, 0.0f, 0.0f), h.prim);
   SurfaceHit s = surface_at(q.origin, q.dir, h);

@@ -89,6 +89,23 @@ TriangleVertexData load_vertex_data(uint i) {
   return vd;
 }
 
+Instance load_instance(uint i) {
+  int at = int(i) * INSTANCE_TEXELS;
+  Instance inst;
+  inst.toWorld0 = texel_vec4(texelFetch(instanceTexels, at));
+  inst.toWorld1 = texel_vec4(texelFetch(instanceTexels, at + 1));
+  inst.toWorld2 = texel_vec4(texelFetch(instanceTexels, at + 2));
+  inst.toObject0 = texel_vec4(texelFetch(instanceTexels, at + 3));
+  inst.toObject1 = texel_vec4(texelFetch(instanceTexels, at + 4));
+  inst.toObject2 = texel_vec4(texelFetch(instanceTexels, at + 5));
+  uvec4 g = texelFetch(instanceTexels, at + 6);
+  inst.root = g.x;
+  inst.flags = g.y;
+  inst.mesh = g.z;
+  inst.pad = g.w;
+  return inst;
+}
+
 Sphere load_sphere(uint i) {
   int at = int(i) * SPHERE_TEXELS;
   Sphere sp;

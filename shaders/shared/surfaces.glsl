@@ -46,6 +46,14 @@ SurfaceHit sphere_surface(uint i, vec3 pw) {
   return sphere_surface_of(load_sphere(i), pw);
 }
 
+// A vertex tangent of an instance's mesh in world space, unit (zero stays
+// zero: the kernels then derive one from the UVs).
+vec3 placed_tangent(Instance inst, vec3 t) {
+  vec3 w = xform_vector(inst.toWorld0, inst.toWorld1, inst.toWorld2, t);
+  float len = length(w);
+  return len > 0.0f ? w / len : vec3(0.0f);
+}
+
 // The tangent (d p / d u, not unit) and its handedness of a triangle with
 // corners v0, v1, v2 at UVs t0, t1, t2, for normal maps where the mesh has
 // no tangents; zero where the UVs are degenerate.
@@ -61,8 +69,31 @@ vec4 triangle_uv_tangent(Triangle tri, vec2 t0, vec2 t1, vec2 t2, vec3 ng) {
   return vec4(dpdu.x, dpdu.y, dpdu.z, dot(cross(ng, dpdu), dpdv) < 0.0f ? -1.0f : 1.0f);
 }
 
-// The surface of triangle `tri` at barycentrics (b1, b2).
-SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
+// The surface of triangle `tri` at barycentrics (b1, b2), where `tri` is a
+// triangle of the mesh of `instance` (WP_INVALID: a triangle in world space):
+// its corners, vertex normals and tangents placed in world space as
+// scene.cpp places those of an instance it flattens, so that an instance
+// and its flattened copy have the same surface: each vertex normal through
+// the inverse transpose and each tangent through the transform, normalized
+// before they are interpolated, and a mirroring transform turning the
+// bitangent's handedness and (glTF's rule: the determinant decides the
+// winding, so the mesh's front stays the front) the order of the corners.
+SurfaceHit triangle_surface_placed(Triangle tri, float b1, float b2, uint instance) {
+  bool placed = FEATURE_COMPILED(FEATURE_INSTANCES) && instance != WP_INVALID;
+  Instance inst;
+  bool turned = false;  // corners 1 and 2 (and their data) swapped
+  if (placed) {
+    inst = load_instance(instance);
+    turned = (inst.flags & INSTANCE_MIRRORED) != 0u;
+    vec3 v1 = xform_point(inst.toWorld0, inst.toWorld1, inst.toWorld2, tri.v1);
+    vec3 v2 = xform_point(inst.toWorld0, inst.toWorld1, inst.toWorld2, tri.v2);
+    tri.v0 = xform_point(inst.toWorld0, inst.toWorld1, inst.toWorld2, tri.v0);
+    tri.v1 = turned ? v2 : v1;
+    tri.v2 = turned ? v1 : v2;
+    float b = b1;
+    b1 = turned ? b2 : b1;
+    b2 = turned ? b : b2;
+  }
   float b0 = 1.0f - b1 - b2;
   SurfaceHit s;
   s.p = tri.v0 * b0 + tri.v1 * b1 + tri.v2 * b2;
@@ -76,24 +107,53 @@ SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
   vec2 t2 = vec2(0.0f, 1.0f);
   if (FEATURE_COMPILED(FEATURE_SHADING_DATA) && tri.shading != WP_INVALID) {
     TriangleShading sh = load_shading(tri.shading);
+    if (turned) {
+      vec3 n1 = sh.n1;
+      sh.n1 = sh.n2;
+      sh.n2 = n1;
+      sh.uv12 = vec4(sh.uv12.z, sh.uv12.w, sh.uv12.x, sh.uv12.y);
+    }
     t0 = vec2(sh.u0, sh.v0);
     t1 = vec2(sh.uv12.x, sh.uv12.y);
     t2 = vec2(sh.uv12.z, sh.uv12.w);
     vec2 uv = t0 * b0 + t1 * b1 + t2 * b2;
     s.uv = vec4(uv.x, uv.y, uv.x, uv.y);
     if ((sh.flags & SHADING_NORMALS) != 0u) {
+      if (placed) {
+        sh.n0 = normalize(xform_normal_by_inverse(inst.toObject0, inst.toObject1, inst.toObject2, sh.n0));
+        sh.n1 = normalize(xform_normal_by_inverse(inst.toObject0, inst.toObject1, inst.toObject2, sh.n1));
+        sh.n2 = normalize(xform_normal_by_inverse(inst.toObject0, inst.toObject1, inst.toObject2, sh.n2));
+      }
       vec3 n = sh.n0 * b0 + sh.n1 * b1 + sh.n2 * b2;
       float len = length(n);
       if (len > 0.0f) s.ns = dot(n, s.ng) >= 0.0f ? n / len : -n / len;
     }
     if (FEATURE_COMPILED(FEATURE_VERTEX_DATA) && (sh.flags & SHADING_VERTEX_DATA) != 0u) {
       TriangleVertexData vd = load_vertex_data(tri.shading);
+      if (turned) {
+        vec4 t1 = vd.tangent1;
+        vd.tangent1 = vd.tangent2;
+        vd.tangent2 = t1;
+        vec4 c1 = vd.color1;
+        vd.color1 = vd.color2;
+        vd.color2 = c1;
+        vec4 u = vd.uv1_01;
+        vd.uv1_01 = vec4(u.x, u.y, vd.uv1_2.x, vd.uv1_2.y);
+        vd.uv1_2 = vec4(u.z, u.w, 0.0f, 0.0f);
+      }
       s.color = vd.color0 * b0 + vd.color1 * b1 + vd.color2 * b2;
       vec2 uv1 = vec2(vd.uv1_01.x, vd.uv1_01.y) * b0 + vec2(vd.uv1_01.z, vd.uv1_01.w) * b1 + vec2(vd.uv1_2.x, vd.uv1_2.y) * b2;
       s.uv = vec4(uv.x, uv.y, uv1.x, uv1.y);
       if (TANGENTS_COMPILED) {
+        float handedness = vd.tangent0.w < 0.0f ? -1.0f : 1.0f;
+        if (placed) {
+          vd.tangent0 = vec4(placed_tangent(inst, vec3(vd.tangent0.x, vd.tangent0.y, vd.tangent0.z)), 0.0f);
+          vd.tangent1 = vec4(placed_tangent(inst, vec3(vd.tangent1.x, vd.tangent1.y, vd.tangent1.z)), 0.0f);
+          vd.tangent2 = vec4(placed_tangent(inst, vec3(vd.tangent2.x, vd.tangent2.y, vd.tangent2.z)), 0.0f);
+          if (turned) handedness = -handedness;
+        }
         vec4 t = vd.tangent0 * b0 + vd.tangent1 * b1 + vd.tangent2 * b2;
-        s.tangent = vec4(t.x, t.y, t.z, vd.tangent0.w < 0.0f ? -1.0f : 1.0f);
+        s.tangent = vec4(t.x, t.y, t.z, handedness);
       }
     }
   }
@@ -105,6 +165,11 @@ SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
   return s;
 }
 
+// The same for a triangle in world space.
+SurfaceHit triangle_surface_of(Triangle tri, float b1, float b2) {
+  return triangle_surface_placed(tri, b1, b2, WP_INVALID);
+}
+
 SurfaceHit triangle_surface(uint i, float b1, float b2) {
   return triangle_surface_of(load_triangle(i), b1, b2);
 }
@@ -112,7 +177,7 @@ SurfaceHit triangle_surface(uint i, float b1, float b2) {
 // The surface at a hit of the ray (o, d).
 SurfaceHit surface_at(vec3 o, vec3 d, Hit h) {
   if (FEATURE_COMPILED(FEATURE_SPHERES) && (h.prim & HIT_SPHERE_BIT) != 0u) return sphere_surface(h.prim & ~HIT_SPHERE_BIT, o + d * h.t);
-  return triangle_surface(h.prim, h.u, h.v);
+  return triangle_surface_placed(load_triangle(h.prim), h.u, h.v, h.instance);
 }
 
 // The material at a ray's hit, or WP_INVALID where it hit nothing. Only the

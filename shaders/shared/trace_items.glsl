@@ -46,11 +46,7 @@ void trace_one_item(uint item) {
   float tmax;
   uint tag;
   trace_item_ray(item, o, d, tmax, tag);
-  Hit hit;
-  hit.t = tmax;
-  hit.prim = WP_INVALID;
-  hit.u = 0.0f;
-  hit.v = 0.0f;
+  Hit hit = no_hit(tmax);
   bool truncated = tmax > 0.0f && trace_ray(o, d, tmax, TRACE_ANY_HIT, hit) != TRACE_OK;
   finish_item(item, tag, hit, truncated);
 }

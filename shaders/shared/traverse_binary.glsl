@@ -22,6 +22,9 @@
 // A negative cutoff is stochastic transparency: the cutoff is then a number
 // in [0, 1) hashed from the ray and the triangle, so that a ray passes with
 // probability 1 - alpha, and the same ray always decides the same way.
+// In an instance's space (o, d) are the ray there: an instance's front is
+// its mesh's front placed, even where its transform mirrors (glTF's rule,
+// surfaces.glsl), so the test is the same.
 bool triangle_is_there(uint i, Triangle tri, vec3 o, vec3 d, float b1, float b2) {
   if (FEATURE_COMPILED(FEATURE_ONE_SIDED) && (tri.material & TRIANGLE_ONE_SIDED) != 0u &&
       dot(cross(tri.v1 - tri.v0, tri.v2 - tri.v0), d) > 0.0f)
@@ -38,8 +41,9 @@ bool triangle_is_there(uint i, Triangle tri, vec3 o, vec3 d, float b1, float b2)
 }
 
 // Tests primitive record i (a triangle, or a sphere's placeholder), loaded as
-// tri, and keeps the nearer hit.
-void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
+// tri, and keeps the nearer hit. The ray (o, d) is in the space of
+// `instance` (WP_INVALID: the world's).
+void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, uint instance, INOUT(Hit) hit) {
   float t;
   if (tri.material != WP_INVALID) {
     float u;
@@ -49,6 +53,7 @@ void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, IN
       hit.prim = i;
       hit.u = u;
       hit.v = v;
+      hit.instance = instance;
     }
   } else if (FEATURE_COMPILED(FEATURE_SPHERES)) {
     Sphere sp = load_sphere(tri.shading);
@@ -59,22 +64,48 @@ void intersect_loaded_prim(uint i, Triangle tri, vec3 o, vec3 d, RayShear sh, IN
       hit.prim = tri.shading | HIT_SPHERE_BIT;
       hit.u = 0.0f;
       hit.v = 0.0f;
+      hit.instance = WP_INVALID;
     }
   }
 }
 
-// Tests primitive record i and keeps the nearer hit.
-void intersect_prim(uint i, vec3 o, vec3 d, RayShear sh, INOUT(Hit) hit) {
-  intersect_loaded_prim(i, load_triangle(i), o, d, sh, hit);
-}
-
-// The binary BVH (BvhNode), ordered and stack-based: each iteration visits one
-// node (testing both children's boxes) or tests one primitive.
-uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+// A hit of nothing yet, before tmax.
+Hit no_hit(float tmax) {
+  Hit hit;
   hit.t = tmax;
   hit.prim = WP_INVALID;
   hit.u = 0.0f;
   hit.v = 0.0f;
+  hit.instance = WP_INVALID;
+  hit.pad0 = 0u;
+  hit.pad1 = 0u;
+  hit.pad2 = 0u;
+  return hit;
+}
+
+// Whether the ray o + t invDir^-1, t in (0, tmax), meets an instance's world
+// box (its placeholder `tri`, types.glsl).
+bool meets_instance(Triangle tri, vec3 o, vec3 invDir, float tmax) {
+  return intersect_aabb(o, invDir, tri.v0, tri.v1, tmax) != WP_INF;
+}
+
+// Both walks keep one stack across the two levels. Entering an instance sets
+// aside what remains of the top level, then an entry (INSTANCE_RETURN_Y in y,
+// which no other entry has) whose popping brings the walk back to world
+// space; the instance's tree is walked above it with the ray taken into its
+// mesh's space. The ray is not renormalized there, so distances along it
+// stay those of the world ray and hit.t bounds both levels (as in pbrt-v4's
+// TransformedPrimitive).
+#define INSTANCE_RETURN_Y 0u
+
+// The binary BVH (BvhNode), ordered and stack-based: each iteration visits one
+// node (testing both children's boxes) or tests one primitive.
+uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+  hit = no_hit(tmax);
+  // The ray in the space being walked: the world's, or an instance's.
+  vec3 ro = o;
+  vec3 rd = d;
+  uint instance = WP_INVALID;
   vec3 invDir = vec3(1.0f) / d;
   RayShear sh = make_ray_shear(d);
   // Nodes are named by their (leftFirst, count) pair, read when their parent
@@ -97,8 +128,33 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     if (steps > cap) return TRACE_TRUNCATED;
     WP_NOTE_STEP();
     if (leafNext < leafEnd) {
-      intersect_prim(leafNext, o, d, sh, hit);
+      Triangle tri = load_triangle(leafNext);
       leafNext += 1u;
+      if (FEATURE_COMPILED(FEATURE_INSTANCES) && tri.material == PRIM_INSTANCE) {
+        if (!meets_instance(tri, o, invDir, hit.t)) continue;
+        // Set aside the rest of this leaf (a leaf entry: count != 0), then the
+        // way back; walk the instance's tree from its root.
+        if (leafNext < leafEnd) {
+          stack[sp] = uvec2(leafNext, leafEnd - leafNext);
+          sp += 1u;
+        }
+        stack[sp] = uvec2(0u, INSTANCE_RETURN_Y);
+        sp += 1u;
+        WP_NOTE_STACK_DEPTH(sp);
+        leafNext = 0u;
+        leafEnd = 0u;
+        instance = tri.shading;
+        Instance inst = load_instance(instance);
+        ro = xform_point(inst.toObject0, inst.toObject1, inst.toObject2, o);
+        rd = xform_vector(inst.toObject0, inst.toObject1, inst.toObject2, d);
+        invDir = vec3(1.0f) / rd;
+        sh = make_ray_shear(rd);
+        BvhNode blasRoot = load_node(inst.root);
+        node = uvec2(blasRoot.leftFirst, blasRoot.count);
+        haveNode = true;
+        continue;
+      }
+      intersect_loaded_prim(leafNext - 1u, tri, ro, rd, sh, instance, hit);
       if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
       continue;
     }
@@ -106,6 +162,16 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       if (sp == 0u) break;
       sp -= 1u;
       node = stack[sp];
+      if (FEATURE_COMPILED(FEATURE_INSTANCES) && node.y == INSTANCE_RETURN_Y && node.x == 0u) {
+        // Back in world space. (An interior node's entry has count 0 too,
+        // but never child 0: node 0 is the root.)
+        ro = o;
+        rd = d;
+        instance = WP_INVALID;
+        invDir = vec3(1.0f) / d;
+        sh = make_ray_shear(d);
+        continue;
+      }
     }
     haveNode = false;
     if (node.y != 0u) {
@@ -115,8 +181,8 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     }
     BvhNode n0 = load_node(node.x);
     BvhNode n1 = load_node(node.x + 1u);
-    float d0 = intersect_aabb(o, invDir, n0.bmin, n0.bmax, hit.t);
-    float d1 = intersect_aabb(o, invDir, n1.bmin, n1.bmax, hit.t);
+    float d0 = intersect_aabb(ro, invDir, n0.bmin, n0.bmax, hit.t);
+    float d1 = intersect_aabb(ro, invDir, n1.bmin, n1.bmax, hit.t);
     uvec2 near = uvec2(n0.leftFirst, n0.count);
     uvec2 far = uvec2(n1.leftFirst, n1.count);
     if (d1 < d0) {

@@ -91,6 +91,32 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
   WP_MOVE(r, c, 16u, 17u); WP_MOVE(r, c, 17u, 18u); WP_MOVE(r, c, 18u, 19u); WP_MOVE(r, c, 19u, 20u); WP_MOVE(r, c, 20u, 21u); WP_MOVE(r, c, 21u, 22u); WP_MOVE(r, c, 22u, 23u); WP_MOVE(r, c, 23u, 24u); \
   WP_MOVE(r, c, 24u, 25u); WP_MOVE(r, c, 25u, 26u); WP_MOVE(r, c, 26u, 27u); WP_MOVE(r, c, 27u, 28u); WP_MOVE(r, c, 28u, 29u); WP_MOVE(r, c, 29u, 30u); WP_MOVE(r, c, 30u, 31u);
 
+// Sets the walk's per-ray constants (wide_walk_state.glsl) for the ray rd, at
+// the start and wherever the walk enters or leaves an instance's space.
+// A zero direction component becomes a tiny one, so that no slab distance is
+// 0 * inf: the result differs only for rays exactly in a box's face. Slot
+// order for the ray: the builder put the child lying towards octant s in
+// slot s, and the walk takes the highest bit first, so bit 24 + (s ^
+// xorSlot) puts the child facing the ray's origin first.
+#define WP_WIDE_WALK_AIM()                                                                                        \
+  sh = make_ray_shear(rd);                                                                                         \
+  invDir = vec3(1.0f) / vec3(abs(rd.x) < 1e-20f ? 1e-20f : rd.x, abs(rd.y) < 1e-20f ? 1e-20f : rd.y,              \
+                             abs(rd.z) < 1e-20f ? 1e-20f : rd.z);                                                  \
+  negX = invDir.x < 0.0f;                                                                                          \
+  negY = invDir.y < 0.0f;                                                                                          \
+  negZ = invDir.z < 0.0f;                                                                                          \
+  xorSlot = (negX ? 0u : 1u) | (negY ? 0u : 2u) | (negZ ? 0u : 4u);
+
+// Pushes entry e on the wide walk's stack (either kind, see below).
+#define WP_WIDE_PUSH(e)                \
+  if (inRegisters) {                   \
+    WP_REGISTER_STACK_DOWN(regs, true); \
+    regs[0u] = (e);                    \
+  } else {                             \
+    stack[sp] = (e);                   \
+  }                                    \
+  sp += 1u;
+
 // The 8-wide compressed BVH (WideNode), after Ylitie et al. 2017. The walk
 // keeps a node group (the hit interior children of a node still to visit) and
 // a primitive group (the hit primitives still to test); each iteration tests

@@ -13,11 +13,15 @@
 // Primitive groups the wide walk sets aside on its stack at most, beside one
 // node group per level below the root (scene.glsl, trace_wide).
 #define WIDE_STACK_PRIM_GROUPS 2u
-// Slots of the traversal stack in C++: enough for any tree the builders make
-// (the binary walk keeps one entry per level, the wide walk the above). The
-// kernels size theirs by specialization constant 5 to what the scene's tree
-// needs.
-#define BVH_STACK_MAX (BVH_MAX_DEPTH + WIDE_STACK_PRIM_GROUPS)
+// Entries a walk sets aside when it enters an instance (traverse_*.glsl):
+// what remains of the top level (the wide walk's node group, node to visit
+// and primitive group) and the entry that returns to it.
+#define INSTANCE_ENTRY_SLOTS 4u
+// Slots of the traversal stack in C++: enough for any two-level tree the
+// builders make (the binary walk keeps one entry per level, the wide walk the
+// above; an instance's tree stacks on the top level's). The kernels size
+// theirs by specialization constant 5 to what the scene's trees need.
+#define BVH_STACK_MAX (2u * (BVH_MAX_DEPTH + WIDE_STACK_PRIM_GROUPS) + INSTANCE_ENTRY_SLOTS)
 
 // SceneParams.accel.x: which node layout the kernels traverse.
 #define BVH_LAYOUT_BINARY 0u  // BvhNode: two children per node, float boxes
@@ -29,6 +33,8 @@
 
 // Hit.prim: bit 31 marks a sphere; WP_INVALID marks a miss.
 #define HIT_SPHERE_BIT 0x80000000u
+// Triangle.material of an instance's placeholder in the top level's leaves.
+#define PRIM_INSTANCE 0xfffffffeu
 
 #include "kinds.glsl"
 #include "layers.glsl"
@@ -152,6 +158,7 @@ struct WideNode {
 #define TRIANGLE_SHADING_TEXELS 4
 #define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
+#define INSTANCE_TEXELS 7
 #define MATERIAL_TEXELS 9
 #define MATERIAL_MEDIA_TEXEL 8  // Material.media, which material_media (media.glsl) reads alone
 #define MEDIUM_TEXELS 9
@@ -172,12 +179,15 @@ struct WideNode {
 #define TRIANGLE_ONE_SIDED 0x40000000u  // its back side is not there: rays pass through it (glTF's doubleSided false)
 #define TRIANGLE_CUTOUT 0x80000000u     // its material's alpha cuts it out where below the cutoff (glTF's alphaMode)
 
-// A primitive record in BVH leaf order, 48 bytes: a triangle in world space,
-// or a sphere's placeholder (material == WP_INVALID, `shading` = its index in
-// the sphere array), so leaves of both BVH layouts hold one kind of record.
+// A primitive record in BVH leaf order, 48 bytes: a triangle in world space
+// (in its mesh's space below an instance), a sphere's placeholder (material
+// == WP_INVALID, `shading` = its index in the sphere array) or an instance's
+// (material == PRIM_INSTANCE, `shading` = its index in the instance array,
+// v0 and v1 the lower and upper corners of its world box), so leaves of both
+// BVH layouts hold one kind of record.
 struct Triangle {
   vec3 v0;
-  uint material;  // its material | TRIANGLE_* flags; WP_INVALID: this record stands for sphere `shading`
+  uint material;  // its material | TRIANGLE_* flags; WP_INVALID: sphere `shading`; PRIM_INSTANCE: instance `shading`
   vec3 v1;
   uint emitter;  // index into the emitter table, or WP_INVALID
   vec3 v2;
@@ -231,6 +241,28 @@ struct Sphere {
   float area;  // surface area in world space (only valid when uniformly scaled)
   uint pad;
 };
+
+// An instance: a mesh's own BVH (a bottom-level tree, built once however
+// many instances place it) placed by an affine transform, whose two
+// directions are stored as Sphere's are. A walk meeting an instance's
+// placeholder takes the ray into the mesh's space and walks its tree
+// (traverse_*.glsl); the hit's surface is taken back to world space
+// (surfaces.glsl). 112 bytes.
+struct Instance {
+  vec4 toWorld0;
+  vec4 toWorld1;
+  vec4 toWorld2;
+  vec4 toObject0;
+  vec4 toObject1;
+  vec4 toObject2;
+  uint root;   // its mesh's root node (in the node array of the scene's layout)
+  uint flags;  // INSTANCE_*
+  uint mesh;   // its mesh, as compile_scene numbers them
+  uint pad;
+};
+// Instance.flags: the transform mirrors (negative determinant), which turns
+// the triangles' winding and so which side is their front.
+#define INSTANCE_MIRRORED 1u
 
 // A material. Colours are textures (a constant colour is a constant texture),
 // so every colour parameter may vary over the surface.
@@ -375,12 +407,18 @@ struct PathState {
   uint pad;
 };
 
-// Closest hit of a path's current ray. 16 bytes.
+// Closest hit of a path's current ray. 32 bytes; the hit buffer holds the
+// first 16 for every path and, after them, `instance` where the scene has
+// instances (kernel.glsl's read_hit / write_hit).
 struct Hit {
   float t;
   uint prim;  // WP_INVALID on a miss
   float u;    // barycentrics for triangles
   float v;
+  uint instance;  // the instance through which prim was hit, or WP_INVALID: prim is a record of the top level
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 // A next-event-estimation shadow ray; valid when tmax > 0. 48 bytes.

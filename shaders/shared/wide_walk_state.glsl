@@ -1,6 +1,9 @@
 // wide_walk_state.glsl — the wide BVH walk's locals for one ray (scene.glsl).
 // A fragment of a function body, not a header: see wide_walk_step.glsl.
 // wide_walk_begin.glsl gives them their values for a ray.
+vec3 ro;  // the ray in the space being walked: the world's (o, d), or an instance's
+vec3 rd;
+uint instance;  // the instance being walked, or WP_INVALID: the top level
 RayShear sh;
 vec3 invDir;
 bool negX;

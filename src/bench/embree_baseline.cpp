@@ -22,6 +22,7 @@ namespace {
 
 RTCDevice new_device(const Scene& s) {
   if (!s.spheres.empty()) throw RenderError("the Embree baseline takes triangle scenes only");
+  if (!s.instances.empty()) throw RenderError("the Embree baseline takes flat scenes only, not instances");
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) throw RenderError("Embree: cannot create a device");
   return device;

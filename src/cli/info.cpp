@@ -17,17 +17,21 @@ namespace wp::cli {
 namespace {
 
 // What the renderer would build for a scene: sizes, BVH quality and memory.
-int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant, const std::string* kernelsDevice) {
+int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant, const std::string* kernelsDevice, bool flatten) {
   RenderOptions options = variant_options(RenderOptions{}, variant);  // an unknown variant fails before any work
   options.photonsOnHost = true;  // the photon map it reports
   if (kernelsDevice && variant == "cpu") throw InputError("--kernels: the cpu reference has no kernels");
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(scenePath);
+  if (flatten) flatten_instances(scene);
   double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (maxLeafSize > 0) scene.accelerator.maxLeafSize = maxLeafSize;
   CompiledScene cs = compile_scene(scene, options);
   size_t gpuBytes = cs.gpu_bytes();
-  size_t prims = scene.triangles.size() + scene.spheres.size();
+  // With instances: the bytes per triangle placed, and the build's rate over
+  // the primitives its trees were built over.
+  const size_t prims = scene.triangles.size() + scene.spheres.size() + cs.instancing.instancedTriangles;
+  const size_t built = scene.triangles.size() + scene.spheres.size() + cs.instancing.instances + cs.instancing.uniqueTriangles;
   std::printf("scene        %s\n", scenePath.c_str());
   std::printf("primitives   %zu triangles, %zu spheres, %zu materials, %u emitters\n", scene.triangles.size(),
               scene.spheres.size(), scene.materials.size(), cs.params.counts.x);
@@ -36,9 +40,18 @@ int run_info(const std::string& scenePath, int maxLeafSize, const std::string& v
   bool wide = cs.bvhLayout == BvhLayout::Wide;
   std::printf("BVH          %s, %s, %zu nodes, depth %d, SAH cost %.2f, built in %.3f s (%.3g Mprims/s)\n",
               wide ? "8-wide compressed" : "binary", split_method_name(cs.bvhSplit), wide ? cs.wideNodes.size() : cs.nodes.size(),
-              cs.bvhDepth, cs.bvh_sah_cost(), cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? prims / cs.bvhBuildSeconds * 1e-6 : 0.0);
-  std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included)\n", gpuBytes / 1048576.0,
+              cs.bvhDepth, cs.bvh_sah_cost(), cs.bvhBuildSeconds, cs.bvhBuildSeconds > 0 ? built / cs.bvhBuildSeconds * 1e-6 : 0.0);
+  std::printf("GPU scene    %.2f MiB (%.1f bytes per primitive, BVH included; instanced triangles counted as placed)\n", gpuBytes / 1048576.0,
               prims ? double(gpuBytes) / double(prims) : 0.0);
+  const InstancingStats& inst = cs.instancing;
+  if (inst.instances > 0) {
+    // The BVH line above is the top level's tree.
+    std::printf("instances    %zu instances of %zu mesh%s: %zu unique triangles place %zu (%.3g per unique one); top level %.2f MiB "
+                "(its tree, %zu world triangles and the instances' placeholders and records), meshes' trees and triangles %.2f MiB\n",
+                inst.instances, inst.meshes, inst.meshes == 1 ? "" : "es", inst.uniqueTriangles, inst.instancedTriangles,
+                inst.uniqueTriangles ? double(inst.instancedTriangles) / double(inst.uniqueTriangles) : 0.0,
+                inst.topLevelBytes / 1048576.0, scene.triangles.size(), inst.bottomLevelBytes / 1048576.0);
+  }
   if (cs.params.mode.x == INTEGRATOR_PHOTONS) {
     const IntegratorSettings& in = scene.integrator;
     std::printf("photons      %u traced on the host in %.3f s, %zu records (%.2f MiB); the gather takes %s within %g\n", in.photons,
@@ -99,15 +112,17 @@ Command add_info(CLI::App& app) {
     int maxLeafSize = 0;
     std::string variant = "gpu";
     std::string device;
+    bool flatten = false;
   };
   auto a = std::make_shared<InfoArgs>();
   CLI::App* info = app.add_subcommand("info", "load a scene, build its BVH and report sizes, build time and memory");
   info->add_option("scene", a->scene, "scene file (darts JSON, glTF 2.0)")->required();
   info->add_option("--max-leaf-size", a->maxLeafSize, "override the scene's BVH leaf size")->check(CLI::Range(1, BVH_MAX_LEAF_SIZE));
   info->add_option("--variant", a->variant, "the kernel variant (or cpu) whose BVH layout to build; default gpu");
+  info->add_flag("--flatten-instances", a->flatten, "place every instance's triangles in world space, as one flat BVH");
   CLI::Option* infoKernels = info->add_flag("--kernels", "also compile the variant's kernels and show the driver's statistics of each (registers, spills, ...)");
   info->add_option("--device", a->device, "Vulkan device for --kernels: index or part of the name")->needs(infoKernels);
-  return {info, [a, infoKernels] { return run_info(a->scene, a->maxLeafSize, a->variant, *infoKernels ? &a->device : nullptr); }};
+  return {info, [a, infoKernels] { return run_info(a->scene, a->maxLeafSize, a->variant, *infoKernels ? &a->device : nullptr, a->flatten); }};
 }
 
 }  // namespace wp::cli

@@ -59,6 +59,7 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
     use_cs184_3_2_skeleton(scene);
   }
   if (!a.camera.empty()) choose_camera(scene, a.camera);
+  if (a.flattenInstances) flatten_instances(scene);
   if (!a.resolution.empty()) set_resolution(scene.camera, a.resolution[0], a.resolution[1]);
   // As the course does: the settings file after the resolution, its fields winning.
   if (!a.cameraSettings.empty()) apply_cs184_camera_settings(a.cameraSettings, scene.camera);
@@ -251,6 +252,8 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
   app.add_option("-e,--env", r.environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e); none: no environment, a black "
                      "background (a glTF model without lights is otherwise lit by a white sky)");
   app.add_option("--camera", r.camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
+  app.add_flag("--flatten-instances", r.flattenInstances,
+               "place every instance's triangles in world space, as one flat BVH, instead of walking each instanced mesh's own tree");
   app.add_option("-c,--camera-settings", r.cameraSettings, "a CS184 camera settings file, as its viewer writes with D (CS184: -c)");
   app.add_flag("--consistent-lights", r.consistentLights,
                    "CS184 scenes: read the lights physically (area lights are visible quads, emissive meshes light the "
@@ -320,6 +323,7 @@ std::string render_command_line(const RenderArgs& a) {
   if (a.focusDistance > 0.0f) add("-d", number(a.focusDistance));
   add("-e", a.environment);
   if (a.consistentLights) line += " --consistent-lights";
+  if (a.flattenInstances) line += " --flatten-instances";
   add("--cs184", a.cs184Skeleton);
   if (!a.adaptive.empty()) line += " -a " + number(a.adaptive[0]) + " " + number(a.adaptive.size() > 1 ? a.adaptive[1] : 0.0);
   std::string aovs;

@@ -41,6 +41,7 @@ struct RenderArgs {
   float focusDistance = -1.0f;  // (CS184 -d)
   std::string environment;      // environment map replacing the background (CS184 -e)
   std::string camera;           // a glTF camera by name or index (default: the first)
+  bool flattenInstances = false;  // place every instance's triangles in world space (no two-level BVH)
   std::string cameraSettings;   // a CS184 camera settings file (CS184 -c)
   std::vector<int> cell;        // X Y DX DY: render one cell of the frame, Y from the bottom (CS184 -p)
   bool consistentLights = false;  // CS184 scenes read physically (use_consistent_lights)

@@ -85,6 +85,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_TRIANGLE_SHADING:
     case BINDING_VERTEX_DATA:
     case BINDING_SPHERES:
+    case BINDING_INSTANCES:
     case BINDING_MATERIALS:
     case BINDING_EMITTERS:
     case BINDING_TEXTURES:
@@ -132,6 +133,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_TRIANGLE_SHADING, scene.triangleShading, "vertex normals and UVs");
   add_texels(BINDING_VERTEX_DATA, scene.triangleVertexData, "tangents, vertex colours and second UVs");
   add_texels(BINDING_SPHERES, scene.spheres, "spheres");
+  add_texels(BINDING_INSTANCES, scene.instances, "instances");
   add_texels(BINDING_MATERIALS, scene.materials, "materials");
   add_texels(BINDING_EMITTERS, scene.emitters, "emitters");
   add_texels(BINDING_TEXTURES, scene.textures, "textures");
@@ -150,7 +152,7 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   tilePixels = uint32_t(std::min<uint64_t>(pixels, tileLimit));
   add_work(BINDING_PIXEL_LIST, uint64_t(tilePixels) * sizeof(uint32_t));
   add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
-  add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * sizeof(shader::Hit));
+  add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * hit_record_bytes(scene));
   // Queues 0 and 1, and with sorting by material class each sort key's.
   add_readable_work(BINDING_QUEUES, BINDING_QUEUE_TEXELS, uint64_t(capacity) * queue_count() * sizeof(uint32_t), vk::Format::eR32Uint);
   add_work(BINDING_SORT, SORT_KEYS * sizeof(uint32_t));

@@ -32,7 +32,8 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
   timestamps = false;  // no per-stage bookkeeping: only the kernel's dispatch is timed
   double kernelTime = 0.0;
   const Buffer& rayBuffer = *buffers[BINDING_SHADOW_RAYS];
-  if (!readHits) readHits = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::Hit), vk::BufferUsageFlagBits::eTransferDst, true);
+  const uint64_t hitBytes = hit_record_bytes(scene);
+  if (!readHits) readHits = std::make_unique<Buffer>(ctx, uint64_t(capacity) * hitBytes, vk::BufferUsageFlagBits::eTransferDst, true);
   if (!rayBuffer.mapped() && !rayStaging)
     rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::ShadowRay), vk::BufferUsageFlagBits::eTransferSrc, true);
   // One chunk through `p`: the rays truncated, and the kernel's GPU time added to kernelTime.
@@ -51,7 +52,7 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
       }
       dispatch(cb, p, push, tracing_groups(n, perInvocation), StageTimes::kExtend);
       if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
-      cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, n * sizeof(shader::Hit)));
+      cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, uint64_t(capacity) * hitBytes));
       cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
       vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
       cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
@@ -75,7 +76,13 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
       ++oneRayReruns;
       chunkLost = run_chunk(*single, n, 1);
     }
-    std::memcpy(hits.data() + start, readHits->mapped(), n * sizeof(shader::Hit));
+    // The hit buffer's layout (kernel.glsl's write_hit): 16 bytes a hit, then each hit's instance.
+    const auto* words = static_cast<const uint32_t*>(readHits->mapped());
+    for (uint32_t i = 0; i < n; ++i) {
+      shader::Hit& h = hits[start + i];
+      std::memcpy(&h, words + 4 * i, 16);
+      h.instance = hitBytes > 16 ? words[4 * (capacity + i)] : WP_INVALID;
+    }
     lost += chunkLost;
   }
   if (truncated) *truncated = lost;

@@ -55,6 +55,11 @@ uint32_t punctual_light_kind(const shader::PointLight& l) {
   return uint32_t(l.position.w);
 }
 
+// Whether a primitive record stands for a sphere or an instance.
+bool is_placeholder(const shader::Triangle& t) {
+  return t.material == WP_INVALID || t.material == PRIM_INSTANCE;
+}
+
 // The kinds a compiled scene uses (SceneParams.kinds; kinds.glsl), before its
 // empty arrays get their placeholder element: every material's and texture's
 // kind, the light kinds of the emitter table's prims (`emitters`), and the
@@ -85,8 +90,9 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, const std::vector<uint32_t>& emi
   if (spheres) k.w |= KIND_BIT(FEATURE_SPHERES);
   if (!cs.triangleShading.empty()) k.w |= KIND_BIT(FEATURE_SHADING_DATA);
   if (!cs.triangleVertexData.empty()) k.w |= KIND_BIT(FEATURE_VERTEX_DATA);
+  if (!cs.instances.empty()) k.w |= KIND_BIT(FEATURE_INSTANCES);
   for (const shader::Triangle& t : cs.triangles) {
-    if (t.material == WP_INVALID) continue;  // a sphere's placeholder
+    if (is_placeholder(t)) continue;
     if (t.material & TRIANGLE_ONE_SIDED) k.w |= KIND_BIT(FEATURE_ONE_SIDED);
     if (t.material & TRIANGLE_CUTOUT) k.w |= KIND_BIT(FEATURE_CUTOUTS);
   }
@@ -132,7 +138,7 @@ void shade_classes(CompiledScene& cs, uint32_t environmentTexture) {
   cs.shadeCommonKinds = common;
   std::vector<bool> used(cs.materials.size(), false);
   for (const shader::Triangle& t : cs.triangles)
-    if (t.material != WP_INVALID) used[t.material & TRIANGLE_MATERIAL_MASK] = true;
+    if (!is_placeholder(t)) used[t.material & TRIANGLE_MATERIAL_MASK] = true;
   for (const shader::Sphere& sp : cs.spheres) used[sp.material] = true;
   for (uint32_t m = 0; m < cs.materials.size(); ++m) {
     cs.materials[m].children.w = SORT_KEY_MISS + 1u;  // for unused materials: any class will do
@@ -165,6 +171,7 @@ shader::SceneView CompiledScene::view() const {
   v.shadingTexels = texels_of(triangleShading);
   v.vertexDataTexels = texels_of(triangleVertexData);
   v.sphereTexels = texels_of(spheres);
+  v.instanceTexels = texels_of(instances);
   v.materialTexels = texels_of(materials);
   v.emitterTexels = texels_of(emitters);
   v.textureTexels = texels_of(textures);
@@ -193,7 +200,7 @@ double CompiledScene::bvh_sah_cost() const {
 size_t CompiledScene::gpu_bytes() const {
   size_t nodeBytes = bvhLayout == BvhLayout::Wide ? wideNodes.size() * sizeof(shader::WideNode) : nodes.size() * sizeof(shader::BvhNode);
   return nodeBytes + triangles.size() * sizeof(shader::Triangle) +
-         spheres.size() * sizeof(shader::Sphere) + materials.size() * sizeof(shader::Material) +
+         spheres.size() * sizeof(shader::Sphere) + instances.size() * sizeof(shader::Instance) + materials.size() * sizeof(shader::Material) +
          emitters.size() * sizeof(shader::Emitter) + textures.size() * sizeof(shader::Texture) +
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
@@ -417,13 +424,15 @@ static shader::Triangle triangle_record(const SceneTriangle& t) {
   return g;
 }
 
-// bvh_input with the scene's material_radiance already at hand.
-static BvhInput bvh_input(const Scene& scene, const std::vector<double>& radiance) {
+// bvh_input with the scene's material_radiance already at hand, and the
+// instances' world boxes (placeholders after the spheres, which emit nothing).
+static BvhInput bvh_input(const Scene& scene, const std::vector<double>& radiance, const std::vector<Aabb>& instanceBoxes) {
   BvhInput input;
-  const size_t count = scene.triangles.size() + scene.spheres.size();
+  const size_t count = scene.triangles.size() + scene.spheres.size() + instanceBoxes.size();
   reserve_huge(input.bounds, count);
   for (const SceneTriangle& t : scene.triangles) input.bounds.push_back(triangle_bounds(t));
   for (const SceneSphere& s : scene.spheres) input.bounds.push_back(sphere_bounds(s.toWorld));
+  input.bounds.insert(input.bounds.end(), instanceBoxes.begin(), instanceBoxes.end());
   if (std::any_of(radiance.begin(), radiance.end(), [](double r) { return r > 0.0; })) {
     reserve_huge(input.emits, count);
     for (const SceneTriangle& t : scene.triangles) {
@@ -433,12 +442,61 @@ static BvhInput bvh_input(const Scene& scene, const std::vector<double>& radianc
       input.emits.push_back(radiance[t.material] > 0.0 ? sides : 0);
     }
     for (const SceneSphere& s : scene.spheres) input.emits.push_back(radiance[s.material] > 0.0 ? 0x3f : 0);
+    input.emits.resize(count, 0);
   }
   return input;
 }
 
+// An instance's world box: the union of its mesh's top boxes (`parts`)
+// placed by its transform, tighter than the mesh's whole box placed, grown by
+// a few ulps of its coordinates against rounding in the walk's transform of
+// the ray.
+static Aabb instance_box(const std::vector<Aabb>& parts, const glm::mat4& toWorld) {
+  Aabb w;
+  for (const Aabb& b : parts) {
+    const auto [lo, hi] = placed_bounds(b.lo, b.hi, toWorld);
+    w.grow(lo);
+    w.grow(hi);
+  }
+  const glm::vec3 pad = 4e-7f * glm::max(glm::abs(w.lo), glm::abs(w.hi)) + glm::vec3(1e-30f);
+  w.lo -= pad;
+  w.hi += pad;
+  return w;
+}
+
+// The boxes under the root of a tree: a wide root's children, or a binary
+// tree's nodes two levels down (each box whole where it is a leaf).
+static std::vector<Aabb> top_boxes(const std::vector<shader::WideNode>& wide, const std::vector<shader::BvhNode>& binary) {
+  std::vector<Aabb> parts;
+  if (!wide.empty()) {
+    const shader::WideNode& root = wide[0];
+    for (int slot = 0; slot < 8; ++slot)
+      if (((slot < 4 ? root.meta0123 : root.meta4567) >> ((slot & 3) * 8)) & 0xffu) parts.push_back(wide_child_box(root, slot));
+    return parts;
+  }
+  std::vector<uint32_t> level{0u};
+  for (int depth = 0; depth < 2; ++depth) {
+    std::vector<uint32_t> next;
+    for (uint32_t n : level) {
+      if (binary[n].count != 0u) parts.push_back(node_box(binary[n]));
+      else next.insert(next.end(), {binary[n].leftFirst, binary[n].leftFirst + 1u});
+    }
+    level = std::move(next);
+  }
+  for (uint32_t n : level) parts.push_back(node_box(binary[n]));
+  return parts;
+}
+
 BvhInput bvh_input(const Scene& scene) {
-  return bvh_input(scene, material_radiance(scene, pack_textures(scene)));
+  std::vector<Aabb> boxes;
+  for (const SceneInstance& i : scene.instances) {
+    const SceneInstancedMesh& m = scene.instancedMeshes[i.mesh];
+    Aabb b;
+    b.lo = m.lo;
+    b.hi = m.hi;
+    boxes.push_back(instance_box({b}, i.toWorld));
+  }
+  return bvh_input(scene, material_radiance(scene, pack_textures(scene)), boxes);
 }
 
 void set_camera_params(const Camera& cam, shader::SceneParams& p) {
@@ -469,27 +527,61 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   CompiledScene out;
   const size_t numTris = scene.triangles.size();
   const size_t numSpheres = scene.spheres.size();
-  if (numTris + numSpheres + scene.lightOnlyTriangles.size() >= size_t(EMITTER_UNSEEN_BIT))
-    throw InputError(scene.sourcePath + ": too many primitives");
+  size_t records = numTris + numSpheres + scene.lightOnlyTriangles.size() + scene.instances.size();
+  for (const SceneInstancedMesh& m : scene.instancedMeshes) records += m.triangles.size();
+  if (records >= size_t(EMITTER_UNSEEN_BIT)) throw InputError(scene.sourcePath + ": too many primitives");
 
   PackedTextures packed = pack_textures(scene);
   const std::vector<double> materialRadiance = material_radiance(scene, packed);
-  BvhInput input = bvh_input(scene, materialRadiance);
+  const bool wide = options.bvhLayout == BvhLayout::Wide;
+  out.bvhLayout = options.bvhLayout;
+  const auto start = std::chrono::steady_clock::now();
+  // The trees of the instanced meshes first (bottom level): the top level's
+  // boxes of their instances come from them.
+  struct MeshTree {
+    std::vector<shader::WideNode> wideNodes;
+    std::vector<shader::BvhNode> nodes;
+    std::vector<uint32_t> order;
+    int depth = 0;
+    std::vector<Aabb> topBoxes;
+  };
+  std::vector<MeshTree> meshTrees(scene.instancedMeshes.size());
+  for (size_t m = 0; m < scene.instancedMeshes.size(); ++m) {
+    BvhInput in;
+    for (const SceneTriangle& t : scene.instancedMeshes[m].triangles) in.bounds.push_back(triangle_bounds(t));
+    AcceleratorSettings accel = scene.accelerator;
+    accel.split = split_for(accel, in.bounds.size());
+    if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+    MeshTree& tree = meshTrees[m];
+    if (wide) {
+      WideBvh w = build_wide_bvh(in, accel, options.wideCollapse);
+      tree.wideNodes = std::move(w.nodes);
+      tree.order = std::move(w.order);
+      tree.depth = w.depth;
+    } else {
+      Bvh b = build_bvh(in, accel);
+      tree.nodes = std::move(b.nodes);
+      tree.order = std::move(b.order);
+      tree.depth = b.depth;
+    }
+    tree.topBoxes = top_boxes(tree.wideNodes, tree.nodes);
+  }
+  std::vector<Aabb> instanceBoxes;
+  reserve_huge(instanceBoxes, scene.instances.size());
+  for (const SceneInstance& i : scene.instances) instanceBoxes.push_back(instance_box(meshTrees[i.mesh].topBoxes, i.toWorld));
+  const size_t numInstances = scene.instances.size();
+  BvhInput input = bvh_input(scene, materialRadiance, instanceBoxes);
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
   AcceleratorSettings accel = scene.accelerator;
   accel.split = split_for(accel, input.bounds.size());
   if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
   out.bvhSplit = accel.split;
-  const bool wide = options.bvhLayout == BvhLayout::Wide;
-  out.bvhLayout = options.bvhLayout;
   uint32_t stackSlots;
   std::vector<uint32_t> order;
-  const auto start = std::chrono::steady_clock::now();
   if (wide) {
     // Collapsed from the builder's arrays, without laying out the binary tree.
     WideBvh w = build_wide_bvh(input, accel, options.wideCollapse);
-    out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.wideNodes = std::move(w.nodes);
     order = std::move(w.order);
     out.bvhDepth = w.depth;
@@ -497,7 +589,6 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     out.nodes.push_back(shader::BvhNode{});
   } else {
     Bvh bvh = build_bvh(input, accel);
-    out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.binarySahCost = bvh.sahCost;
     out.nodes = std::move(bvh.nodes);
     order = std::move(bvh.order);
@@ -505,31 +596,36 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     stackSlots = uint32_t(bvh.depth) + 1u;
     out.wideNodes.push_back(shader::WideNode{});
   }
+  input = {};
   // The builder bounds the depth, and with it the kernels' traversal stacks.
   if (out.bvhDepth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
+  // An instance's walk stacks on the top level's (traverse_*.glsl).
+  uint32_t meshSlots = 0;
+  for (const MeshTree& tree : meshTrees)
+    meshSlots = std::max(meshSlots, wide ? uint32_t(std::max(tree.depth, 1)) - 1u + WIDE_STACK_PRIM_GROUPS : uint32_t(tree.depth) + 1u);
+  if (numInstances > 0) stackSlots += INSTANCE_ENTRY_SLOTS + meshSlots;
 
   // Primitive records in leaf order (both layouts' leaves index them): each
-  // triangle, and for each sphere a placeholder naming it.
-  reserve_huge(out.triangles, order.size());
+  // triangle, and for each sphere and each instance a placeholder naming it;
+  // then each instanced mesh's triangles in its tree's leaf order.
+  size_t meshTriangles = 0;
+  for (const MeshTree& tree : meshTrees) meshTriangles += tree.order.size();
+  reserve_huge(out.triangles, order.size() + meshTriangles);
   reserve_huge(out.triangleShading, scene.triangleShading.size());
   // Tangents, colours and second UVs: a record beside every shading record
   // once any triangle has them.
-  const bool vertexData = std::any_of(scene.triangleShading.begin(), scene.triangleShading.end(),
-                                      [](const SceneTriangleShading& s) { return s.hasVertexData; });
+  auto has_vertex_data = [](const std::vector<SceneTriangleShading>& shading) {
+    return std::any_of(shading.begin(), shading.end(), [](const SceneTriangleShading& s) { return s.hasVertexData; });
+  };
+  const bool vertexData = has_vertex_data(scene.triangleShading) ||
+                          std::any_of(scene.instancedMeshes.begin(), scene.instancedMeshes.end(),
+                                      [&](const SceneInstancedMesh& m) { return has_vertex_data(m.shading); });
   if (vertexData) reserve_huge(out.triangleVertexData, scene.triangleShading.size());
-  for (uint32_t id : order) {
-    shader::Triangle g{};
-    if (id >= numTris) {
-      g.material = WP_INVALID;
-      g.emitter = WP_INVALID;
-      g.shading = id - uint32_t(numTris);
-      out.triangles.push_back(g);
-      continue;
-    }
-    const SceneTriangle& t = scene.triangles[id];
-    g = triangle_record(t);
+  // A triangle's record, with its shading data (from `shading`) where it has any.
+  auto add_triangle = [&](const SceneTriangle& t, const std::vector<SceneTriangleShading>& shading) {
+    shader::Triangle g = triangle_record(t);
     if (t.shading != WP_INVALID) {
-      const SceneTriangleShading& in = scene.triangleShading[t.shading];
+      const SceneTriangleShading& in = shading[t.shading];
       shader::TriangleShading sh{};
       g.shading = uint32_t(out.triangleShading.size());
       sh.flags = (in.hasNormals ? SHADING_NORMALS : 0u) | (in.hasVertexData ? SHADING_VERTEX_DATA : 0u);
@@ -560,7 +656,63 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
       }
     }
     out.triangles.push_back(g);
+  };
+  for (uint32_t id : order) {
+    shader::Triangle g{};
+    if (id >= numTris) {
+      const bool sphere = id < numTris + numSpheres;
+      g.material = sphere ? WP_INVALID : PRIM_INSTANCE;
+      g.emitter = WP_INVALID;
+      g.shading = id - uint32_t(sphere ? numTris : numTris + numSpheres);
+      if (!sphere) {
+        g.v0 = instanceBoxes[g.shading].lo;
+        g.v1 = instanceBoxes[g.shading].hi;
+      }
+      out.triangles.push_back(g);
+      continue;
+    }
+    add_triangle(scene.triangles[id], scene.triangleShading);
   }
+  out.instancing.topLevelBytes = out.triangles.size() * sizeof(shader::Triangle) +
+                                 (wide ? out.wideNodes.size() * sizeof(shader::WideNode) : out.nodes.size() * sizeof(shader::BvhNode)) +
+                                 numInstances * sizeof(shader::Instance);
+  // The instanced meshes' trees after the top level's, their node and
+  // primitive indices moved by where they now start.
+  std::vector<uint32_t> meshRoot(meshTrees.size());
+  for (size_t m = 0; m < meshTrees.size(); ++m) {
+    MeshTree& tree = meshTrees[m];
+    const uint32_t nodeBase = uint32_t(wide ? out.wideNodes.size() : out.nodes.size());
+    const uint32_t primBase = uint32_t(out.triangles.size());
+    meshRoot[m] = nodeBase;
+    for (shader::WideNode n : tree.wideNodes) {
+      n.childBase += nodeBase;
+      n.primBase += primBase;
+      out.wideNodes.push_back(n);
+    }
+    for (shader::BvhNode n : tree.nodes) {
+      n.leftFirst += n.count == 0u ? nodeBase : primBase;
+      out.nodes.push_back(n);
+    }
+    const SceneInstancedMesh& mesh = scene.instancedMeshes[m];
+    for (uint32_t id : tree.order) add_triangle(mesh.triangles[id], mesh.shading);
+    out.instancing.bottomLevelBytes += (tree.wideNodes.size() * sizeof(shader::WideNode) + tree.nodes.size() * sizeof(shader::BvhNode)) +
+                                       tree.order.size() * sizeof(shader::Triangle);
+    out.instancing.uniqueTriangles += tree.order.size();
+    tree = MeshTree{};
+  }
+  for (const SceneInstance& i : scene.instances) {
+    shader::Instance g{};
+    rows_3x4(i.toWorld, g.toWorld0, g.toWorld1, g.toWorld2);
+    rows_3x4(glm::inverse(i.toWorld), g.toObject0, g.toObject1, g.toObject2);
+    g.root = meshRoot[i.mesh];
+    g.flags = glm::determinant(glm::mat3(i.toWorld)) < 0.0f ? INSTANCE_MIRRORED : 0u;
+    g.mesh = i.mesh;
+    out.instances.push_back(g);
+    out.instancing.instancedTriangles += scene.instancedMeshes[i.mesh].triangles.size();
+  }
+  out.instancing.meshes = meshTrees.size();
+  out.instancing.instances = numInstances;
+  out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Light-only triangles after the leaves' records, where no leaf reaches them.
   const size_t firstLightOnly = out.triangles.size();
   for (const SceneTriangle& t : scene.lightOnlyTriangles) out.triangles.push_back(triangle_record(t));
@@ -609,7 +761,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   };
   for (size_t i = 0; i < out.triangles.size(); ++i) {
     shader::Triangle& t = out.triangles[i];
-    if (t.material == WP_INVALID) continue;  // a sphere's placeholder
+    if (is_placeholder(t)) continue;
     const bool lightOnly = i >= firstLightOnly;
     if (scene.cs184Estimator && !lightOnly) continue;
     double p = emits(t.material, 0.5f * glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)));
@@ -662,7 +814,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   // sampling could not see the cuts).
   if (scene.materials.size() > TRIANGLE_MATERIAL_MASK) throw RenderError("the scene has more materials than wavepath can index");
   for (shader::Triangle& t : out.triangles) {
-    if (t.material == WP_INVALID) continue;  // a sphere's placeholder
+    if (is_placeholder(t)) continue;
     const SceneMaterial& m = scene.materials[t.material];
     if (!m.doubleSided) t.material |= TRIANGLE_ONE_SIDED;
     if (m.alphaCutoff != 0.0f && materialRadiance[t.material & TRIANGLE_MATERIAL_MASK] <= 0.0) t.material |= TRIANGLE_CUTOUT;
@@ -673,6 +825,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   shade_classes(out, scene.environment);
   if (out.triangles.empty()) out.triangles.push_back(shader::Triangle{});
   if (out.spheres.empty()) out.spheres.push_back(shader::Sphere{});
+  if (out.instances.empty()) out.instances.push_back(shader::Instance{});
   // Buffers are never empty: bind a zero element where the scene has none.
   if (out.emitters.empty()) out.emitters.push_back(shader::Emitter{});
   if (out.materials.empty()) out.materials.push_back(shader::Material{});

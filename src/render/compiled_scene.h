@@ -45,6 +45,18 @@ struct RenderOptions {
   bool photonsOnHost = true;
 };
 
+// What instancing saved: the meshes placed by instances (each with its own
+// bottom-level tree) against the triangles they place, and the bytes of each
+// level (its nodes and primitive records).
+struct InstancingStats {
+  size_t meshes = 0;               // meshes with a bottom-level tree
+  size_t instances = 0;            // instances placing them
+  size_t uniqueTriangles = 0;      // the triangles of those meshes
+  size_t instancedTriangles = 0;   // the triangles the instances place (each mesh's times its instances)
+  size_t topLevelBytes = 0;        // the top level's nodes and records (world triangles, placeholders) and the instances
+  size_t bottomLevelBytes = 0;     // the meshes' trees and triangles
+};
+
 struct CompiledScene {
   shader::SceneParams params{};
   BvhLayout bvhLayout = BvhLayout::Wide;
@@ -54,6 +66,8 @@ struct CompiledScene {
   // sphere; spheres in scene order.
   std::vector<shader::Triangle> triangles;
   std::vector<shader::Sphere> spheres;
+  std::vector<shader::Instance> instances;  // FEATURE_INSTANCES (one unused record otherwise)
+  InstancingStats instancing;
   std::vector<shader::Material> materials;
   std::vector<shader::Emitter> emitters;
   std::vector<shader::Texture> textures;
@@ -106,6 +120,11 @@ struct CompiledScene {
 };
 
 CompiledScene compile_scene(const Scene& scene, const RenderOptions& options);
+// Bytes the hit buffer holds per path slot: a Hit's first 16, and the
+// instance where the scene has instances (kernel.glsl's write_hit).
+inline uint64_t hit_record_bytes(const CompiledScene& cs) {
+  return (cs.params.kinds.w & KIND_BIT(FEATURE_INSTANCES)) != 0u ? 32u : 16u;
+}
 // The camera's part of the kernels' parameters: where it stands, its field,
 // lens and the window of the frame it sees (what `wavepath view` changes
 // between passes, WavefrontRenderer::update_params).

@@ -60,6 +60,7 @@ struct SceneView : ShaderMath {
   const uvec4* shadingTexels = nullptr;
   const uvec4* vertexDataTexels = nullptr;
   const uvec4* sphereTexels = nullptr;
+  const uvec4* instanceTexels = nullptr;
   const uvec4* materialTexels = nullptr;
   const uvec4* emitterTexels = nullptr;
   const uvec4* textureTexels = nullptr;
@@ -108,7 +109,7 @@ static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 
               sizeof(Sphere) == 16 * SPHERE_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
               sizeof(Texture) == 16 * TEXTURE_TEXELS && sizeof(PointLight) == 16 * POINT_LIGHT_TEXELS &&
               sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(Medium) == 16 * MEDIUM_TEXELS && sizeof(Photon) == 16 * PHOTON_TEXELS && sizeof(PathState) == 16 * PATH_STATE_TEXELS &&
-              sizeof(Hit) == 16 * HIT_TEXELS && sizeof(ShadowRay) == 16 * SHADOW_RAY_TEXELS);
+              sizeof(Instance) == 16 * INSTANCE_TEXELS && sizeof(Hit) == 32 && sizeof(ShadowRay) == 16 * SHADOW_RAY_TEXELS);
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
               offsetof(WideNode, qlo) == 32 && offsetof(WideNode, qhi) == 64);
@@ -116,6 +117,7 @@ static_assert(sizeof(Triangle) == 48 && offsetof(Triangle, v2) == 32 && offsetof
 static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, flags) == 44 && offsetof(TriangleShading, uv12) == 48);
 static_assert(sizeof(TriangleVertexData) == 128 && offsetof(TriangleVertexData, color0) == 48 && offsetof(TriangleVertexData, uv1_2) == 112);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
+static_assert(sizeof(Instance) == 112 && offsetof(Instance, root) == 96 && offsetof(Instance, mesh) == 104);
 static_assert(sizeof(Material) == 144 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
               offsetof(Material, params2) == 48 && offsetof(Material, moreTextures) == 64 && offsetof(Material, volume) == 80 &&
               offsetof(Material, iridescence) == 96 && offsetof(Material, anisotropy) == 112 && offsetof(Material, media) == 128);
@@ -131,7 +133,7 @@ static_assert(sizeof(SceneParams) == 240 && offsetof(SceneParams, mode) == 112 &
               offsetof(SceneParams, photons) == 224);
 static_assert(sizeof(PathState) == 80 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60 &&
               offsetof(PathState, medium) == 64 && offsetof(PathState, crossings) == 72);
-static_assert(sizeof(Hit) == 16);
+static_assert(sizeof(Hit) == 32 && offsetof(Hit, instance) == 16);
 // write_shadow_ray and read_shadow_ray (kernel.glsl) move shadow rays as three
 // texels: origin and tmax, dir and path, contribution and media.
 static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, tmax) == 12 && offsetof(ShadowRay, dir) == 16 &&

@@ -102,13 +102,17 @@ std::string joined(const std::set<std::string>& names) {
 
 // The extensions wavepath reads. Others are named once in a warning, or
 // refused when the file requires them.
-const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",      "KHR_materials_anisotropy",      "KHR_materials_clearcoat",    "KHR_materials_dispersion", "KHR_materials_emissive_strength",
+const std::set<std::string> kSupportedExtensions = {"EXT_mesh_gpu_instancing", "KHR_lights_punctual",      "KHR_materials_anisotropy",      "KHR_materials_clearcoat",    "KHR_materials_dispersion", "KHR_materials_emissive_strength",
                                                     "KHR_materials_ior",        "KHR_materials_iridescence",  "KHR_materials_sheen",        "KHR_materials_specular",
                                                     "KHR_materials_transmission", "KHR_materials_volume",     "KHR_texture_transform"};
 
 // The most nodes a scene's tree may visit (a DAG can share subtrees, which
 // multiplies what a walk visits).
 constexpr size_t kMaxNodeVisits = 1u << 20;
+
+// The most instances a file may place (nodes and EXT_mesh_gpu_instancing's
+// together): each costs the GPU 160 bytes.
+constexpr size_t kMaxInstances = size_t(1) << 24;
 
 // Default image width; the height follows the camera's aspect ratio.
 constexpr int kDefaultWidth = 800;
@@ -133,7 +137,8 @@ class GltfImporter {
       for (size_t i = 0; i < s.nodes.size(); ++i)
         visit(s.nodes[i], glm::mat4(1.0f), "/scenes/" + std::to_string(sceneIndex) + "/nodes/" + std::to_string(i), ancestors);
     }
-    if (scene_.triangles.empty()) fail("/scenes", "the default scene holds no triangles");
+    settle_instances(scene_);
+    if (scene_.triangles.empty() && scene_.instances.empty()) fail("/scenes", "the default scene holds no triangles");
     default_camera();
     if (!unread_.empty())
       std::fprintf(stderr, "wavepath: warning: %s: not read yet, rendered without: %s\n", path_.c_str(), joined(unread_).c_str());
@@ -269,7 +274,12 @@ class GltfImporter {
     const tinygltf::Node& n = model_.nodes[size_t(index)];
     const glm::mat4 toWorld = parent * local_transform(n, at);
     if (n.skin >= 0) unread_.insert("skins (meshes in their bind pose)");
-    if (n.mesh >= 0) add_mesh_instance(n.mesh, toWorld, at + "/mesh");
+    auto instancing = n.extensions.find("EXT_mesh_gpu_instancing");
+    if (n.mesh >= 0 && instancing != n.extensions.end()) {
+      add_gpu_instances(n.mesh, toWorld, instancing->second, at + "/extensions/EXT_mesh_gpu_instancing");
+    } else if (n.mesh >= 0) {
+      add_mesh_instance(n.mesh, toWorld, at + "/mesh");
+    }
     if (n.camera >= 0) add_camera(n.camera, toWorld, at + "/camera");
     auto light = n.extensions.find("KHR_lights_punctual");
     if (light != n.extensions.end()) add_light(light->second, toWorld, at + "/extensions/KHR_lights_punctual");
@@ -280,23 +290,76 @@ class GltfImporter {
 
   // ---- meshes --------------------------------------------------------------
 
-  // A mesh's primitives, read once however many nodes place the mesh.
+  // A primitive of a mesh, as read from the file.
   struct Primitive {
     SceneMesh mesh;
     uint32_t material;
     std::string where;  // its JSON path
   };
 
+  // Every node that places a mesh makes an instance of it; settle_instances
+  // flattens the meshes that gain nothing from instancing (placed once).
   void add_mesh_instance(int meshIndex, const glm::mat4& toWorld, const std::string& where) {
-    for (const Primitive& p : primitives_of(meshIndex, where))
-      add_mesh(scene_, p.mesh, toWorld, {p.material}, WP_INVALID, [&](const std::string& problem) { fail(p.where, problem); });
+    if (scene_.instances.size() >= kMaxInstances) fail(where, "the scene places more than " + std::to_string(kMaxInstances) + " instances");
+    add_instance(scene_, instanced_mesh_of(meshIndex, where), toWorld, [&](const std::string& problem) { fail(where, problem); });
   }
 
-  const std::vector<Primitive>& primitives_of(int meshIndex, const std::string& where) {
-    if (meshIndex >= int(model_.meshes.size())) fail(where, "names mesh " + std::to_string(meshIndex) + ", which does not exist");
-    auto found = meshes_.find(meshIndex);
-    if (found != meshes_.end()) return found->second;
-    std::vector<Primitive>& out = meshes_[meshIndex];
+  // EXT_mesh_gpu_instancing: the node places its mesh once per element of
+  // its attribute accessors, each placement the node's transform times the
+  // element's translation, rotation and scale (the extension's
+  // specification, "Instancing").
+  void add_gpu_instances(int meshIndex, const glm::mat4& toWorld, const tinygltf::Value& ext, const std::string& where) {
+    if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject()) fail(where, "has no attributes object");
+    const tinygltf::Value& attributes = ext.Get("attributes");
+    AccessorReader reader(model_, path_);
+    std::vector<glm::vec4> columns[3];
+    const char* const kNames[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+    size_t count = std::numeric_limits<size_t>::max();
+    for (int a = 0; a < 3; ++a) {
+      if (!attributes.Has(kNames[a])) continue;
+      const tinygltf::Value& index = attributes.Get(kNames[a]);
+      const std::string at = where + "/attributes/" + kNames[a];
+      if (!index.IsInt()) fail(at, "must be an accessor index");
+      columns[a] = reader.read(index.GetNumberAsInt(), {a == 1 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3}, at, count);
+      count = columns[a].size();
+    }
+    if (count == std::numeric_limits<size_t>::max()) fail(where + "/attributes", "has none of TRANSLATION, ROTATION and SCALE");
+    if (scene_.instances.size() + count > kMaxInstances) fail(where, "the scene places more than " + std::to_string(kMaxInstances) + " instances");
+    const uint32_t mesh = instanced_mesh_of(meshIndex, where);
+    for (size_t i = 0; i < count; ++i) {
+      const std::string at = where + "/attributes (instance " + std::to_string(i) + ")";
+      glm::mat4 m(1.0f);
+      if (!columns[0].empty()) m = glm::translate(m, glm::vec3(columns[0][i]));
+      if (!columns[1].empty()) {
+        const glm::vec4 r = columns[1][i];
+        glm::quat q(r.w, r.x, r.y, r.z);
+        const float len = glm::length(q);
+        if (!(len > 0.0f) || !std::isfinite(len)) fail(at, "its ROTATION is not a rotation (its length is " + std::to_string(len) + ")");
+        m = m * glm::mat4_cast(q / len);
+      }
+      if (!columns[2].empty()) m = glm::scale(m, glm::vec3(columns[2][i]));
+      add_instance(scene_, mesh, toWorld * m, [&](const std::string& problem) { fail(at, problem); });
+    }
+  }
+
+  // The instanced mesh (Scene::instancedMeshes) of glTF mesh `meshIndex`,
+  // made on first use from all its primitives.
+  uint32_t instanced_mesh_of(int meshIndex, const std::string& where) {
+    auto found = instancedMeshes_.find(meshIndex);
+    if (found != instancedMeshes_.end()) return found->second;
+    const std::vector<Primitive> primitives = primitives_of(meshIndex, where);
+    const uint32_t index = add_instanced_mesh(scene_, SceneMesh{}, {}, WP_INVALID, [](const std::string&) {},
+                                              "/meshes/" + std::to_string(meshIndex));
+    for (const Primitive& p : primitives)
+      add_to_instanced_mesh(scene_, index, p.mesh, {p.material}, WP_INVALID, [&](const std::string& problem) { fail(p.where, problem); });
+    instancedMeshes_[meshIndex] = index;
+    return index;
+  }
+
+  // A mesh's primitives, read once (instanced_mesh_of keeps what they hold).
+  std::vector<Primitive> primitives_of(int meshIndex, const std::string& where) {
+    if (meshIndex < 0 || meshIndex >= int(model_.meshes.size())) fail(where, "names mesh " + std::to_string(meshIndex) + ", which does not exist");
+    std::vector<Primitive> out;
     const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
     const std::string at = "/meshes/" + std::to_string(meshIndex);
     AccessorReader reader(model_, path_);
@@ -878,7 +941,7 @@ class GltfImporter {
   size_t visits_ = 0;
   uint32_t defaultMaterial_ = WP_INVALID;
   std::map<int, uint32_t> materials_;
-  std::map<int, std::vector<Primitive>> meshes_;
+  std::map<int, uint32_t> instancedMeshes_;  // glTF mesh -> Scene::instancedMeshes
   std::map<std::pair<int, ColorEncoding>, uint32_t> images_;
   std::set<std::string> unread_;  // features of the model wavepath renders without, for one warning
 };

@@ -95,6 +95,17 @@ void set_cell(Camera& c, int x, int y, int dx, int dy) {
   c.height = dy;
 }
 
+std::pair<glm::vec3, glm::vec3> placed_bounds(glm::vec3 lo, glm::vec3 hi, const glm::mat4& toWorld) {
+  glm::vec3 wlo(INFINITY), whi(-INFINITY);
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    const glm::vec3 w(toWorld * glm::vec4(p, 1.0f));
+    wlo = glm::min(wlo, w);
+    whi = glm::max(whi, w);
+  }
+  return {wlo, whi};
+}
+
 std::pair<glm::vec3, glm::vec3> scene_bounds(const Scene& scene) {
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const SceneTriangle& t : scene.triangles)
@@ -102,6 +113,12 @@ std::pair<glm::vec3, glm::vec3> scene_bounds(const Scene& scene) {
       lo = glm::min(lo, v);
       hi = glm::max(hi, v);
     }
+  for (const SceneInstance& i : scene.instances) {
+    const SceneInstancedMesh& m = scene.instancedMeshes[i.mesh];
+    const auto [wlo, whi] = placed_bounds(m.lo, m.hi, i.toWorld);
+    lo = glm::min(lo, wlo);
+    hi = glm::max(hi, whi);
+  }
   for (const SceneSphere& s : scene.spheres) {
     const glm::vec3 c(s.toWorld[3]);
     const float r = std::max({glm::length(glm::vec3(s.toWorld[0])), glm::length(glm::vec3(s.toWorld[1])), glm::length(glm::vec3(s.toWorld[2]))});
@@ -172,19 +189,46 @@ std::vector<glm::vec4> smooth_tangents(const SceneMesh& mesh, const std::vector<
   return out;
 }
 
-void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
-              uint32_t unassigned, const std::function<void(const std::string&)>& fail) {
-  const glm::mat3 normalXform = normal_matrix(toWorld);
-  const glm::mat3 vectorXform(toWorld);
-  // A mirroring transform turns the bitangent's handedness.
-  const float handedness = glm::determinant(vectorXform) < 0.0f ? -1.0f : 1.0f;
+namespace {
+
+// How a mesh's vertices, normals and tangents are placed in world space:
+// positions by the transform, normals by its inverse transpose and tangents
+// by its linear part, each normalized; a mirroring transform turns the
+// bitangent's handedness. surfaces.glsl places an instance's surface the
+// same way, so that an instance and its flattened copy look alike.
+struct Placement {
+  glm::mat4 toWorld;
+  glm::mat3 normalXform;
+  glm::mat3 vectorXform;
+  float handedness;
+  explicit Placement(const glm::mat4& m)
+      : toWorld(m), normalXform(normal_matrix(m)), vectorXform(m), handedness(glm::determinant(glm::mat3(m)) < 0.0f ? -1.0f : 1.0f) {}
+  glm::vec3 point(glm::vec3 p) const { return glm::vec3(toWorld * glm::vec4(p, 1.0f)); }
+  // The unit normal, or zero where there is none.
+  glm::vec3 normal(glm::vec3 n) const {
+    n = normalXform * n;
+    return glm::length(n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f);
+  }
+  // The unit tangent and handedness, or zero: a zero or broken tangent
+  // leaves the kernels to derive one from the UVs.
+  glm::vec4 tangent(glm::vec4 t) const {
+    const glm::vec3 tw = vectorXform * glm::vec3(t);
+    const float len = glm::length(tw);
+    if (!(len > 0.0f && std::isfinite(len))) return glm::vec4(0.0f);
+    return glm::vec4(tw / len, t.w < 0.0f ? -handedness : handedness);
+  }
+};
+
+void append_mesh(std::vector<SceneTriangle>& triangles, std::vector<SceneTriangleShading>& shading, const SceneMesh& mesh,
+                 const Placement& place, const std::vector<uint32_t>& slots, uint32_t unassigned,
+                 const std::function<void(const std::string&)>& fail) {
   const bool vertexData = !mesh.tangents.empty() || !mesh.colors.empty() || !mesh.uvs1.empty();
   for (size_t t = 0; t < mesh.triangle_count(); ++t) {
     const uint32_t slot = mesh.materials[t];
     const uint32_t material = slot == WP_INVALID ? unassigned : slot < slots.size() ? slots[slot] : WP_INVALID;
     if (material == WP_INVALID) fail("triangle " + std::to_string(t + 1) + " has no material");
     glm::vec3 v[3];
-    for (size_t c = 0; c < 3; ++c) v[c] = glm::vec3(toWorld * glm::vec4(mesh.positions[mesh.positionIndices[3 * t + c]], 1.0f));
+    for (size_t c = 0; c < 3; ++c) v[c] = place.point(mesh.positions[mesh.positionIndices[3 * t + c]]);
     if (!is_finite(v[0]) || !is_finite(v[1]) || !is_finite(v[2])) fail("triangle " + std::to_string(t + 1) + ": " + kPastFloatRange);
     // Degenerate triangles are common in scanned meshes; they can never be
     // hit, so they are dropped rather than rejected.
@@ -198,9 +242,8 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
     sh.hasUvs = true;
     for (size_t c = 0; c < 3; ++c) {
       const uint32_t ni = mesh.normalIndices[3 * t + c], ti = mesh.uvIndices[3 * t + c];
-      glm::vec3 n = ni != WP_INVALID ? normalXform * mesh.normals[ni] : glm::vec3(0.0f);
-      if (glm::length(n) > 0.0f) sh.n[c] = glm::normalize(n);
-      else sh.hasNormals = false;
+      sh.n[c] = ni != WP_INVALID ? place.normal(mesh.normals[ni]) : glm::vec3(0.0f);
+      if (sh.n[c] == glm::vec3(0.0f)) sh.hasNormals = false;
       if (ti != WP_INVALID) sh.uv[c] = mesh.uvs[ti];
       else sh.hasUvs = false;
     }
@@ -209,22 +252,134 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
       sh.hasUv1 = !mesh.uvs1.empty();
       for (size_t c = 0; c < 3; ++c) {
         const uint32_t vi = mesh.positionIndices[3 * t + c];
-        if (!mesh.tangents.empty()) {
-          const glm::vec3 tw = vectorXform * glm::vec3(mesh.tangents[vi]);
-          const float len = glm::length(tw);
-          // A zero or broken tangent leaves the kernels to derive one from the UVs.
-          if (len > 0.0f && std::isfinite(len)) sh.tangent[c] = glm::vec4(tw / len, mesh.tangents[vi].w < 0.0f ? -handedness : handedness);
-        }
+        if (!mesh.tangents.empty()) sh.tangent[c] = place.tangent(mesh.tangents[vi]);
         if (!mesh.colors.empty()) sh.color[c] = mesh.colors[vi];
         if (!mesh.uvs1.empty()) sh.uv1[c] = mesh.uvs1[vi];
       }
     }
     if (sh.hasNormals || sh.hasUvs || sh.hasVertexData) {
-      tri.shading = uint32_t(scene.triangleShading.size());
-      scene.triangleShading.push_back(sh);
+      tri.shading = uint32_t(shading.size());
+      shading.push_back(sh);
     }
-    scene.triangles.push_back(tri);
+    triangles.push_back(tri);
   }
+}
+
+// Places a triangle of an instanced mesh in world space, as append_mesh
+// would have placed the triangle it came from, but for one rule instances
+// follow (glTF's: the determinant of the transform decides the winding): a
+// mirroring transform keeps the mesh's front side its front, by turning the
+// order of the corners, which would otherwise turn it.
+void place_instanced_triangle(Scene& scene, const SceneInstancedMesh& mesh, const SceneTriangle& t, const Placement& place) {
+  SceneTriangle w = t;
+  const int corner[3] = {0, place.handedness < 0.0f ? 2 : 1, place.handedness < 0.0f ? 1 : 2};
+  for (int c = 0; c < 3; ++c) w.v[c] = place.point(t.v[corner[c]]);
+  if (glm::length(glm::cross(w.v[1] - w.v[0], w.v[2] - w.v[0])) == 0.0f) return;
+  if (t.shading != WP_INVALID) {
+    const SceneTriangleShading& in = mesh.shading[t.shading];
+    SceneTriangleShading sh = in;
+    for (int c = 0; c < 3; ++c) {
+      const int k = corner[c];
+      sh.n[c] = sh.hasNormals ? place.normal(in.n[k]) : in.n[k];
+      sh.uv[c] = in.uv[k];
+      sh.tangent[c] = sh.hasVertexData ? place.tangent(in.tangent[k]) : in.tangent[k];
+      sh.color[c] = in.color[k];
+      sh.uv1[c] = in.uv1[k];
+    }
+    w.shading = uint32_t(scene.triangleShading.size());
+    scene.triangleShading.push_back(sh);
+  }
+  scene.triangles.push_back(w);
+}
+
+}  // namespace
+
+void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
+              uint32_t unassigned, const std::function<void(const std::string&)>& fail) {
+  append_mesh(scene.triangles, scene.triangleShading, mesh, Placement(toWorld), slots, unassigned, fail);
+}
+
+uint32_t add_instanced_mesh(Scene& scene, const SceneMesh& mesh, const std::vector<uint32_t>& slots, uint32_t unassigned,
+                            const std::function<void(const std::string&)>& fail, const std::string& where) {
+  scene.instancedMeshes.emplace_back();
+  scene.instancedMeshes.back().where = where;
+  const uint32_t index = uint32_t(scene.instancedMeshes.size() - 1);
+  add_to_instanced_mesh(scene, index, mesh, slots, unassigned, fail);
+  return index;
+}
+
+void add_to_instanced_mesh(Scene& scene, uint32_t into, const SceneMesh& mesh, const std::vector<uint32_t>& slots,
+                           uint32_t unassigned, const std::function<void(const std::string&)>& fail) {
+  SceneInstancedMesh& m = scene.instancedMeshes.at(into);
+  const size_t first = m.triangles.size();
+  append_mesh(m.triangles, m.shading, mesh, Placement(glm::mat4(1.0f)), slots, unassigned, fail);
+  for (size_t t = first; t < m.triangles.size(); ++t)
+    for (const glm::vec3& v : m.triangles[t].v) {
+      m.lo = glm::min(m.lo, v);
+      m.hi = glm::max(m.hi, v);
+    }
+}
+
+void add_instance(Scene& scene, uint32_t mesh, const glm::mat4& toWorld, const std::function<void(const std::string&)>& fail) {
+  const SceneInstancedMesh& m = scene.instancedMeshes.at(mesh);
+  if (m.triangles.empty()) return;
+  const float det = glm::determinant(glm::mat3(toWorld));
+  if (!std::isfinite(det)) fail(kPastFloatRange);
+  if (det == 0.0f) return;
+  const auto [lo, hi] = placed_bounds(m.lo, m.hi, toWorld);
+  if (!is_finite(lo) || !is_finite(hi)) fail(kPastFloatRange);
+  scene.instances.push_back(SceneInstance{mesh, toWorld});
+}
+
+bool material_emits(const Scene& scene, uint32_t material) {
+  const uint32_t e = scene.materials.at(material).emission;
+  if (e == WP_INVALID) return false;
+  const SceneTexture& t = scene.textures.at(e);
+  return !(t.kind == TEX_CONSTANT && t.color == glm::vec3(0.0f));
+}
+
+// Flattens the instances of the meshes `keep` refuses into world triangles,
+// and keeps the rest (dropping meshes no instance places).
+static void flatten_unless(Scene& scene, const std::function<bool(size_t mesh, size_t uses)>& keep) {
+  std::vector<size_t> uses(scene.instancedMeshes.size(), 0);
+  for (const SceneInstance& i : scene.instances) ++uses[i.mesh];
+  std::vector<uint32_t> kept(scene.instancedMeshes.size(), WP_INVALID);
+  std::vector<SceneInstancedMesh> meshes;
+  for (size_t m = 0; m < scene.instancedMeshes.size(); ++m) {
+    if (uses[m] > 0 && keep(m, uses[m])) {
+      kept[m] = uint32_t(meshes.size());
+      meshes.push_back(std::move(scene.instancedMeshes[m]));
+    }
+  }
+  std::vector<SceneInstance> instances;
+  for (const SceneInstance& i : scene.instances) {
+    if (kept[i.mesh] != WP_INVALID) {
+      instances.push_back(SceneInstance{kept[i.mesh], i.toWorld});
+      continue;
+    }
+    const SceneInstancedMesh& mesh = scene.instancedMeshes[i.mesh];
+    const Placement place(i.toWorld);
+    for (const SceneTriangle& t : mesh.triangles) place_instanced_triangle(scene, mesh, t, place);
+  }
+  scene.instancedMeshes = std::move(meshes);
+  scene.instances = std::move(instances);
+}
+
+void settle_instances(Scene& scene) {
+  flatten_unless(scene, [&](size_t m, size_t uses) {
+    const std::vector<SceneTriangle>& triangles = scene.instancedMeshes[m].triangles;
+    return uses >= 2 && std::none_of(triangles.begin(), triangles.end(), [&](const SceneTriangle& t) { return material_emits(scene, t.material); });
+  });
+}
+
+void flatten_instances(Scene& scene) {
+  flatten_unless(scene, [](size_t, size_t) { return false; });
+}
+
+size_t instanced_triangle_count(const Scene& scene) {
+  size_t n = 0;
+  for (const SceneInstance& i : scene.instances) n += scene.instancedMeshes[i.mesh].triangles.size();
+  return n;
 }
 
 }  // namespace wp

@@ -262,6 +262,21 @@ struct SceneMesh {
   size_t triangle_count() const { return materials.size(); }
 };
 
+// A mesh that instances place (Scene::instances), in its own space: its
+// triangles, and their shading data, which their `shading` indexes. Built
+// by add_instanced_mesh; compile_scene gives it a bottom-level BVH of its own.
+struct SceneInstancedMesh {
+  std::string where;  // where the file defines it, for messages
+  std::vector<SceneTriangle> triangles;
+  std::vector<SceneTriangleShading> shading;
+  glm::vec3 lo{INFINITY}, hi{-INFINITY};  // the triangles' bounds
+};
+// A placement of an instanced mesh.
+struct SceneInstance {
+  uint32_t mesh;  // index into Scene::instancedMeshes
+  glm::mat4 toWorld;
+};
+
 // One of the cameras a scene file holds, which --camera may pick by name or
 // index; `problem` says why it cannot be used (an orthographic camera).
 struct NamedCamera {
@@ -300,6 +315,10 @@ struct Scene {
   std::vector<SceneTriangle> triangles;
   std::vector<SceneTriangleShading> triangleShading;  // SceneTriangle::shading indexes it
   std::vector<SceneSphere> spheres;
+  // Meshes placed by instances (glTF's meshes that several nodes place):
+  // each mesh's triangles are kept once, in its own space (settle_instances).
+  std::vector<SceneInstancedMesh> instancedMeshes;
+  std::vector<SceneInstance> instances;
   // Emissive triangles that no ray meets, lighting the scene through light
   // sampling alone (CS184's area lights, which are not geometry there).
   std::vector<SceneTriangle> lightOnlyTriangles;
@@ -330,6 +349,34 @@ inline constexpr const char* kPastFloatRange = "the transforms place it past the
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
               uint32_t unassigned, const std::function<void(const std::string&)>& fail);
 
+// The same into a mesh that instances will place (Scene::instancedMeshes),
+// kept in its own space; returns its index. `where` names it in messages.
+uint32_t add_instanced_mesh(Scene& scene, const SceneMesh& mesh, const std::vector<uint32_t>& slots, uint32_t unassigned,
+                            const std::function<void(const std::string&)>& fail, const std::string& where);
+// Adds triangles of `mesh` to instanced mesh `into` (add_instanced_mesh's
+// index): a mesh of several parts (glTF's primitives) is one instanced mesh.
+void add_to_instanced_mesh(Scene& scene, uint32_t into, const SceneMesh& mesh, const std::vector<uint32_t>& slots,
+                           uint32_t unassigned, const std::function<void(const std::string&)>& fail);
+// Places instanced mesh `mesh` by `toWorld`. A transform that places it
+// past the range of floats is passed to `fail` (which must throw); a
+// singular one places nothing (its triangles could never be hit).
+void add_instance(Scene& scene, uint32_t mesh, const glm::mat4& toWorld, const std::function<void(const std::string&)>& fail);
+// Keeps as instances only what gains from it: a mesh placed once, and a
+// mesh that emits light (whose every instance's triangles are lights in the
+// emitter table, each with its world-space area), are flattened into world
+// triangles as add_mesh places them; meshes no instance places are dropped.
+// Importers call it once they have placed everything.
+void settle_instances(Scene& scene);
+// Flattens every instance into world triangles (the scene as it renders
+// without instancing; `--flatten-instances`).
+void flatten_instances(Scene& scene);
+// Whether a material of the scene may emit light (it has an emission
+// texture that is not constant black).
+bool material_emits(const Scene& scene, uint32_t material);
+// The triangles the scene's instances place, each mesh's counted once per
+// instance.
+size_t instanced_triangle_count(const Scene& scene);
+
 // Per-vertex tangents for a normal map on `mesh`, whose corners index
 // positions, normals and UVs alike (glTF's single index), from the UV set
 // `uvs` (the mesh's first or second): each vertex's is the sum of the
@@ -340,7 +387,9 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
 // kernels then derive a triangle's own); empty without normals or UVs.
 std::vector<glm::vec4> smooth_tangents(const SceneMesh& mesh, const std::vector<glm::vec2>& uvs);
 
-// The bounds of the scene's triangles and spheres (lo > hi where it has none).
+// The bounds of box [lo, hi] placed by `toWorld` (of its eight corners placed).
+std::pair<glm::vec3, glm::vec3> placed_bounds(glm::vec3 lo, glm::vec3 hi, const glm::mat4& toWorld);
+// The bounds of the scene's triangles, spheres and instances (lo > hi where it has none).
 std::pair<glm::vec3, glm::vec3> scene_bounds(const Scene& scene);
 
 // A camera that frames the bounds of the scene's triangles and spheres:

@@ -96,7 +96,16 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         path = write_input(names[size > 0 ? data[0] % 2 : 0], size > 0 ? data + 1 : data, size > 0 ? size - 1 : 0);
         RenderOptions options;
         options.spp = 1;
-        compile_scene(load_scene(path), options);
+        const CompiledScene cs = compile_scene(load_scene(path), options);
+        // Rays through whatever the node tree built (instances' walks and
+        // surfaces included), from inside and outside the scene's box.
+        shader::SceneView view = cs.view();
+        for (int i = 0; i < 16; ++i) {
+          const glm::vec3 o = i < 8 ? glm::vec3(0.0f) : glm::vec3(float(i % 3) - 1.0f, float(i % 5) * 0.5f, 10.0f);
+          const glm::vec3 d = glm::normalize(glm::vec3(float(i % 4) - 1.5f, float(i / 4) - 1.7f, i < 8 ? 1.0f : -1.0f));
+          shader::Hit h;
+          if (view.trace_ray(o, d, WP_INF, false, h) == TRACE_OK && h.prim != WP_INVALID) view.surface_at(o, d, h);
+        }
         break;
       }
       case FuzzedInput::Collada: {
