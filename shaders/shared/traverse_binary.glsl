@@ -22,9 +22,9 @@
 // A negative cutoff is stochastic transparency: the cutoff is then a number
 // in [0, 1) hashed from the ray and the triangle, so that a ray passes with
 // probability 1 - alpha, and the same ray always decides the same way.
-// In an instance's space (o, d) are the ray there: an instance's front is
-// its mesh's front placed, even where its transform mirrors (glTF's rule,
-// surfaces.glsl), so the test is the same.
+// Within an instance, (o, d) and `tri` are in its mesh's space; an
+// instance's front is its mesh's front placed, even where the transform
+// mirrors (glTF's rule, surfaces.glsl), so the test is the same.
 bool triangle_is_there(uint i, Triangle tri, vec3 o, vec3 d, float b1, float b2) {
   if (FEATURE_COMPILED(FEATURE_ONE_SIDED) && (tri.material & TRIANGLE_ONE_SIDED) != 0u &&
       dot(cross(tri.v1 - tri.v0, tri.v2 - tri.v0), d) > 0.0f)

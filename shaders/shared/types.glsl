@@ -260,8 +260,9 @@ struct Instance {
   uint mesh;   // its mesh, as compile_scene numbers them
   uint pad;
 };
-// Instance.flags: the transform mirrors (negative determinant), which turns
-// the triangles' winding and so which side is their front.
+// Instance.flags: the transform mirrors (negative determinant); surface_at
+// then takes the placed corners in the other order, so that the mesh's front
+// stays the front (glTF's rule).
 #define INSTANCE_MIRRORED 1u
 
 // A material. Colours are textures (a constant colour is a constant texture),

@@ -73,7 +73,6 @@ double walk_steps_per_ray(const CompiledScene& cs, const std::vector<shader::Sha
   return rays.empty() ? 0.0 : double(total) / double(rays.size());
 }
 
-// Rays whose hit (or miss) differs from the reference by more than rounding.
 // Rays whose distances differ between two traversals beyond rounding: a
 // few ulps of t, and (for hits inside instances, found with the origin taken
 // into the instance's space) a few ulps of the origin's largest coordinate,

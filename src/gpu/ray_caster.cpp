@@ -52,7 +52,10 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
       }
       dispatch(cb, p, push, tracing_groups(n, perInvocation), StageTimes::kExtend);
       if (timed) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 1);
-      cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), vk::BufferCopy(0, 0, uint64_t(capacity) * hitBytes));
+      // The chunk's hits, and (instanced scenes) their instances after the capacity's hits (kernel.glsl's write_hit).
+      std::vector<vk::BufferCopy> parts{vk::BufferCopy(0, 0, uint64_t(n) * 16u)};
+      if (hitBytes > 16u) parts.emplace_back(uint64_t(capacity) * 16u, uint64_t(capacity) * 16u, uint64_t(n) * 16u);
+      cb.copyBuffer(buffers[BINDING_HITS]->handle(), readHits->handle(), parts);
       cb.copyBuffer(buffers[BINDING_COUNTERS]->handle(), readCounters->handle(), vk::BufferCopy(0, 0, readCounters->size()));
       vk::MemoryBarrier toHost(vk::AccessFlagBits::eTransferWrite, vk::AccessFlagBits::eHostRead);
       cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
@@ -76,7 +79,6 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
       ++oneRayReruns;
       chunkLost = run_chunk(*single, n, 1);
     }
-    // The hit buffer's layout (kernel.glsl's write_hit): 16 bytes a hit, then each hit's instance.
     const auto* words = static_cast<const uint32_t*>(readHits->mapped());
     for (uint32_t i = 0; i < n; ++i) {
       shader::Hit& h = hits[start + i];

@@ -536,6 +536,13 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   const bool wide = options.bvhLayout == BvhLayout::Wide;
   out.bvhLayout = options.bvhLayout;
   const auto start = std::chrono::steady_clock::now();
+  // The split method for a tree of `primitives` (Auto resolved by size).
+  auto accel_for = [&](size_t primitives) {
+    AcceleratorSettings accel = scene.accelerator;
+    accel.split = split_for(accel, primitives);
+    if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+    return accel;
+  };
   // The trees of the instanced meshes first (bottom level): the top level's
   // boxes of their instances come from them.
   struct MeshTree {
@@ -549,9 +556,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   for (size_t m = 0; m < scene.instancedMeshes.size(); ++m) {
     BvhInput in;
     for (const SceneTriangle& t : scene.instancedMeshes[m].triangles) in.bounds.push_back(triangle_bounds(t));
-    AcceleratorSettings accel = scene.accelerator;
-    accel.split = split_for(accel, in.bounds.size());
-    if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+    const AcceleratorSettings accel = accel_for(in.bounds.size());
     MeshTree& tree = meshTrees[m];
     if (wide) {
       WideBvh w = build_wide_bvh(in, accel, options.wideCollapse);
@@ -573,9 +578,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   BvhInput input = bvh_input(scene, materialRadiance, instanceBoxes);
   Aabb sceneBounds;
   for (const Aabb& b : input.bounds) sceneBounds.grow(b);
-  AcceleratorSettings accel = scene.accelerator;
-  accel.split = split_for(accel, input.bounds.size());
-  if (options.clusteredBuild && accel.split == SplitMethod::Sah) accel.split = SplitMethod::ClusteredSah;
+  const AcceleratorSettings accel = accel_for(input.bounds.size());
   out.bvhSplit = accel.split;
   uint32_t stackSlots;
   std::vector<uint32_t> order;
@@ -596,6 +599,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     stackSlots = uint32_t(bvh.depth) + 1u;
     out.wideNodes.push_back(shader::WideNode{});
   }
+  out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();  // both levels' trees
   input = {};
   // The builder bounds the depth, and with it the kernels' traversal stacks.
   if (out.bvhDepth > BVH_MAX_DEPTH) throw RenderError("internal error: BVH deeper than BVH_MAX_DEPTH");
@@ -708,11 +712,10 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
     g.flags = glm::determinant(glm::mat3(i.toWorld)) < 0.0f ? INSTANCE_MIRRORED : 0u;
     g.mesh = i.mesh;
     out.instances.push_back(g);
-    out.instancing.instancedTriangles += scene.instancedMeshes[i.mesh].triangles.size();
   }
   out.instancing.meshes = meshTrees.size();
   out.instancing.instances = numInstances;
-  out.bvhBuildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.instancing.instancedTriangles = instanced_triangle_count(scene);
   // Light-only triangles after the leaves' records, where no leaf reaches them.
   const size_t firstLightOnly = out.triangles.size();
   for (const SceneTriangle& t : scene.lightOnlyTriangles) out.triangles.push_back(triangle_record(t));

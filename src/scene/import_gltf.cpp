@@ -348,8 +348,7 @@ class GltfImporter {
     auto found = instancedMeshes_.find(meshIndex);
     if (found != instancedMeshes_.end()) return found->second;
     const std::vector<Primitive> primitives = primitives_of(meshIndex, where);
-    const uint32_t index = add_instanced_mesh(scene_, SceneMesh{}, {}, WP_INVALID, [](const std::string&) {},
-                                              "/meshes/" + std::to_string(meshIndex));
+    const uint32_t index = add_instanced_mesh(scene_);
     for (const Primitive& p : primitives)
       add_to_instanced_mesh(scene_, index, p.mesh, {p.material}, WP_INVALID, [&](const std::string& problem) { fail(p.where, problem); });
     instancedMeshes_[meshIndex] = index;

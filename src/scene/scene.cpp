@@ -299,13 +299,9 @@ void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, con
   append_mesh(scene.triangles, scene.triangleShading, mesh, Placement(toWorld), slots, unassigned, fail);
 }
 
-uint32_t add_instanced_mesh(Scene& scene, const SceneMesh& mesh, const std::vector<uint32_t>& slots, uint32_t unassigned,
-                            const std::function<void(const std::string&)>& fail, const std::string& where) {
+uint32_t add_instanced_mesh(Scene& scene) {
   scene.instancedMeshes.emplace_back();
-  scene.instancedMeshes.back().where = where;
-  const uint32_t index = uint32_t(scene.instancedMeshes.size() - 1);
-  add_to_instanced_mesh(scene, index, mesh, slots, unassigned, fail);
-  return index;
+  return uint32_t(scene.instancedMeshes.size() - 1);
 }
 
 void add_to_instanced_mesh(Scene& scene, uint32_t into, const SceneMesh& mesh, const std::vector<uint32_t>& slots,

@@ -264,9 +264,8 @@ struct SceneMesh {
 
 // A mesh that instances place (Scene::instances), in its own space: its
 // triangles, and their shading data, which their `shading` indexes. Built
-// by add_instanced_mesh; compile_scene gives it a bottom-level BVH of its own.
+// by add_to_instanced_mesh; compile_scene gives it a bottom-level BVH of its own.
 struct SceneInstancedMesh {
-  std::string where;  // where the file defines it, for messages
   std::vector<SceneTriangle> triangles;
   std::vector<SceneTriangleShading> shading;
   glm::vec3 lo{INFINITY}, hi{-INFINITY};  // the triangles' bounds
@@ -349,12 +348,12 @@ inline constexpr const char* kPastFloatRange = "the transforms place it past the
 void add_mesh(Scene& scene, const SceneMesh& mesh, const glm::mat4& toWorld, const std::vector<uint32_t>& slots,
               uint32_t unassigned, const std::function<void(const std::string&)>& fail);
 
-// The same into a mesh that instances will place (Scene::instancedMeshes),
-// kept in its own space; returns its index. `where` names it in messages.
-uint32_t add_instanced_mesh(Scene& scene, const SceneMesh& mesh, const std::vector<uint32_t>& slots, uint32_t unassigned,
-                            const std::function<void(const std::string&)>& fail, const std::string& where);
-// Adds triangles of `mesh` to instanced mesh `into` (add_instanced_mesh's
-// index): a mesh of several parts (glTF's primitives) is one instanced mesh.
+// A new, empty mesh that instances will place (Scene::instancedMeshes);
+// returns its index.
+uint32_t add_instanced_mesh(Scene& scene);
+// Adds `mesh` to instanced mesh `into`, as add_mesh adds one to the scene but
+// kept in its own space: a mesh of several parts (glTF's primitives) is one
+// instanced mesh.
 void add_to_instanced_mesh(Scene& scene, uint32_t into, const SceneMesh& mesh, const std::vector<uint32_t>& slots,
                            uint32_t unassigned, const std::function<void(const std::string&)>& fail);
 // Places instanced mesh `mesh` by `toWorld`. A transform that places it
