@@ -185,7 +185,7 @@ int run_bench(const BenchOptions& o) {
     }
   }
 
-  if (!o.jsonPath.empty()) {
+  {
     nlohmann::json j;
     j["device"] = {{"name", ctx.info().name}, {"driver", ctx.info().driver}, {"type", ctx.info().type}};
     j["settings"] = {{"spp", o.spp}, {"repeats", o.repeats}, {"check_size", o.checkSize}, {"check_spp", o.checkSpp}};
@@ -218,7 +218,8 @@ int run_bench(const BenchOptions& o) {
       }
       j["scenes"].push_back(js);
     }
-    write_json(o.jsonPath, j);
+    if (!o.jsonPath.empty()) write_json(o.jsonPath, j);
+    if (o.results) *o.results = j.dump();
   }
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);

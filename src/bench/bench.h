@@ -21,6 +21,7 @@ struct BenchOptions {
   bool validation = false;
   std::string jsonPath;
   std::string csvPath;
+  std::string* results = nullptr;  // if set, receives the JSON document --out writes (the Python module's rows)
   // Ray casting instead of rendering: primary rays from the scene's camera and
   // one cosine-distributed bounce from each hit, traced by each variant (after
   // its hits are checked against the CPU traversal) and by Embree if built in.

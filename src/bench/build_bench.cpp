@@ -208,10 +208,9 @@ int run_build_bench(const BenchOptions& o) {
     }
     results.push_back(j);
   }
-  if (!o.jsonPath.empty()) {
-    nlohmann::json j = {{"threads", threads}, {"embree", embree_available()}, {"repeats", o.repeats}, {"build", results}};
-    write_json(o.jsonPath, j);
-  }
+  const nlohmann::json document = {{"threads", threads}, {"embree", embree_available()}, {"repeats", o.repeats}, {"build", results}};
+  if (!o.jsonPath.empty()) write_json(o.jsonPath, document);
+  if (o.results) *o.results = document.dump();
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);
     out << "scene,primitives,sah_cost,wide_sah_cost,seconds,wide_seconds,binary_seconds,mprims_per_second,greedy_seconds,"

@@ -275,11 +275,10 @@ int run_raycast_bench(const BenchOptions& o) {
     }
   }
   if (ctx.validation_messages() > 0) throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s)");
-  if (!o.jsonPath.empty()) {
-    nlohmann::json j = {{"device", {{"name", ctx.info().name}, {"driver", ctx.info().driver}}},
-                        {"embree", embree_available()}, {"repeats", o.repeats}, {"raycast", results}};
-    write_json(o.jsonPath, j);
-  }
+  const nlohmann::json j = {{"device", {{"name", ctx.info().name}, {"driver", ctx.info().driver}}},
+                            {"embree", embree_available()}, {"repeats", o.repeats}, {"raycast", results}};
+  if (!o.jsonPath.empty()) write_json(o.jsonPath, j);
+  if (o.results) *o.results = j.dump();
   if (!o.csvPath.empty()) {
     std::ofstream out(o.csvPath);
     out << "scene,rays,count,variant,check_passed,mismatches,truncated,mrays_per_second,embree_mrays_per_second,ratio_to_embree,"

@@ -7,13 +7,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <map>
 #include <memory>
-#include <numeric>
 #include <optional>
 
 #include "cli/commands.h"
 #include "cli/render_args.h"
+#include "job/render_job.h"
 #include "image/image.h"
 #include "image/image_file.h"
 #include "render/partial.h"
@@ -83,69 +82,6 @@ class StopSignals {
   void (*oldTerm_)(int);
 };
 
-// "90s", "1.5m", "2h", "45" (seconds) as seconds; throws InputError naming `option`.
-double parse_duration(const std::string& text, const std::string& option) {
-  char* end = nullptr;
-  double v = std::strtod(text.c_str(), &end);
-  std::string unit = end ? std::string(end) : "";
-  double scale = unit.empty() || unit == "s" ? 1.0 : unit == "m" || unit == "min" ? 60.0 : unit == "h" ? 3600.0 : -1.0;
-  if (end == text.c_str() || scale < 0.0 || !(v > 0.0) || !std::isfinite(v))
-    throw InputError(option + ": \"" + text + "\" is not a duration (a positive number of seconds, or with s, m or h)");
-  return v * scale;
-}
-
-// What the render itself will take, before any work: the range of the whole
-// render's samples and, resuming, the image that holds some of them.
-struct RenderPlan {
-  SampleRange range;
-  ImageStats image;
-  std::vector<SampleRange> done;  // the ranges `image` holds (resumed), joined
-};
-
-RenderPlan plan_render(const RenderArgs& a, const CompiledScene& compiled, const RenderRecord& identity) {
-  RenderPlan plan;
-  const uint32_t spp = uint32_t(compiled.spp);
-  plan.range = {0, spp};
-  if (!a.samples.empty()) {
-    std::vector<SampleRange> r = parse_sample_ranges(a.samples, "--samples");
-    if (r.size() != 1) throw InputError("--samples: one range A:B, not several");
-    plan.range = r[0];
-    if (plan.range.end > spp)
-      throw InputError("--samples " + a.samples + " goes past the render's " + std::to_string(spp) +
-                       " samples per pixel (--spp, or the scene's sampler): a range is part of one render of 0:" + std::to_string(spp));
-    if (compiled.adaptive.enabled() && plan.range.begin > 0)
-      throw InputError("--samples " + a.samples + ": under adaptive sampling a pixel stops on all its samples so far, which a "
-                       "range starting past 0 does not have; render 0:B, or continue a checkpoint with --resume");
-  }
-  if (compiled.adaptive.enabled() && a.devices.size() > 1)
-    throw InputError("--devices: adaptive sampling decides after each batch from all of a pixel's samples, so it runs on one device");
-  plan.image = ImageStats(compiled.width, compiled.height, image_layers(compiled.aovs));
-  if (a.resume.empty()) return plan;
-  std::error_code ec;
-  if (a.resume == a.checkpoint && !std::filesystem::exists(a.resume, ec)) return plan;  // the first run of a restartable render
-  PartialFile part = read_partial(a.resume);
-  PartialFile self;  // its image is replaced by the part's below
-  self.path = "this render";
-  self.width = compiled.width;
-  self.height = compiled.height;
-  self.aovs = compiled.aovs;
-  self.record = identity;
-  require_same_render(self, part);
-  for (SampleRange r : part.ranges) {
-    if (r.begin < plan.range.begin || r.end > plan.range.end)
-      throw InputError(a.resume + " holds samples " + part.record.samples + ", outside this render's " + format_sample_ranges({plan.range}));
-  }
-  if (compiled.adaptive.enabled()) {
-    SampleRange r = part.ranges[0];
-    if (part.ranges.size() != 1 || r.begin != plan.range.begin || (r.end % uint32_t(compiled.adaptive.batch) != 0 && r.end != plan.range.end))
-      throw InputError(a.resume + " holds samples " + part.record.samples + ": under adaptive sampling a render resumes from whole "
-                       "batches from its start");
-  }
-  plan.image = std::move(part.image);
-  plan.done = join_ranges(part.ranges);
-  return plan;
-}
-
 int run_render(const RenderArgs& a) {
   const auto commandStart = std::chrono::steady_clock::now();
   // A darts test file is run, as darts runs it, not rendered.
@@ -177,105 +113,47 @@ int run_render(const RenderArgs& a) {
   for (const std::string& path : {out, exr, a.checkpoint})
     if (!path.empty()) require_output_directory(path);
 
-  // The renderers: one (the CPU reference or a variant on --device), or
-  // those --devices names, each with the scene compiled for it (a device's
-  // default variant may choose the BVH layout). An image the host cannot
-  // hold is refused before any work: -r's before the scene is loaded.
+  // An image the host cannot hold is refused before any work: -r's before
+  // the scene is loaded.
   if (a.resolution.size() == 2) check_image_fits_host(a.resolution[0], a.resolution[1], a.aovs);
   Scene scene = load_scene_with_overrides(a);
   check_image_fits_host(scene.camera.width, scene.camera.height, a.aovs);
-  std::vector<RenderDevice> devices;
-  if (a.devices.empty()) devices.push_back({a.cpu ? "cpu" : resolve_variant(a.variant, a.device), a.device, nullptr});
-  for (const std::string& d : a.devices) devices.push_back({d == "cpu" ? "cpu" : resolve_variant(a.variant, d), d == "cpu" ? "" : d, nullptr});
-  std::map<std::string, CompiledScene> compiled;  // by renderer; its elements stay where they are
-  for (RenderDevice& d : devices) {
-    auto found = compiled.find(d.renderer);
-    if (found == compiled.end())
-      found = compiled.emplace(d.renderer, compile_scene(scene, variant_options(options_from(a, a.seed), d.renderer))).first;
-    d.scene = &found->second;
-  }
-  const CompiledScene& first = *devices[0].scene;
-  RenderRecord record;
-  record.sceneHash = scene_content_hash(scene);
-  record.settings = render_settings(first);
-  record.version = wavepath_version();
-  record.renderer = a.devices.empty() ? (a.cpu ? "the CPU reference" : devices[0].renderer) : "several devices";
-  RenderPlan plan = plan_render(a, first, record);
-  ImageStats& image = plan.image;
-  std::vector<SampleRange> todo = missing_ranges(plan.done, plan.range.end);
-  todo.erase(std::remove_if(todo.begin(), todo.end(), [&](SampleRange& r) {
-               r.begin = std::max(r.begin, plan.range.begin);
-               return r.size() == 0;
-             }),
-             todo.end());
-  uint64_t samplesBefore = 0;
-  for (SampleRange r : plan.done) samplesBefore += r.size();
+  RenderJob job = plan_render(scene, a);
+  const CompiledScene& first = job.first();
+  const ImageStats& image = job.image;
 
   // Between passes: stop on a signal or a spent budget, and checkpoint.
   StopSignals signals;
   g_stopSignal = 0;
-  bool budgetSpent = false;
-  auto shouldStop = [&] {
-    if (budget > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - commandStart).count() >= budget)
-      budgetSpent = true;
-    return g_stopSignal != 0 || budgetSpent;
-  };
   auto write_partial = [&](const std::string& path, const ImageStats& img, const std::vector<SampleRange>& ranges,
                            const std::string& status, bool exactSums) {
-    RenderRecord r = record;
+    RenderRecord r = job.record;
     r.samples = format_sample_ranges(ranges);
     r.status = status;
     write_exr(path, img, r, exactSums);
   };
   auto lastCheckpoint = std::chrono::steady_clock::now();
-  auto checkpoint_due = [&] {
-    auto now = std::chrono::steady_clock::now();
-    if (a.checkpoint.empty() || std::chrono::duration<double>(now - lastCheckpoint).count() < checkpointEvery) return false;
-    lastCheckpoint = now;
-    return true;
+  RenderControl control;
+  control.start = commandStart;
+  control.budgetSeconds = budget;
+  control.budgetText = a.time;
+  control.stopReason = [] {
+    const int sig = g_stopSignal;
+    return sig == 0 ? std::string() : std::string("interrupted by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM");
   };
-  auto start = std::chrono::steady_clock::now();
-  StageTimes times;
-  std::string where = "nothing (the resumed file held every sample)";
-  std::vector<SampleRange> done = plan.done;
-  if (todo.size() == 1 && devices.size() == 1) {
-    // One renderer, one range: straight into the image, pass by pass.
-    const SampleRange r = todo[0];
-    PassHook afterPass = [&](const ImageStats& img, uint32_t reached) {
-      if (checkpoint_due()) {
-        std::vector<SampleRange> sofar = done;
-        sofar.push_back({r.begin, reached});
-        write_partial(a.checkpoint, img, join_ranges(sofar), "checkpoint", true);
-      }
-      return !shouldStop();
-    };
-    RenderArgs one = a;
-    one.device = devices[0].device;
-    uint32_t reached = render_on(devices[0].renderer, *devices[0].scene, one, image, r, afterPass, &where, &times);
-    done.push_back({r.begin, reached});
-    done = join_ranges(done);
-  } else if (!todo.empty()) {
-    done = render_on_devices(devices, a, image, done, todo, shouldStop,
-                             [&](const ImageStats& img, const std::vector<SampleRange>& sofar) {
-                               if (checkpoint_due()) write_partial(a.checkpoint, img, sofar, "checkpoint", true);
-                             },
-                             &where);
-  }
-  if (!todo.empty()) record.renderer = where;
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  control.afterPass = [&](const ImageStats& img, const std::vector<SampleRange>& sofar) {
+    auto now = std::chrono::steady_clock::now();
+    if (a.checkpoint.empty() || std::chrono::duration<double>(now - lastCheckpoint).count() < checkpointEvery) return;
+    lastCheckpoint = now;
+    write_partial(a.checkpoint, img, sofar, "checkpoint", true);
+  };
+  const RenderOutcome run = run_render_job(job, a, control);
   const int stopSignal = g_stopSignal;
-  const bool complete = done.size() == 1 && done[0].begin == plan.range.begin && done[0].end == plan.range.end;
-  std::string status = complete ? "complete"
-                       : stopSignal ? std::string("interrupted by ") + (stopSignal == SIGINT ? "SIGINT" : "SIGTERM")
-                                    : "time budget of " + a.time + " spent";
-  if (done.empty()) throw RenderError("stopped (" + status + ") before a single pass was done: no image written");
-  uint64_t samplesNow = 0;
-  for (SampleRange r : done) samplesNow += r.size();
+  const bool complete = run.complete;
+  const std::string& status = run.status;
+  const std::vector<SampleRange>& done = job.done;
 
-  // The EXR holds the exact sums where it may be merged or resumed: a part
-  // of the render's samples, or one whose render was resumed, budgeted,
-  // checkpointed or stopped early. A plain render's is the smaller file.
-  const bool exactSums = !a.samples.empty() || !a.time.empty() || !a.checkpoint.empty() || !a.resume.empty() || !complete;
+  const bool exactSums = keeps_exact_sums(a, complete);
   // With adaptive sampling, CS184's sample-rate image goes beside the render.
   std::string rate = first.adaptive.enabled() ? rate_image_path(out) : "";
   write_partial(exr, image, done, status, exactSums);
@@ -295,7 +173,7 @@ int run_render(const RenderArgs& a) {
   const std::string written = outIsExr ? exr : out + " and " + exr;
   if (!complete) {
     std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s%s\n", status.c_str(),
-                 samples.c_str(), format_sample_ranges({plan.range}).c_str(), written.c_str(),
+                 samples.c_str(), format_sample_ranges({job.range}).c_str(), written.c_str(),
                  a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str());
   }
   if (!a.quiet) {
@@ -305,14 +183,14 @@ int run_render(const RenderArgs& a) {
     const std::string held = samples == "0:" + std::to_string(first.spp) ? std::to_string(first.spp) + " spp"
                                                                           : "samples " + samples + " of " + std::to_string(first.spp);
     std::printf("wrote %s: %dx%d, %s, %d max bounces, %.2f s on %s (%.2f Msamples/s)\n", written.c_str(),
-                first.width, first.height, held.c_str(), int(first.params.image.z), seconds, where.c_str(),
-                double(uint64_t(image.pixels()) * (samplesNow - samplesBefore)) / seconds * 1e-6);
+                first.width, first.height, held.c_str(), int(first.params.image.z), run.seconds, run.where.c_str(),
+                double(uint64_t(image.pixels()) * (run.samplesNow - run.samplesBefore)) / run.seconds * 1e-6);
     if (!rate.empty()) {
       std::printf("adaptive sampling: %.1f samples per pixel on average (at most %d); sample rates in %s\n",
                   total / double(image.pixels()), first.spp, rate.c_str());
     }
   }
-  if (a.stageTimes && devices.size() == 1 && devices[0].renderer != "cpu") print_stage_times(times);
+  if (a.stageTimes && job.devices.size() == 1 && job.devices[0].renderer != "cpu") print_stage_times(run.times);
   // Interrupted: the shell's status for death by that signal, so that scripts
   // see the render did not finish (a spent time budget is a success).
   return stopSignal ? 128 + stopSignal : 0;

@@ -109,6 +109,12 @@ glm::dvec3 ImageStats::mean(size_t p) const {
   return glm::dvec3(s[0], s[1], s[2]) / n;
 }
 
+double ImageStats::layer_mean(size_t p, const ImageLayer& l, size_t c) const {
+  const bool depthZ = l.name == "depth" && c == 0;
+  const double over = depthZ ? sum[p * stride + l.first + 1] : count[p];
+  return over > 0.0 ? sum[p * stride + l.first + c] / over : depthZ ? INFINITY : 0.0;
+}
+
 glm::dvec3 ImageStats::variance(size_t p) const {
   double n = count[p];
   if (n < 2.0) return glm::dvec3(0.0);
@@ -270,20 +276,12 @@ void RenderExrWriter::write(const ImageStats& rows) {
     const ImageLayer& l = rows.layers[ch.layer];
     uint32_t* out = values[k].data();
     auto put = [&](size_t p, float v) { std::memcpy(&out[p], &v, sizeof v); };
-    const bool depth = l.name == "depth";
     for (size_t p = 0; p < n; ++p) {
       switch (ch.kind) {
         case RenderChannel::Mean: put(p, float(rows.mean(p)[int(ch.channel)])); break;
         case RenderChannel::Variance: put(p, float(rows.variance(p)[int(ch.channel)])); break;
         case RenderChannel::Count: put(p, float(rows.count[p])); break;
-        case RenderChannel::AovMean: {
-          // Depth over the samples that hit (A, the coverage, is its last
-          // channel), infinite where none did.
-          const double sum = rows.sum[p * rows.stride + l.first + ch.channel];
-          const double over = depth && ch.channel == 0 ? rows.sum[p * rows.stride + l.first + 1] : rows.count[p];
-          put(p, over > 0.0 ? float(sum / over) : (depth && ch.channel == 0 ? INFINITY : 0.0f));
-          break;
-        }
+        case RenderChannel::AovMean: put(p, float(rows.layer_mean(p, l, ch.channel))); break;
         case RenderChannel::SumHi:
         case RenderChannel::SumLo: {
           const std::vector<double>& src = ch.moment == 0 ? rows.sum : rows.sumSq;

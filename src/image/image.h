@@ -55,6 +55,11 @@ struct ImageStats {
   const ImageLayer* layer(const std::string& name) const;
   std::vector<std::string> aov_names() const;
   glm::dvec3 mean(size_t pixel) const;
+  // The mean of channel `c` of AOV layer `l` (one of `layers`) at a pixel,
+  // as the EXR stores it: over the pixel's samples, but the depth's Z over
+  // those that hit (its A, the coverage, is their fraction), infinite where
+  // none did; 0 without samples.
+  double layer_mean(size_t pixel, const ImageLayer& l, size_t c) const;
   // Unbiased sample variance of one sample (not of the mean); 0 below 2 samples.
   glm::dvec3 variance(size_t pixel) const;
   double mean_luminance() const;

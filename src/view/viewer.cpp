@@ -256,7 +256,7 @@ class Viewer {
       std::fprintf(stderr, "wavepath view: the Vulkan loader offers no surface for a window here; `wavepath render` renders without one\n");
       return 2;
     }
-    scene_ = cli::load_scene_with_overrides(r_);
+    scene_ = load_scene_with_overrides(r_);
     view_ = std::make_unique<ViewCamera>(scene_.camera, scene_bounds(scene_));
     acc_ = ViewAccumulation(uint32_t(r_.spp > 0 ? r_.spp : scene_.samplesPerPixel), scene_.sampler == SamplerKind::Cmj);
     bounces_ = r_.maxBounces;
@@ -345,12 +345,12 @@ class Viewer {
   }
 
   RenderOptions options() const {
-    cli::RenderArgs a = r_;
+    RenderArgs a = r_;
     a.spp = int(acc_.target());
     a.maxBounces = bounces_;
     a.integrator = hemisphere_ ? "path tracer hemisphere" : r_.integrator;
     a.lightSamples = lightSamples_ > 0 ? lightSamples_ : r_.lightSamples;
-    return variant_options(cli::options_from(a, a.seed), variant_);  // the variant's BVH layout
+    return variant_options(options_from(a, a.seed), variant_);  // the variant's BVH layout
   }
 
   // A new renderer: the scene compiled again (kinds, integrator or light
@@ -361,7 +361,7 @@ class Viewer {
     compiled_ = std::make_unique<CompiledScene>(compile_scene(scene_, options()));
     if (bounces_ < 0) bounces_ = int(compiled_->params.image.z);
     acc_.set_stratified(compiled_->params.mode.y == SAMPLER_CMJ);
-    WavefrontSettings settings = cli::renderer_settings(kernel_variant(variant_), r_);
+    WavefrontSettings settings = renderer_settings(kernel_variant(variant_), r_);
     settings.targetSubmitSeconds = 1.0 / 15.0;  // a refresh after each submission
     renderer_ = std::make_unique<WavefrontRenderer>(*ctx_, *compiled_, settings);
     restart();
@@ -528,7 +528,7 @@ class Viewer {
       reload_ = false;
       lastWrite_ = modified();
       try {
-        Scene fresh = cli::load_scene_with_overrides(r_);
+        Scene fresh = load_scene_with_overrides(r_);
         previousScene_ = std::make_unique<Scene>(std::move(scene_));
         scene_ = std::move(fresh);
         std::printf("view: reloaded %s\n", r_.scene.c_str());
@@ -774,7 +774,7 @@ class Viewer {
     write_camera(camera);
     if (compiled_->adaptive.enabled()) write_sample_rate_png(base.string() + "_rate.png", image_, int(acc_.target()));
     // The command line that renders this view, as the window renders it.
-    cli::RenderArgs again = r_;
+    RenderArgs again = r_;
     again.output.clear();
     again.cameraSettings = camera;
     again.spp = int(acc_.target());
@@ -790,7 +790,7 @@ class Viewer {
   }
 
   ViewerArgs args_;
-  cli::RenderArgs r_;
+  RenderArgs r_;
   Scene scene_;
   std::unique_ptr<Scene> previousScene_;  // the scene before a reload, until the reload compiles
   std::unique_ptr<ViewCamera> view_;

@@ -10,7 +10,7 @@
 namespace wp {
 
 struct ViewerArgs {
-  cli::RenderArgs render;       // the scene and the render options `render` takes
+  RenderArgs render;       // the scene and the render options `render` takes
   bool exitWhenDone = false;    // render --spp samples, write -o and its EXR, exit 0
 };
 
