@@ -7,6 +7,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools spirv-tools
   libglm-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libtinygltf-dev libpugixml-dev libstb-dev libopenexr-dev libtbb-dev libnanovdb-dev
   libembree-dev python3-numpy python3-matplotlib
+  pybind11-dev python3-pybind11 python3-dev python3-pytest
   libglfw3-dev xvfb xauth xdotool imagemagick
   libgtest-dev chromium
   slurm-wlm munge

@@ -18,7 +18,7 @@ namespace {
 
 // What the renderer would build for a scene: sizes, BVH quality and memory.
 int run_info(const std::string& scenePath, int maxLeafSize, const std::string& variant, const std::string* kernelsDevice, bool flatten) {
-  const RenderOptions options = info_options(variant);  // an unknown variant fails before any work
+  const RenderOptions options = info_options(RenderOptions{}, variant);  // an unknown variant fails before any work
   if (kernelsDevice && variant == "cpu") throw InputError("--kernels: the cpu reference has no kernels");
   auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(scenePath);

@@ -46,7 +46,7 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
   return options;
 }
 
-Scene load_scene_with_overrides(const RenderArgs& a) {
+Scene load_scene_content(const RenderArgs& a) {
   Scene scene = load_scene(a.scene);
   if (a.consistentLights) {
     if (!scene.cs184Estimator) throw InputError("--consistent-lights: " + a.scene + " is not a CS184 scene (.dae), whose lights it reads physically");
@@ -57,20 +57,29 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
     if (!scene.cs184Estimator) throw InputError("--cs184 3-2: " + a.scene + " is not a CS184 scene (.dae)");
     use_cs184_3_2_skeleton(scene);
   }
-  if (!a.camera.empty()) choose_camera(scene, a.camera);
   if (a.flattenInstances) flatten_instances(scene);
-  if (!a.resolution.empty()) set_resolution(scene.camera, a.resolution[0], a.resolution[1]);
-  // As the course does: the settings file after the resolution, its fields winning.
-  if (!a.cameraSettings.empty()) apply_cs184_camera_settings(a.cameraSettings, scene.camera);
-  if (!a.cell.empty()) set_cell(scene.camera, a.cell[0], a.cell[1], a.cell[2], a.cell[3]);
-  if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
-  if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
   if (a.environment == "none") {  // no environment: a black background
     scene.environment = WP_INVALID;
     scene.background = glm::vec3(0.0f);
   } else if (!a.environment.empty()) {
     scene.environment = add_image_texture(scene, a.environment, "given by --env");
   }
+  return scene;
+}
+
+void apply_camera_overrides(Scene& scene, const RenderArgs& a) {
+  if (!a.camera.empty()) choose_camera(scene, a.camera);
+  if (!a.resolution.empty()) set_resolution(scene.camera, a.resolution[0], a.resolution[1]);
+  // As the course does: the settings file after the resolution, its fields winning.
+  if (!a.cameraSettings.empty()) apply_cs184_camera_settings(a.cameraSettings, scene.camera);
+  if (!a.cell.empty()) set_cell(scene.camera, a.cell[0], a.cell[1], a.cell[2], a.cell[3]);
+  if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
+  if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
+}
+
+Scene load_scene_with_overrides(const RenderArgs& a) {
+  Scene scene = load_scene_content(a);
+  apply_camera_overrides(scene, a);
   return scene;
 }
 

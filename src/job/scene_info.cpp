@@ -27,8 +27,8 @@ __attribute__((format(printf, 2, 3))) void appendf(std::string& text, const char
 
 }  // namespace
 
-RenderOptions info_options(const std::string& variant) {
-  RenderOptions options = variant_options(RenderOptions{}, variant);  // an unknown variant fails before any work
+RenderOptions info_options(const RenderOptions& base, const std::string& variant) {
+  RenderOptions options = variant_options(base, variant);  // an unknown variant fails before any work
   options.photonsOnHost = true;  // the photon map it reports
   return options;
 }

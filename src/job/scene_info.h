@@ -12,9 +12,10 @@
 namespace wp {
 
 // The options `info` compiles a scene with for `variant` (a kernel variant
-// or "cpu", whose BVH layout it builds; checked): the photon map traced on
-// the host, so that it can be described.
-RenderOptions info_options(const std::string& variant);
+// or "cpu", whose BVH layout it builds; checked): `base` (the command
+// line's: none; the Python module's: the Scene's overrides) with the photon
+// map traced on the host, so that it can be described.
+RenderOptions info_options(const RenderOptions& base, const std::string& variant);
 
 // The lines `wavepath info` prints of `scene` (loaded from `path` in
 // `loadSeconds`) compiled as `cs`, each ending in a newline.

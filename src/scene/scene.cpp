@@ -14,17 +14,27 @@ namespace wp {
 const char* const kIntegratorNames =
     "normals, ao, path tracer mats, path tracer nee, path tracer mis, path tracer mixture, path tracer hemisphere or photon mapper";
 
+namespace {
+const std::pair<const char*, IntegratorKind> kIntegratorKinds[] = {
+    {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
+    {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
+    {"path tracer hemisphere", IntegratorKind::PathHemisphere},
+    {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion},
+    {"photon mapper", IntegratorKind::PhotonMapper}};
+}  // namespace
+
 std::optional<IntegratorKind> integrator_named(const std::string& name) {
-  static const std::pair<const char*, IntegratorKind> kKinds[] = {
-      {"path tracer mis", IntegratorKind::PathMis},   {"path tracer nee", IntegratorKind::PathNee},
-      {"path tracer mats", IntegratorKind::PathMats}, {"path tracer mixture", IntegratorKind::PathMixture},
-      {"path tracer hemisphere", IntegratorKind::PathHemisphere},
-      {"normals", IntegratorKind::Normals},           {"ao", IntegratorKind::AmbientOcclusion},
-      {"photon mapper", IntegratorKind::PhotonMapper}};
-  for (const auto& [n, kind] : kKinds) {
+  for (const auto& [n, kind] : kIntegratorKinds) {
     if (name == n) return kind;
   }
   return std::nullopt;
+}
+
+std::string integrator_kind_name(IntegratorKind kind) {
+  for (const auto& [n, k] : kIntegratorKinds) {
+    if (k == kind) return n;
+  }
+  return "";
 }
 
 std::optional<SamplerKind> sampler_named(const std::string& name) {

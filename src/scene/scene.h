@@ -80,6 +80,7 @@ enum class SamplerKind { Independent, Cmj };
 std::optional<IntegratorKind> integrator_named(const std::string& name);
 std::optional<SamplerKind> sampler_named(const std::string& name);
 extern const char* const kIntegratorNames;  // "normals, ao, path tracer mats, ..."
+std::string integrator_kind_name(IntegratorKind kind);  // its darts name
 
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::PathMis;
