@@ -38,6 +38,15 @@ PYBIND11_MODULE(wavepath, m) {
       "load() a scene, render() it (GIL released), and read its images as NumPy arrays; merge(), compare(),\n"
       "devices(), variants() and bench() do what the command line's commands of those names do. See docs/python.md.";
   m.attr("__version__") = WAVEPATH_VERSION;
+  // Its images are NumPy arrays: without NumPy, say which interpreter
+  // lacks it (a python3 earlier on PATH than Debian's often does).
+  try {
+    py::module_::import("numpy");
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_ImportError)) throw;
+    throw py::import_error("wavepath needs NumPy, which " + py::str(py::module_::import("sys").attr("executable")).cast<std::string>() +
+                           " lacks: run Debian's /usr/bin/python3 (python3-numpy), or install numpy for this interpreter");
+  }
 
   // Errors as the command line reports them: bad input (a file, a JSON
   // path, an option) ValueError with its one line; the device or the
