@@ -392,7 +392,9 @@ Command add_render(CLI::App& app) {
   render->add_option("--aov", r->aovs, "first-hit layers to add to the EXR: " + aov_layer_names())->delimiter(',');
   render->add_option("--time", r->time, "time budget (90s, 5m, 1h): whole passes until it is spent; the EXR records the samples reached");
   render->add_option("--checkpoint", r->checkpoint, "partial EXR to write every --checkpoint-every and when the render stops");
-  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s)");
+  // The last given counts: a script's own (scripts/slurm/render-array.sh) gives way to one passed after it.
+  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s; the last given counts)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   render->add_option("--resume", r->resume,
                      "continue the render a checkpoint or partial EXR holds samples of, rendering only those missing (the "
                      "checkpoint's own path: resume if it exists, else start)");
