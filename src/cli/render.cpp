@@ -49,6 +49,8 @@ void print_stage_times(const StageTimes& times) {
   std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
               (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
               (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
+  std::printf("host: %llu submissions' sums read back and added to the image in %.3f s (wall)\n", (unsigned long long)times.submissions,
+              times.foldSeconds);
   if (times.photonPassSeconds > 0.0)
     std::printf("photon map: %llu records, traced, balanced and uploaded in %.3f s (wall)\n", (unsigned long long)times.photonRecords,
                 times.photonPassSeconds);

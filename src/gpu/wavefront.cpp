@@ -216,22 +216,27 @@ uint32_t WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& tr
           create_tracing_pipelines();
           seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
         }
+        const auto t0 = std::chrono::steady_clock::now();
         const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
         const auto* aov = static_cast<const shader::AovAccum*>(readAovAccum->mapped());
         if (held && &tile != &tiles.back()) {
           std::copy(acc, acc + tile.span, heldAccum.begin() + tile.base);
           if (aovs) std::copy(aov, aov + tile.span, heldAov.begin() + tile.base);
         }
+        times.foldSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        ++times.submissions;
         nonFinite += fold_counters(truncated);
         collect_times();
         progress.add(uint64_t(n) * tile.count);
         longest = std::max(longest, seconds);
       }
+      const auto t0 = std::chrono::steady_clock::now();
       for (const Tile& tile : tiles) {
         const bool last = &tile == &tiles.back();
         fold(image, tile, last ? static_cast<const shader::PixelAccum*>(readAccum->mapped()) : heldAccum.data() + tile.base,
              !aovs ? nullptr : last ? static_cast<const shader::AovAccum*>(readAovAccum->mapped()) : heldAov.data() + tile.base);
       }
+      times.foldSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       image.nonFinite += nonFinite;
       sample += n;
       if (afterPass && sample < end && !afterPass(image, sample)) return sample;

@@ -27,6 +27,11 @@ struct StageTimes {
   // wall time (the photons kernel, ordering, balancing, upload) and records.
   double photonPassSeconds = 0.0;
   uint64_t photonRecords = 0;
+  // The host's part of every submission: its sums read back and added to
+  // the image in double (a tiled round's first held until the round ends),
+  // in wall seconds; and the submissions.
+  double foldSeconds = 0.0;
+  uint64_t submissions = 0;
   // Rays per second of GPU time in the stage that traced them; 0 where that
   // stage did not run (the megakernel traces every ray in one kernel).
   double closest_hit_rays_per_second() const { return seconds[kExtend] > 0.0 ? double(closestHitRays) / seconds[kExtend] : 0.0; }
