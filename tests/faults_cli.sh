@@ -5,8 +5,9 @@
 # 75 and prints the command that finishes the render, which gives the
 # uninterrupted image; among several devices the others take over the lost
 # one's samples; out of device memory the render goes on in smaller tiles,
-# or refuses in one line where one row does not fit; a full disk leaves the
-# checkpoint written before intact and exits 3.
+# or refuses in one line where one row does not fit; a full disk (injected,
+# and a real one where a tmpfs can be mounted) leaves the checkpoint written
+# before intact and exits 3.
 # Usage: faults_cli.sh WAVEPATH TEST_DATA_DIR
 set -u
 wavepath=$1
@@ -89,6 +90,21 @@ WAVEPATH_FAULT=enospc@write:2 "$wavepath" render "$scene" "${r[@]}" -o "$work/ou
 check "full disk at the image: exit 3, naming it, and neither the image nor its EXR left" \
   $([ $? -eq 3 ] && grep -q "out2.png: cannot write image: No space left on device" "$work/err" && [ ! -e "$work/out2.png" ] &&
     [ ! -e "$work/out2.exr" ] && no_temporary_files; echo $?)
+
+# A real full disk, where a 12 KiB tmpfs can be mounted (root with the right
+# to mount): the EXR (20 KB) does not fit; the same line, the same status.
+mkdir "$work/full"
+if mount -t tmpfs -o size=12k tmpfs "$work/full" 2>/dev/null; then
+  "$wavepath" render "$scene" "${r[@]}" -o "$work/full/x.png" 2>"$work/err"
+  rc=$?
+  left=$(ls -A "$work/full")
+  umount "$work/full"
+  check "a real full disk: exit 3 (got $rc), one line naming the file and the error, no file left" \
+    $([ $rc -eq 3 ] && [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "full/x.exr: cannot write EXR: .*No space left on device" "$work/err" &&
+      [ -z "$left" ]; echo $?)
+else
+  pass "a real full disk (skipped: no tmpfs can be mounted here)"
+fi
 
 bad "a WAVEPATH_FAULT that names no fault" "WAVEPATH_FAULT: \"oom@submit:1\" is not a fault" -- \
   env WAVEPATH_FAULT=oom@submit:1 "$wavepath" render "$scene" "${r[@]}" -o "$work/x.png"
