@@ -121,9 +121,11 @@ class VulkanContext {
   // Records into a one-shot command buffer, submits and waits.
   void run_now(const std::function<void(vk::CommandBuffer)>& record) const;
   // Submits `cb` and waits for `fence` (reset first). Every submission of
-  // a render goes through here: where the device is lost (or WAVEPATH_FAULT says so,
-  // util/fault.h) it throws DeviceLost, and so does every later call.
-  void submit_and_wait(vk::CommandBuffer cb, const vk::raii::Fence& fence) const;
+  // a render goes through here: where the device is lost it throws
+  // DeviceLost, and so does every later call. `samples`: the submission
+  // renders samples, which WAVEPATH_FAULT's device-lost@submit counts
+  // (util/fault.h; uploads, which only some devices submit, do not).
+  void submit_and_wait(vk::CommandBuffer cb, const vk::raii::Fence& fence, bool samples = false) const;
   bool lost() const { return lost_; }
   uint32_t memory_type(uint32_t typeBits, vk::MemoryPropertyFlags want) const;
 

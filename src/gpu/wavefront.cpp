@@ -176,7 +176,7 @@ double WavefrontRenderer::Impl::submit_tile(vk::CommandBuffer cb, const vk::raii
   cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
   cb.end();
   auto t0 = std::chrono::steady_clock::now();
-  ctx.submit_and_wait(cb, fence);
+  ctx.submit_and_wait(cb, fence, true);
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

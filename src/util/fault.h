@@ -2,8 +2,9 @@
 // WAVEPATH_FAULT (docs/partial-renders.md, "Faults"): a lost device, device
 // memory exhausted, a full disk. Its value is a comma-separated list of
 //
-//   device-lost@submit:N   the Nth queue submission of the process fails
-//                          with VK_ERROR_DEVICE_LOST (and the device with it)
+//   device-lost@submit:N   the Nth submission of samples (a pass of a tile)
+//                          of the process fails with VK_ERROR_DEVICE_LOST,
+//                          and the device with it
 //   oom@alloc:N            the Nth device memory allocation fails with
 //                          VK_ERROR_OUT_OF_DEVICE_MEMORY
 //   oom@bytes:N            the device holds N bytes: every allocation that
@@ -19,7 +20,7 @@
 
 namespace wp::fault {
 
-// Counts a queue submission; true where it is to fail as a lost device.
+// Counts a submission of samples; true where it is to fail as a lost device.
 bool device_lost_at_submit();
 // Counts a device memory allocation of `bytes`; true where it is to fail
 // as out of device memory. One that succeeds is held until
