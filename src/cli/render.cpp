@@ -14,10 +14,10 @@
 
 #include "cli/commands.h"
 #include "cli/render_args.h"
+#include "gpu/vulkan_context.h"
 #include "image/image.h"
 #include "image/image_file.h"
 #include "render/partial.h"
-#include "gpu/vulkan_context.h"
 #include "scene/darts_tests.h"
 #include "util/error.h"
 

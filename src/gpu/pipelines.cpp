@@ -25,7 +25,7 @@ namespace wp {
 
 namespace {
 
-std::string mebibytes(uint64_t bytes) {
+std::string memory_text(uint64_t bytes) {
   char text[32];
   if (bytes < (1u << 20)) std::snprintf(text, sizeof text, "%.0f KiB", std::ceil(double(bytes) / 1024.0));
   else std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1 << 20));
@@ -34,8 +34,8 @@ std::string mebibytes(uint64_t bytes) {
 
 // The device, and the memory it has, for messages.
 std::string device_memory(const VulkanContext& ctx) {
-  if (fault::device_memory_limit() > 0) return ctx.info().name + " (WAVEPATH_FAULT gives it " + mebibytes(fault::device_memory_limit()) + ")";
-  return ctx.info().name + " (" + mebibytes(ctx.info().deviceLocalMemory) + " of device-local memory)";
+  if (fault::device_memory_limit() > 0) return ctx.info().name + " (WAVEPATH_FAULT gives it " + memory_text(fault::device_memory_limit()) + ")";
+  return ctx.info().name + " (" + memory_text(ctx.info().deviceLocalMemory) + " of device-local memory)";
 }
 
 }  // namespace
@@ -64,7 +64,7 @@ WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, co
     create_scene_buffers();
   } catch (const DeviceOutOfMemory&) {
     throw RenderError("out of device memory: the scene's arrays (BVH, primitives, materials, textures) need " +
-                      mebibytes(measure(&Impl::create_scene_buffers)) + ", more than " + device_memory(ctx) + " holds");
+                      memory_text(measure(&Impl::create_scene_buffers)) + ", more than " + device_memory(ctx) + " holds");
   }
   fit_tile_buffers(maxRange);
   create_pipelines();
@@ -248,8 +248,8 @@ void WavefrontRenderer::Impl::fit_tile_buffers(uint64_t maxRange) {
       const uint64_t need = measure(&Impl::create_tile_buffers);
       if (askedBytes == 0) askedBytes = need;
       if (tilePixels <= row) {
-        throw RenderError("out of device memory: even tiles of one row (" + std::to_string(tilePixels) + " pixels) need " + mebibytes(need) +
-                          " of buffers beside the scene's " + mebibytes(measure(&Impl::create_scene_buffers)) + ", more than " +
+        throw RenderError("out of device memory: even tiles of one row (" + std::to_string(tilePixels) + " pixels) need " + memory_text(need) +
+                          " of buffers beside the scene's " + memory_text(measure(&Impl::create_scene_buffers)) + ", more than " +
                           device_memory(ctx) + " holds");
       }
       tilePixels = std::max(row, tilePixels / 2);
@@ -258,7 +258,7 @@ void WavefrontRenderer::Impl::fit_tile_buffers(uint64_t maxRange) {
   }
   if (tilePixels < asked) {
     std::fprintf(stderr, "wavepath: %s: out of device memory for tiles of %u pixels (%s of buffers); rendering in tiles of %u pixels\n",
-                 ctx.info().name.c_str(), asked, mebibytes(askedBytes).c_str(), tilePixels);
+                 ctx.info().name.c_str(), asked, memory_text(askedBytes).c_str(), tilePixels);
   }
 }
 
