@@ -248,15 +248,16 @@ TEST_F(GpuFaults, ALostDeviceInAnAdaptiveBatchSaysItsImageIsNotWhole) {
 
 // Out of device memory for the image's buffers, the renderer renders in
 // smaller tiles (with no more path slots than a tile's pixels), says so in
-// one line, and makes the image of one row's tiles (which is the untiled
-// image: TiledRendersAreTheUntiledImage), to the bit; where even one row
-// does not fit, it refuses, naming the memory needed and the device's.
+// one line, and makes the untiled image to the bit (as do tiles of one row
+// with as many path slots); where even one row does not fit, it refuses,
+// naming the memory needed and the device's.
 TEST_F(GpuFaults, OutOfDeviceMemoryRendersInSmallerTilesTheSameImage) {
   CompiledScene cs = scene("tests/data/features/materials.json", 40, 4, 5, {}, "gpu");
   const WavefrontSettings s = one_sample_a_submission();
   WavefrontSettings oneRow = s;
   oneRow.maxTilePixels = oneRow.maxPathsPerWave = uint32_t(cs.width);
-  ImageStats rows(cs.width, cs.height), tiled(cs.width, cs.height);
+  ImageStats untiled(cs.width, cs.height), rows = untiled, tiled = untiled;
+  render_on(*ctx_, cs, s, untiled, {0, 4});
   fault::inject("oom@bytes:1099511627776");  // counted, never short
   uint64_t row = 0;
   {
@@ -272,8 +273,9 @@ TEST_F(GpuFaults, OutOfDeviceMemoryRendersInSmallerTilesTheSameImage) {
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_NE(said.find("out of device memory for tiles of 1600 pixels"), std::string::npos) << said;
   EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), 1) << said;
-  EXPECT_EQ(tiled.sum, rows.sum);
-  EXPECT_EQ(tiled.sumSq, rows.sumSq);
+  EXPECT_EQ(rows.sum, untiled.sum);
+  EXPECT_EQ(tiled.sum, untiled.sum);
+  EXPECT_EQ(tiled.sumSq, untiled.sumSq);
 
   fault::inject(("oom@bytes:" + std::to_string(row - 1)).c_str());
   try {

@@ -72,7 +72,12 @@ bool device_memory_exhausted(uint64_t bytes) {
 }
 
 void device_memory_freed(uint64_t bytes) {
-  if (Faults* f = faults(); f && f->memoryBytes) f->held -= bytes;
+  Faults* f = faults();
+  if (!f || !f->memoryBytes) return;
+  // Not below zero: a buffer made before inject() replaced the faults was never counted.
+  uint64_t held = f->held.load();
+  while (!f->held.compare_exchange_weak(held, held > bytes ? held - bytes : 0)) {
+  }
 }
 
 uint64_t device_memory_limit() {
