@@ -14,6 +14,7 @@
 
 #include "cli/commands.h"
 #include "cli/render_args.h"
+#include "gpu/vulkan_context.h"
 #include "image/image.h"
 #include "image/image_file.h"
 #include "render/partial.h"
@@ -48,6 +49,8 @@ void print_stage_times(const StageTimes& times) {
   std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
               (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
               (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
+  std::printf("host: %llu submissions' sums read back and added to the image in %.3f s (wall)\n", (unsigned long long)times.submissions,
+              times.foldSeconds);
   if (times.photonPassSeconds > 0.0)
     std::printf("photon map: %llu records, traced, balanced and uploaded in %.3f s (wall)\n", (unsigned long long)times.photonRecords,
                 times.photonPassSeconds);
@@ -234,10 +237,26 @@ int run_render(const RenderArgs& a) {
     lastCheckpoint = now;
     return true;
   };
+  // The partial file the render can go on from, and its samples: the file
+  // resumed, then each checkpoint written.
+  std::string kept = plan.done.empty() ? "" : a.resume;
+  std::vector<SampleRange> keptRanges = plan.done;
+  auto write_checkpoint = [&](const ImageStats& img, const std::vector<SampleRange>& ranges, const std::string& status) {
+    try {
+      write_partial(a.checkpoint, img, ranges, status, true);
+    } catch (const RenderError& e) {  // a full disk: say what is still there
+      if (kept != a.checkpoint) throw;
+      throw RenderError(std::string(e.what()) + " (the checkpoint there, of samples " + format_sample_ranges(keptRanges) + ", is intact)");
+    }
+    kept = a.checkpoint;
+    keptRanges = ranges;
+  };
   auto start = std::chrono::steady_clock::now();
   StageTimes times;
   std::string where = "nothing (the resumed file held every sample)";
   std::vector<SampleRange> done = plan.done;
+  std::optional<DeviceLost> lost;       // the one device, lost
+  std::vector<std::string> lostDevices;  // devices lost among several
   if (todo.size() == 1 && devices.size() == 1) {
     // One renderer, one range: straight into the image, pass by pass.
     const SampleRange r = todo[0];
@@ -245,29 +264,56 @@ int run_render(const RenderArgs& a) {
       if (checkpoint_due()) {
         std::vector<SampleRange> sofar = done;
         sofar.push_back({r.begin, reached});
-        write_partial(a.checkpoint, img, join_ranges(sofar), "checkpoint", true);
+        write_checkpoint(img, join_ranges(sofar), "checkpoint");
       }
       return !shouldStop();
     };
     RenderArgs one = a;
     one.device = devices[0].device;
-    uint32_t reached = render_on(devices[0].renderer, *devices[0].scene, one, image, r, afterPass, &where, &times);
+    uint32_t reached = r.begin;
+    try {
+      reached = render_on(devices[0].renderer, *devices[0].scene, one, image, r, afterPass, &where, &times);
+    } catch (const DeviceLost& e) {
+      lost = e;
+      where = e.device + " (lost)";
+      if (e.intact) reached = e.reached;
+    }
+    if (lost && !lost->intact) {
+      // Its image holds samples of an adaptive batch part done, which no
+      // partial file can record: what is kept is what was written before.
+      std::fprintf(stderr, "wavepath: device lost: %s, part-way through a batch of adaptive samples, which no image records; %s\n",
+                   lost->device.c_str(),
+                   kept.empty() ? "no samples kept (--checkpoint keeps them); run the command again"
+                                : ("kept " + kept + " (samples " + format_sample_ranges(keptRanges) + "); finish with: " +
+                                   resume_command_line(a, kept)).c_str());
+      return kExitDeviceLost;
+    }
     done.push_back({r.begin, reached});
     done = join_ranges(done);
   } else if (!todo.empty()) {
     done = render_on_devices(devices, a, image, done, todo, shouldStop,
                              [&](const ImageStats& img, const std::vector<SampleRange>& sofar) {
-                               if (checkpoint_due()) write_partial(a.checkpoint, img, sofar, "checkpoint", true);
+                               if (checkpoint_due()) write_checkpoint(img, sofar, "checkpoint");
                              },
-                             &where);
+                             &where, &lostDevices);
   }
   if (!todo.empty()) record.renderer = where;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int stopSignal = g_stopSignal;
   const bool complete = done.size() == 1 && done[0].begin == plan.range.begin && done[0].end == plan.range.end;
-  std::string status = complete ? "complete"
+  // Stopped by a lost device: the one, or every one of several.
+  const bool deviceLost = !complete && (lost || (!lostDevices.empty() && !stopSignal && !budgetSpent));
+  std::string lostNames = lost ? lost->device : "";
+  for (const std::string& d : lostDevices) lostNames += (lostNames.empty() ? "" : ", ") + d;
+  std::string status = complete     ? "complete"
+                       : deviceLost ? "device lost: " + lostNames
                        : stopSignal ? std::string("interrupted by ") + (stopSignal == SIGINT ? "SIGINT" : "SIGTERM")
                                     : "time budget of " + a.time + " spent";
+  if (done.empty() && deviceLost) {
+    std::fprintf(stderr, "wavepath: device lost: %s, before a single pass was done: no samples kept, no image written; run the command again\n",
+                 lostNames.c_str());
+    return kExitDeviceLost;
+  }
   if (done.empty()) throw RenderError("stopped (" + status + ") before a single pass was done: no image written");
   uint64_t samplesNow = 0;
   for (SampleRange r : done) samplesNow += r.size();
@@ -282,7 +328,7 @@ int run_render(const RenderArgs& a) {
   try {
     if (!outIsExr) write_image(out, mean_rgb(image), scene.eightBitCurve);
     if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
-    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status, true);
+    if (!a.checkpoint.empty()) write_checkpoint(image, done, status);
   } catch (...) {
     std::remove(exr.c_str());  // all images or none
     if (!outIsExr) std::remove(out.c_str());
@@ -293,7 +339,15 @@ int run_render(const RenderArgs& a) {
   }
   const std::string samples = format_sample_ranges(done);
   const std::string written = outIsExr ? exr : out + " and " + exr;
-  if (!complete) {
+  for (const std::string& d : lostDevices) {
+    if (!deviceLost) std::fprintf(stderr, "wavepath: device lost: %s; the other devices rendered the rest\n", d.c_str());
+  }
+  if (deviceLost) {
+    std::fprintf(stderr, "wavepath: device lost: %s: kept samples %s (of %s) in %s%s; finish with: %s\n", lostNames.c_str(), samples.c_str(),
+                 format_sample_ranges({plan.range}).c_str(), written.c_str(),
+                 a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str(),
+                 resume_command_line(a, a.checkpoint.empty() ? exr : a.checkpoint).c_str());
+  } else if (!complete) {
     std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s%s\n", status.c_str(),
                  samples.c_str(), format_sample_ranges({plan.range}).c_str(), written.c_str(),
                  a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str());
@@ -314,8 +368,9 @@ int run_render(const RenderArgs& a) {
   }
   if (a.stageTimes && devices.size() == 1 && devices[0].renderer != "cpu") print_stage_times(times);
   // Interrupted: the shell's status for death by that signal, so that scripts
-  // see the render did not finish (a spent time budget is a success).
-  return stopSignal ? 128 + stopSignal : 0;
+  // see the render did not finish (a spent time budget is a success); a
+  // lost device's, for a farm to run the printed command again.
+  return deviceLost ? kExitDeviceLost : stopSignal ? 128 + stopSignal : 0;
 }
 
 }  // namespace
@@ -339,7 +394,9 @@ Command add_render(CLI::App& app) {
   render->add_option("--aov", r->aovs, "first-hit layers to add to the EXR: " + aov_layer_names())->delimiter(',');
   render->add_option("--time", r->time, "time budget (90s, 5m, 1h): whole passes until it is spent; the EXR records the samples reached");
   render->add_option("--checkpoint", r->checkpoint, "partial EXR to write every --checkpoint-every and when the render stops");
-  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s)");
+  // The last given counts: a script's own (scripts/slurm/render-array.sh) gives way to one passed after it.
+  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s; the last given counts)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   render->add_option("--resume", r->resume,
                      "continue the render a checkpoint or partial EXR holds samples of, rendering only those missing (the "
                      "checkpoint's own path: resume if it exists, else start)");

@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <unistd.h>
 #include <cstdlib>
@@ -14,6 +16,7 @@
 
 #include "cpu/reference.h"
 #include "gpu/vulkan_context.h"
+#include "render/partial.h"
 #include "scene/importers.h"
 #include "scene/load_scene.h"
 #include "util/error.h"
@@ -127,10 +130,17 @@ uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, c
   VulkanContext ctx(a.device, validation);
   uint32_t reached;
   {
-    WavefrontRenderer gpu(ctx, compiled, renderer_settings(variant, a));
+    std::unique_ptr<WavefrontRenderer> gpu;
+    try {
+      gpu = std::make_unique<WavefrontRenderer>(ctx, compiled, renderer_settings(variant, a));
+    } catch (DeviceLost& lost) {  // before a sample: the image is as it came
+      lost.reached = range.begin;
+      lost.intact = true;
+      throw;
+    }
     Progress progress(ctx.info().name, total, progressOn);
-    reached = gpu.render(image, range, progress, afterPass);
-    if (times) *times = gpu.stage_times();
+    reached = gpu->render(image, range, progress, afterPass);
+    if (times) *times = gpu->stage_times();
   }
   if (ctx.validation_messages() > 0) {
     throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
@@ -160,7 +170,7 @@ std::vector<SampleRange> join_ranges(std::vector<SampleRange> ranges) {
 std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devices, const RenderArgs& a, ImageStats& image,
                                            std::vector<SampleRange> done, const std::vector<SampleRange>& todo,
                                            const std::function<bool()>& shouldStop, const ChunkHook& afterChunk,
-                                           std::string* where) {
+                                           std::string* where, std::vector<std::string>* lostDevices) {
   // Chunks: about four per renderer over all the work, so that a fast
   // renderer takes more of them than a slow one.
   uint64_t total = 0;
@@ -170,8 +180,17 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
   for (SampleRange r : todo)
     for (uint32_t b = r.begin; b < r.end; b += std::min(chunk, r.end - b)) chunks.push_back({b, std::min(b + chunk, r.end)});
 
-  std::mutex mutex;  // guards image, done, next, names and errors
+  std::mutex mutex;  // guards image, done, chunks, next, own, pending, names and error
+  std::condition_variable changed;  // a chunk was queued or ended, or the render fails
+  // Each renderer's first chunk is its own, so that every one renders (on a
+  // small render one slow to start might find none left); the others go to
+  // whichever is free.
+  std::vector<std::optional<SampleRange>> own(devices.size());
   size_t next = 0;
+  for (size_t d = 0; d < devices.size() && next < chunks.size(); ++d) own[d] = chunks[next++];
+  // Chunks owned or in hand: a renderer lost gives back what it had left of
+  // its chunk, so the others wait for these before they end.
+  size_t pending = std::min(devices.size(), chunks.size());
   std::vector<std::string> names(devices.size());
   std::exception_ptr error;
   bool validation = a.validation || VulkanContext::validation_requested_by_environment();
@@ -182,6 +201,7 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
   PassHook keepGoing = [&](const ImageStats&, uint32_t) { return !shouldStop(); };
 
   auto run = [&](size_t d) {
+    std::string lostAt;  // where a lost device stopped: its chunk and the samples it kept of it
     try {
       const RenderDevice& dev = devices[d];
       const CompiledScene& cs = *dev.scene;
@@ -189,34 +209,84 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
       std::unique_ptr<WavefrontRenderer> gpu;
       if (dev.renderer != "cpu") {
         ctx = std::make_unique<VulkanContext>(dev.device, validation);
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          names[d] = ctx->info().name + (dev.renderer == "gpu" ? "" : ", " + dev.renderer);
+        }
         gpu = std::make_unique<WavefrontRenderer>(*ctx, cs, renderer_settings(kernel_variant(dev.renderer), a));
-      }
-      {
+      } else {
         std::lock_guard<std::mutex> lock(mutex);
-        names[d] = gpu ? ctx->info().name + (dev.renderer == "gpu" ? "" : ", " + dev.renderer) : "the CPU reference";
+        names[d] = "the CPU reference";
       }
       for (;;) {
         SampleRange c;
         {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (next == chunks.size() || error || shouldStop()) break;
-          c = chunks[next++];
+          std::unique_lock<std::mutex> lock(mutex);
+          // With no chunk left, wait while others render: one may be lost
+          // and give the rest of its chunk back.
+          changed.wait(lock, [&] { return own[d] || next < chunks.size() || pending == 0 || error || shouldStop(); });
+          if (error || shouldStop() || (!own[d] && next == chunks.size())) break;
+          if (own[d]) {
+            c = *own[d];
+            own[d].reset();
+          } else {
+            c = chunks[next++];
+            ++pending;
+          }
         }
         ImageStats part(image.width, image.height, image.layers);
-        uint32_t reached = gpu ? gpu->render(part, c, silent, keepGoing) : render_cpu(cs, a.threads, part, c, silent, keepGoing);
+        uint32_t reached = c.begin;
+        std::exception_ptr lost;
+        try {
+          reached = gpu ? gpu->render(part, c, silent, keepGoing) : render_cpu(cs, a.threads, part, c, silent, keepGoing);
+        } catch (const DeviceLost& e) {
+          // A chunk's image up to its last pass is whole (--devices renders
+          // no adaptive batches, the one thing that breaks it).
+          if (!e.intact) throw RenderError(std::string(e.what()) + " part-way through a batch of adaptive samples");
+          reached = e.reached;
+          lost = std::current_exception();
+          lostAt = " during samples " + format_sample_ranges({c}) + " (it kept " +
+                   (reached > c.begin ? format_sample_ranges({{c.begin, reached}}) : "none") + ")";
+        }
         progress.add(uint64_t(image.pixels()) * (reached - c.begin));
         std::lock_guard<std::mutex> lock(mutex);
+        --pending;
+        if (lost && reached < c.end) chunks.push_back({reached, c.end});
         image.add(part);
         done.push_back({c.begin, reached});
         done = join_ranges(done);
+        changed.notify_all();
         if (afterChunk) afterChunk(image, done);
+        if (lost) std::rethrow_exception(lost);
         if (reached < c.end) break;
       }
       if (ctx && ctx->validation_messages() > 0)
         throw RenderError(std::to_string(ctx->validation_messages()) + " Vulkan validation message(s) reported; no image written");
+    } catch (const DeviceLost& e) {
+      // The others take over what it had left: its own chunk where it was
+      // lost before it began, the rest of the chunk in hand (queued above),
+      // and the chunks not yet dealt.
+      std::lock_guard<std::mutex> lock(mutex);
+      if (own[d]) {
+        chunks.push_back(*own[d]);
+        own[d].reset();
+        --pending;
+      }
+      if (names[d].empty()) names[d] = e.device;
+      lostDevices->push_back(names[d] + lostAt);
+      names[d] += " (lost)";
+      changed.notify_all();
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex);
       if (!error) error = std::current_exception();
+      changed.notify_all();
+    }
+    // Stopped before its own chunk began: that chunk stays undone.
+    std::lock_guard<std::mutex> lock(mutex);
+    if (own[d]) {
+      own[d].reset();
+      --pending;
+      changed.notify_all();
     }
   };
   std::vector<std::thread> threads;
@@ -263,7 +333,7 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
                      "lights are not geometry) or 3-2 (emissive meshes are black, area lights are visible quads, as the "
                      "course's 3-2 renderer draws them)")
       ->check(CLI::IsMember({"3-1", "3-2"}));
-  app.add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
+  app.add_option("--seed", r.seed, "random seed; renders with equal seeds take the same samples");
   app.add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   app.add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
   app.add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default: the device's, as devices shows");
@@ -287,14 +357,20 @@ void apply_hemisphere_flag(RenderArgs& r, bool hemisphere) {
   r.integrator = "path tracer hemisphere";
 }
 
+namespace {
+
+// `word` as one word of a shell's command line.
+std::string quoted(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+.,/:=@%") == std::string::npos)
+    return word;
+  std::string q = "'";
+  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
 std::string render_command_line(const RenderArgs& a) {
-  auto quoted = [](const std::string& word) {
-    if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+.,/:=@%") == std::string::npos)
-      return word;
-    std::string q = "'";
-    for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-  };
   auto number = [](double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.9g", v);
@@ -334,6 +410,27 @@ std::string render_command_line(const RenderArgs& a) {
   if (a.photonPass != "auto") add("--photon-pass", a.photonPass);
   if (a.tilePixels > 0) add("--tile-pixels", std::to_string(a.tilePixels));
   add("--resume", a.resume);
+  return line;
+}
+
+std::string resume_command_line(const RenderArgs& a, const std::string& partial) {
+  RenderArgs image = a;
+  image.resume.clear();
+  std::string line = render_command_line(image);
+  auto add = [&](const char* option, const std::string& value) {
+    if (!value.empty()) line += std::string(" ") + option + " " + quoted(value);
+  };
+  add("--format", a.format);
+  add("--exr", a.exr);
+  add("--samples", a.samples);
+  add("--device", a.device);
+  std::string devices;
+  for (const std::string& d : a.devices) devices += (devices.empty() ? "" : ",") + d;
+  add("--devices", devices);
+  if (a.threads > 0) add("--threads", std::to_string(a.threads));
+  add("--checkpoint", a.checkpoint);
+  if (!a.checkpoint.empty() && a.checkpointEvery != "60s") add("--checkpoint-every", a.checkpointEvery);
+  add("--resume", partial);
   return line;
 }
 
