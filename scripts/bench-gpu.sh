@@ -16,6 +16,10 @@
 # Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
 #   (default: build, a temporary folder, the default device)
 # Writes log.txt, kernels.txt, render.json/.csv and raycast-*.json to OUT_DIR.
+# The SIMT model's prediction beside the ray casting needs no GPU: run it
+# where the files come back, `wavepath bench --simt --scenes
+# scenes/cornell-dragon.json,scenes/dragon.json --resolution 1024 1024
+# --measured OUT_DIR/raycast-1024.json`.
 set -euo pipefail
 build=$(realpath "${1:-build}")
 out=${2:-$(mktemp -d)}
@@ -52,18 +56,23 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   "$build/wavepath" bench "${dev[@]}" --scenes scenes/cornell-box.json,scenes/cornell-dragon.json \
     --resolution 512 512 --spp 64 --repeats 3 --out "$out/render.json" --csv "$out/render.csv"
 
-  # Every hit is checked against the CPU traversal first, which is slow on
-  # 10 M triangles: that scene gets the smaller ray sets alone. (The register
-  # stack and one ray per invocation, which gpu picks only on CPU devices,
-  # measured 0.85x and 1.0x of gpu on the H200.)
+  # Every walk the SIMT model ranks (bench --simt's variants) on the mesh
+  # scenes, so that its predicted order can be checked against the measured
+  # one; each variant casts for half a second before it is timed, so the
+  # clocks are up. Every hit is checked against the CPU traversal first,
+  # which is slow on 10 M triangles: that scene gets the smaller ray sets
+  # and two variants alone.
+  stage "ray casting, 1024x1024 rays per set"
+  "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json,scenes/dragon.json \
+    --variants gpu,gpu-bvh2,gpu-regstack,gpu-multiray,gpu-greedy,gpu-clustered --resolution 1024 1024 --repeats 7 \
+    --out "$out/raycast-1024.json"
   for res in 1024 4096; do
-    stage "ray casting, ${res}x${res} rays per set"
-    scenes=scenes/cornell-dragon.json
-    [ "$res" = 1024 ] && scenes+=,scenes/dragon.json,$big
+    scenes=$big
+    [ "$res" = 4096 ] && scenes=scenes/cornell-dragon.json
+    stage "ray casting, ${res}x${res} rays per set, $(basename "$scenes")"
     "$build/wavepath" bench --raycast "${dev[@]}" --scenes "$scenes" \
-      --variants gpu,gpu-bvh2 --resolution "$res" "$res" --repeats 5 --out "$out/raycast-$res.json"
+      --variants gpu,gpu-bvh2 --resolution "$res" "$res" --repeats 7 --out "$out/raycast-$res-more.json"
   done
-
   stage "whole renders (wall time, setup included), 512x512, 64 spp, 8 bounces"
   for scene in cornell-box cornell-dragon; do
     for _ in 1 2 3; do

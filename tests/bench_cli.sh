@@ -67,6 +67,26 @@ else
   check "built without Embree, ray casting reports no ratio" $(! grep -q '"ratio_to_embree"' "$work/rc.json"; echo $?)
 fi
 
+# The SIMT model: no device timing, deterministic figures, a measured file's
+# order beside its own; a file that is not bench --raycast's is refused.
+"$wavepath" bench --simt --scenes "$data/furnace.json" --variants gpu,gpu-bvh2 --resolution 16 16 --reorder morton \
+  --measured "$work/rc.json" --out "$work/simt.json" --csv "$work/simt.csv" >"$work/out" 2>&1
+check "the SIMT model exits 0" $?
+check "it models every variant, ray set (sorted ones too) and warp width, with the measured rate beside" $(python3 -c '
+import json, sys
+rows = json.load(open(sys.argv[1]))["simt"]
+keys = {(r["variant"], r["rays_set"], r["warp_width"]) for r in rows}
+want = {(v, s, w) for v in ("gpu", "gpu-bvh2") for s in ("primary", "bounce", "shadow", "bounce/morton", "shadow/morton") for w in (32, 64)}
+ok = keys == want and all(0 < r["simd_efficiency"] <= 1 and r["predicted_mrays_per_second"] > 0 for r in rows)
+ok = ok and all("measured_mrays_per_second" in r for r in rows if r["variant"] == "gpu" and "/" not in r["rays_set"])
+sys.exit(0 if ok else 1)' "$work/simt.json"; echo $?)
+"$wavepath" bench --simt --scenes "$data/furnace.json" --variants gpu,gpu-bvh2 --resolution 16 16 --reorder morton \
+  --measured "$work/rc.json" --csv "$work/simt2.csv" >/dev/null 2>&1
+check "the same model twice gives the same figures" $(cmp -s "$work/simt.csv" "$work/simt2.csv"; echo $?)
+echo '{"render": []}' >"$work/notraycast.json"
+"$wavepath" bench --simt --scenes "$data/furnace.json" --resolution 8 8 --measured "$work/notraycast.json" >"$work/out" 2>"$work/err"
+check "a measured file without ray casting: exit 2 naming it" $([ $? -eq 2 ] && grep -q "notraycast.json: no \"raycast\" array" "$work/err"; echo $?)
+
 # A scene whose path starts with a quote: CSV fields are quoted where needed,
 # so a CSV reader gets the path back whole (unquoted, it read a quoted field).
 mkdir -p "$work/\"odd\" dir" && cp "$data/furnace.json" "$data/furnace-box.obj" "$data/furnace-box.mtl" "$work/\"odd\" dir/"

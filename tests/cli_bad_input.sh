@@ -59,6 +59,38 @@ expect_error "no such device" 2 "--device no-such-gpu" -- "$wavepath" render "$d
 expect_error "unknown integrator" 2 "--integrator|bdpt" -- "$wavepath" render "$data/furnace.json" -o "$out" --integrator bdpt
 expect_error "unknown sampler" 2 "--sampler|sobol" -- "$wavepath" render "$data/furnace.json" -o "$out" --sampler sobol
 expect_error "missing texture image" 2 "no-such.png|no such file|/materials/0/albedo" -- "$wavepath" render "$data/bad-texture.json" -o "$out"
+# A valid 20000x20000 PNG (black, RGB) as a texture: too large, with its size
+# and the limit, read from its header before any decoding. Written in a
+# moment: its rows compressed once as a block that resets the compressor,
+# repeated, with the checksum of them all.
+python3 - "$work/huge.png" <<'PY'
+import struct, sys, zlib
+w = h = 20000
+rows = 100
+chunk = (b'\0' * (1 + 3 * w)) * rows
+c = zlib.compressobj(9)
+first = c.compress(chunk) + c.flush(zlib.Z_FULL_FLUSH)
+block = c.compress(chunk) + c.flush(zlib.Z_FULL_FLUSH)
+end = c.flush()[:-4]
+adler = 1
+for _ in range(h // rows):
+    adler = zlib.adler32(chunk, adler)
+data = first + block * (h // rows - 1) + end + struct.pack('>I', adler)
+def part(kind, body):
+    return struct.pack('>I', len(body)) + kind + body + struct.pack('>I', zlib.crc32(kind + body))
+open(sys.argv[1], 'wb').write(b'\x89PNG\r\n\x1a\n' + part(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0)) + part(b'IDAT', data) + part(b'IEND', b''))
+PY
+printf '{ "materials": [ { "type": "lambertian", "name": "a", "albedo": { "type": "image", "filename": "huge.png" } } ],
+  "surfaces": [ { "type": "sphere", "material": "a" } ] }' >"$work/huge.json"
+expect_error "a 20000x20000 PNG texture" 2 "huge.png|too large: 20000x20000 pixels|more than the 33554432" -- "$wavepath" render "$work/huge.json" -o "$out"
+# A darts mesh whose file is no OBJ (a path gone wrong to /etc/passwd, say)
+# yields no triangles: a warning names it, and the render goes on.
+printf 'root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1:daemon:/usr/sbin:/usr/sbin/nologin\n' >"$work/passwd"
+printf '{ "surfaces": [ { "type": "mesh", "filename": "passwd", "material": { "type": "lambertian" } },
+  { "type": "sphere", "material": { "type": "lambertian" } } ] }' >"$work/not-obj.json"
+"$wavepath" render "$work/not-obj.json" -r 8 6 --spp 1 --cpu -q -o "$work/not-obj.png" 2>"$work/stderr"
+check "a mesh file that is no OBJ: exit 0, one warning naming it and where the scene names it" \
+  $([ $? -eq 0 ] && [ "$(wc -l <"$work/stderr")" -eq 1 ] && grep -qF "warning: $work/passwd: no triangles (is it an OBJ file?), loaded by $work/not-obj.json at /surfaces/0/filename" "$work/stderr"; echo $?)
 
 # CS184 users' short options are aliases of wavepath's own.
 rm -f "$work"/out.*

@@ -5,7 +5,9 @@
 # checkpoint and is resubmitted alone; the merge job runs after every task
 # succeeded (--dependency=afterok). The rerun task's part is the one an
 # uninterrupted task leaves, byte for byte, and the merged image agrees with
-# one process rendering the same samples.
+# one process rendering the same samples. Then two tasks meet faults
+# (WAVEPATH_FAULT: a lost device, a full disk), fail, keep their
+# checkpoints, and finish when resubmitted.
 # Where the daemons cannot start (not root, a container that forbids them)
 # the test says so and is skipped (exit 77); on CI it must run.
 # Usage: slurm_cli.sh WAVEPATH TEST_DATA_DIR SCRIPTS_DIR
@@ -76,4 +78,36 @@ check "the rerun task's part equals an uninterrupted one" $(cmp -s "$out/part-2.
 "$wavepath" render "$scene" "${opts[@]}" --spp $spp -q -o "$work/single.png"
 "$wavepath" compare --images "$work/merged.exr" "$work/single.exr" >"$work/compare" 2>&1
 check "the merged image agrees with one process (wavepath compare)" $?
+
+# Faults in tasks (WAVEPATH_FAULT, on their first run only): task 0, on
+# lavapipe, loses its device at its 4th submission; task 1's disk fills at
+# its 2nd file, a checkpoint. Each fails (75, 3) keeping its checkpoint;
+# resubmitted, both finish, and the merge after them holds every sample.
+faulty="$work/faulty-wavepath"
+cat >"$faulty" <<WRAPPER
+#!/usr/bin/env bash
+if [ ! -e "$work/faulted-\$SLURM_ARRAY_TASK_ID" ]; then
+  touch "$work/faulted-\$SLURM_ARRAY_TASK_ID"
+  case \$SLURM_ARRAY_TASK_ID in 0) export WAVEPATH_FAULT=device-lost@submit:4 ;; 1) export WAVEPATH_FAULT=enospc@write:2 ;; esac
+fi
+exec "$wavepath" "\$@"
+WRAPPER
+chmod 755 "$faulty"
+small=(-r 40 30 --checkpoint-every 0.001s)
+fparts="$work/fault-parts"
+faults=$(WAVEPATH="$faulty" sbatch --parsable --array=0-1 --output="$work/slurm-%A_%a.out" "$scripts/slurm/render-array.sh" 2 48 "$fparts" "$scene" "${small[@]}")
+wait_gone "$faults" 120
+check "a task whose device is lost says so and keeps its checkpoint, marked device lost" \
+  $(grep -q "device lost: .*; finish with: " "$work/slurm-${faults}_0.out" && exr_attr "$fparts/checkpoints/part-0.exr" wavepath:status | grep -q "^device lost"; echo $?)
+check "a task whose disk fills at a checkpoint says so, and the checkpoint before stays" \
+  $(grep -q "part-1.exr: cannot write EXR: No space left on device" "$work/slurm-${faults}_1.out" &&
+    [ "$(exr_attr "$fparts/checkpoints/part-1.exr" wavepath:status)" = checkpoint ]; echo $?)
+reruns=$(WAVEPATH="$faulty" sbatch --parsable --array=0-1 --output="$work/slurm-%A_%a.out" "$scripts/slurm/render-array.sh" 2 48 "$fparts" "$scene" "${small[@]}")
+fmerge=$(WAVEPATH="$wavepath" sbatch --parsable --dependency=afterok:"$reruns" --output="$work/slurm-fmerge.out" "$scripts/slurm/merge.sh" "$fparts" "$work/fmerged.png")
+wait_gone "$fmerge" 120
+check "resubmitted, the faulted tasks finish and merge: samples 0:48, complete" \
+  $([ "$(exr_attr "$work/fmerged.exr" wavepath:samples)" = "0:48" ] && [ "$(exr_attr "$work/fmerged.exr" wavepath:status)" = complete ]; echo $?)
+"$wavepath" render "$scene" -r 40 30 --spp 48 -q -o "$work/fsingle.png"
+"$wavepath" compare --images "$work/fmerged.exr" "$work/fsingle.exr" >"$work/compare" 2>&1
+check "the faulted tasks' merged image agrees with one process" $?
 finish

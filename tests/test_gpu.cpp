@@ -701,13 +701,28 @@ TEST_F(Gpu, EveryVariantCountsTheSameRays) {
 }
 
 // No races: each pixel's samples depend only on (pixel, sample, seed).
+// A device adds a submission's samples in float, and how many samples a
+// submission takes follows its measured time (render_samples): two renders
+// of one seed group them alike, and so are equal to the bit, only where the
+// grouping is fixed, as here (one sample a submission). Timed, a loaded
+// machine can group them otherwise, which once failed this test; such
+// renders differ within the bound docs/partial-renders.md gives
+// (GpuPartial.SplitsAndResumedRendersMatchTheWholeRenderWithinTheBound).
+// Another seed's image differs: the equality can fail.
 TEST_F(Gpu, SameSeedSameImageOtherSeedOtherImage) {
   Scene scene = cornell_box(32);
   RenderOptions o;
   o.spp = 8;
-  ImageStats a = render(compile_scene(scene, o)), b = render(compile_scene(scene, o));
+  WavefrontSettings fixed;
+  fixed.targetSubmitSeconds = 0.0;
+  auto render_fixed = [&](const CompiledScene& cs) {
+    WavefrontRenderer r(*ctx_, cs, fixed);
+    Progress quiet("", 0, false);
+    return r.render(quiet);
+  };
+  ImageStats a = render_fixed(compile_scene(scene, o)), b = render_fixed(compile_scene(scene, o));
   o.seed = 9;
-  ImageStats c = render(compile_scene(scene, o));
+  ImageStats c = render_fixed(compile_scene(scene, o));
   EXPECT_EQ(a.sum, b.sum);
   EXPECT_NE(a.sum, c.sum);
 }

@@ -10,6 +10,7 @@
 #include "gpu/wavefront.h"
 #include "render/partial.h"
 #include "stats/compare.h"
+#include "util/fault.h"
 
 namespace wp::test {
 namespace {
@@ -161,6 +162,129 @@ TEST_F(GpuPartial, AovLayersAgreeWithTheCpuReference) {
       plant_bias(biased, 1.05);
       EXPECT_FALSE(compare_images(biased, layer_as_color(cpu, "albedo")).passed()) << path << ", " << variant << ": planted bias";
     }
+  }
+}
+
+// Faults, injected as WAVEPATH_FAULT injects them (util/fault.h), with
+// one sample per submission so that renders add the same float sums.
+class GpuFaults : public GpuPartial {
+ protected:
+  void TearDown() override {
+    fault::inject(nullptr);
+    GpuPartial::TearDown();
+  }
+  static WavefrontSettings one_sample_a_submission() {
+    WavefrontSettings s = kernel_variant("gpu").settings;
+    s.targetSubmitSeconds = 0.0;
+    return s;
+  }
+  static uint32_t render_on(const VulkanContext& ctx, const CompiledScene& cs, const WavefrontSettings& s, ImageStats& image,
+                            SampleRange range) {
+    WavefrontRenderer r(ctx, cs, s);
+    Progress quiet("", 0, false);
+    return r.render(image, range, quiet);
+  }
+  using GpuPartial::render;
+  // Renders `range` on a context of its own, which the fault `spec` loses;
+  // returns the DeviceLost.
+  static DeviceLost render_until_lost(const char* spec, const CompiledScene& cs, const WavefrontSettings& s, ImageStats& image,
+                                      SampleRange range) {
+    VulkanContext doomed("", true);
+    fault::inject(spec);
+    try {
+      render_on(doomed, cs, s, image, range);
+    } catch (const DeviceLost& lost) {
+      fault::inject(nullptr);
+      EXPECT_EQ(doomed.validation_messages(), 0u);
+      return lost;
+    }
+    fault::inject(nullptr);
+    ADD_FAILURE() << spec << " lost no device";
+    return DeviceLost("none");
+  }
+};
+
+// A device lost at the 8th submission of a render in five tiles (a round
+// of samples is five submissions) in its second round: its image holds the
+// first round alone, since a round's sums reach the image once every tile
+// has them. Resumed from there, the render is the uninterrupted one to the
+// bit; resumed a sample late it is not.
+TEST_F(GpuFaults, ALostDeviceKeepsTheRoundsItFinishedAndResumesToTheSameSums) {
+  CompiledScene cs = scene("tests/data/features/materials.json", 40, 12, 5, {"albedo"}, "gpu");
+  WavefrontSettings s = one_sample_a_submission();
+  s.maxTilePixels = 333;
+  ImageStats whole(cs.width, cs.height, image_layers(cs.aovs)), image = whole;
+  DeviceLost lost = render_until_lost("device-lost@submit:8", cs, s, image, {0, 12});
+  EXPECT_TRUE(lost.intact);
+  EXPECT_EQ(lost.reached, 1u);
+  EXPECT_EQ(*std::min_element(image.count.begin(), image.count.end()), 1.0);
+  EXPECT_EQ(*std::max_element(image.count.begin(), image.count.end()), 1.0);
+  WavefrontRenderer r(*ctx_, cs, s);
+  Progress quiet("", 0, false);
+  r.render(whole, {0, 12}, quiet);
+  ImageStats late = image;
+  r.render(image, {lost.reached, 12}, quiet);
+  EXPECT_EQ(image.sum, whole.sum);
+  EXPECT_EQ(image.sumSq, whole.sumSq);
+  r.render(late, {lost.reached + 1, 12}, quiet);
+  EXPECT_NE(late.sum, whole.sum) << "planted: a sample left out";
+}
+
+// Under adaptive sampling a pixel's batch takes several submissions: a
+// device lost part-way through one leaves samples that no partial file can
+// record, and says so.
+TEST_F(GpuFaults, ALostDeviceInAnAdaptiveBatchSaysItsImageIsNotWhole) {
+  Scene sc = load_scene(source_path("tests/data/features/materials.json"));
+  sc.camera.width = sc.camera.height = 16;
+  RenderOptions o;
+  o.spp = 12;
+  o.adaptive = AdaptiveSampling{4, 0.05f};
+  const CompiledScene cs = compile_scene(sc, variant_options(o, "gpu"));
+  ImageStats image(cs.width, cs.height);
+  DeviceLost lost = render_until_lost("device-lost@submit:6", cs, one_sample_a_submission(), image, {0, 12});
+  EXPECT_EQ(lost.reached, 4u);
+  EXPECT_FALSE(lost.intact);
+}
+
+// Out of device memory for the image's buffers, the renderer renders in
+// smaller tiles (with no more path slots than a tile's pixels), says so in
+// one line, and makes the untiled image to the bit (as do tiles of one row
+// with as many path slots); where even one row does not fit, it refuses,
+// naming the memory needed and the device's.
+TEST_F(GpuFaults, OutOfDeviceMemoryRendersInSmallerTilesTheSameImage) {
+  CompiledScene cs = scene("tests/data/features/materials.json", 40, 4, 5, {}, "gpu");
+  const WavefrontSettings s = one_sample_a_submission();
+  WavefrontSettings oneRow = s;
+  oneRow.maxTilePixels = oneRow.maxPathsPerWave = uint32_t(cs.width);
+  ImageStats untiled(cs.width, cs.height), rows = untiled, tiled = untiled;
+  render_on(*ctx_, cs, s, untiled, {0, 4});
+  fault::inject("oom@bytes:1099511627776");  // counted, never short
+  uint64_t row = 0;
+  {
+    WavefrontRenderer r(*ctx_, cs, oneRow);
+    row = fault::device_memory_held();
+    Progress quiet("", 0, false);
+    r.render(rows, {0, 4}, quiet);
+  }
+  // Room for tiles of about two rows, the scene's buffers being small.
+  fault::inject(("oom@bytes:" + std::to_string(2 * row)).c_str());
+  testing::internal::CaptureStderr();
+  render_on(*ctx_, cs, s, tiled, {0, 4});
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("out of device memory for tiles of 1600 pixels"), std::string::npos) << said;
+  EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), 1) << said;
+  EXPECT_EQ(rows.sum, untiled.sum);
+  EXPECT_EQ(tiled.sum, untiled.sum);
+  EXPECT_EQ(tiled.sumSq, untiled.sumSq);
+
+  fault::inject(("oom@bytes:" + std::to_string(row - 1)).c_str());
+  try {
+    WavefrontRenderer r(*ctx_, cs, s);
+    ADD_FAILURE() << "a device without room for one row's tile renders";
+  } catch (const RenderError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("even tiles of one row (40 pixels) need"), std::string::npos) << what;
+    EXPECT_NE(what.find("WAVEPATH_FAULT gives it"), std::string::npos) << what;
   }
 }
 

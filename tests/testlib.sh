@@ -26,7 +26,7 @@ exr_attr() {
   python3 - "$1" "$2" <<'PY'
 import re, sys
 head = open(sys.argv[1], 'rb').read(1 << 16)
-m = re.search(re.escape(sys.argv[2].encode()) + rb'\x00string\x00(....)', head)
+m = re.search(re.escape(sys.argv[2].encode()) + rb'\x00string\x00(....)', head, re.S)  # the length's bytes may be a newline
 n = int.from_bytes(m.group(1), 'little') if m else 0
 print(head[m.end():m.end() + n].decode() if m else '')
 PY

@@ -9,6 +9,11 @@
 #
 #   sbatch --array=0-3 scripts/slurm/render-array.sh TASKS SPP OUTDIR SCENE [render options]
 #
+# The render options go after this script's own (a --checkpoint-every
+# among them replaces its 30s). A task that fails (a lost GPU exits 75, a
+# full disk 3, scancel 143) keeps what its checkpoint holds: submit it again
+# (--array=i) and it goes on from there.
+#
 # The wavepath binary: $WAVEPATH, else `wavepath` on PATH, else
 # build/wavepath under the directory sbatch was run from.
 #SBATCH --job-name=wavepath-part

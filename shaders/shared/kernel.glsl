@@ -38,6 +38,11 @@ layout(constant_id = SPEC_STACK_SIZE) const uint kStackSize = BVH_STACK_MAX;
 #define TRAVERSAL_STACK_SLOTS kStackSize
 #define WP_NOTE_STACK_DEPTH(sp)  // C++ only: the tests check the stack's size
 #define WP_NOTE_STEP()  // C++ only: the ray-casting benchmark counts the walks' iterations
+// C++ only: what each iteration of a walk did and which stack entries it
+// touched, for the SIMT model of the walks (src/bench/simt_model.h).
+#define WP_NOTE_PHASE(phase)
+#define WP_NOTE_STACK_READ(entry)
+#define WP_NOTE_STACK_WRITE(entry)
 // Path compaction: shade appends only the paths still alive to the next
 // bounce's queue, so each bounce dispatches only live paths. Without it
 // (variant gpu-nocompact, to measure what compaction is worth) every path

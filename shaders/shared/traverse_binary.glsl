@@ -128,16 +128,20 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     if (steps > cap) return TRACE_TRUNCATED;
     WP_NOTE_STEP();
     if (leafNext < leafEnd) {
+      WP_NOTE_PHASE(WALK_PHASE_PRIM);
       Triangle tri = load_triangle(leafNext);
       leafNext += 1u;
       if (FEATURE_COMPILED(FEATURE_INSTANCES) && tri.material == PRIM_INSTANCE) {
         if (!meets_instance(tri, o, invDir, hit.t)) continue;
+        WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
         // Set aside the rest of this leaf (a leaf entry: count != 0), then the
         // way back; walk the instance's tree from its root.
         if (leafNext < leafEnd) {
+          WP_NOTE_STACK_WRITE(sp);
           stack[sp] = uvec2(leafNext, leafEnd - leafNext);
           sp += 1u;
         }
+        WP_NOTE_STACK_WRITE(sp);
         stack[sp] = uvec2(0u, INSTANCE_RETURN_Y);
         sp += 1u;
         WP_NOTE_STACK_DEPTH(sp);
@@ -160,7 +164,9 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     }
     if (!haveNode) {
       if (sp == 0u) break;
+      WP_NOTE_PHASE(WALK_PHASE_POP);
       sp -= 1u;
+      WP_NOTE_STACK_READ(sp);
       node = stack[sp];
       if (FEATURE_COMPILED(FEATURE_INSTANCES) && node.y == INSTANCE_RETURN_Y && node.x == 0u) {
         // Back in world space. (An interior node's entry has count 0 too,
@@ -175,10 +181,12 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     }
     haveNode = false;
     if (node.y != 0u) {
+      WP_NOTE_PHASE(WALK_PHASE_LEAF);
       leafNext = node.x;
       leafEnd = node.x + node.y;
       continue;
     }
+    WP_NOTE_PHASE(WALK_PHASE_NODE);
     BvhNode n0 = load_node(node.x);
     BvhNode n1 = load_node(node.x + 1u);
     float d0 = intersect_aabb(ro, invDir, n0.bmin, n0.bmax, hit.t);
@@ -197,6 +205,7 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     node = near;
     haveNode = true;
     if (d1 != WP_INF) {
+      WP_NOTE_STACK_WRITE(sp);
       stack[sp] = far;
       sp += 1u;
       WP_NOTE_STACK_DEPTH(sp);

@@ -109,6 +109,7 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
 
 // Pushes entry e on the wide walk's stack (either kind, see below).
 #define WP_WIDE_PUSH(e)                \
+  WP_NOTE_STACK_WRITE(sp);             \
   if (inRegisters) {                   \
     WP_REGISTER_STACK_DOWN(regs, true); \
     regs[0u] = (e);                    \

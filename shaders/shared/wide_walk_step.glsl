@@ -15,6 +15,7 @@ Triangle stepTri = load_triangle(primGroup.y != 0u ? stepPrim : 0u);
 WideNode n = load_wide_node(visit != WP_INVALID ? visit : 0u);
 bool enter = false;
 if (primGroup.y != 0u) {
+  WP_NOTE_PHASE(WALK_PHASE_PRIM);
   primGroup.y &= primGroup.y - 1u;
   if (FEATURE_COMPILED(FEATURE_INSTANCES) && stepTri.material == PRIM_INSTANCE) {
     enter = meets_instance(stepTri, o, invDir, hit.t);
@@ -24,6 +25,7 @@ if (primGroup.y != 0u) {
   }
 }
 if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
+  WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
   // Set aside the top level's node group, its node still to visit (as a
   // group of that one node, in slot 0 for this ray's order), its primitive
   // group, then the way back, which keeps the count of primitive groups set
@@ -53,6 +55,7 @@ if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
 // A node waits while it might bring a primitive group that there is no
 // room to set aside.
 if (!walkDone && !enter && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
+  WP_NOTE_PHASE(WALK_PHASE_NODE);
   vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
                    uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
   vec3 scale = cell * invDir;
@@ -86,6 +89,12 @@ if (!walkDone && !enter && visit != WP_INVALID && (primGroupsSetAside < WIDE_STA
   uint prims = bits & ~WIDE_NODE_BITS;
   bool pushPrims = prims != 0u && primGroup.y != 0u;
   uint pushes = (pushNodes ? 1u : 0u) + (pushPrims ? 1u : 0u);
+  if (pushNodes) {
+    WP_NOTE_STACK_WRITE(sp);
+  }
+  if (pushPrims) {
+    WP_NOTE_STACK_WRITE(sp + (pushNodes ? 1u : 0u));
+  }
   if (inRegisters) {
     WP_REGISTER_STACK_DOWN(regs, pushNodes);
     regs[0u] = pushNodes ? nodeGroup : regs[0u];
@@ -106,6 +115,8 @@ if (!walkDone && !enter && visit != WP_INVALID && (primGroupsSetAside < WIDE_STA
 // once, a primitive group once the current one is done, the way back out of
 // an instance once nothing of its walk remains.
 if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
+  WP_NOTE_PHASE(WALK_PHASE_POP);
+  WP_NOTE_STACK_READ(sp - 1u);
   uvec2 top = inRegisters ? regs[0u] : stack[sp - 1u];
   bool isNodes = (top.y & WIDE_NODE_BITS) != 0u;
   bool isReturn = FEATURE_COMPILED(FEATURE_INSTANCES) && top.y == INSTANCE_RETURN_Y;

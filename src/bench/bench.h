@@ -29,6 +29,14 @@ struct BenchOptions {
   // BVH builds instead of rendering: each scene's tree built as the renderer
   // builds it, timed against Embree's build of the same triangles.
   bool build = false;
+  // The SIMT model instead of timing (simt_model.h): the ray sets of
+  // --raycast replayed through the walks in warps of these widths on a model
+  // of this GPU, beside a GPU's measured --raycast JSON where given.
+  bool simt = false;
+  std::vector<int> warpWidths{32, 64};
+  std::string gpuModel = "h200";
+  std::string measuredPath;
+  std::vector<std::string> reorders;  // --simt: bounce and shadow rays also sorted so ("octant", "morton")
 };
 
 // Prints the results table; writes JSON / CSV when asked. Returns 0 when every
@@ -36,5 +44,9 @@ struct BenchOptions {
 int run_bench(const BenchOptions& options);
 int run_raycast_bench(const BenchOptions& options);
 int run_build_bench(const BenchOptions& options);
+int run_simt_bench(const BenchOptions& options);
+
+// The variants whose walks differ on a GPU: the SIMT model's default set.
+std::vector<std::string> simt_variants();
 
 }  // namespace wp

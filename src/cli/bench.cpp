@@ -29,14 +29,27 @@ Command add_bench(CLI::App& app) {
   CLI::Option* buildFlag = benchCmd->add_flag(
       "--build", bench->build, "time BVH builds (the renderer's 8-wide tree, and the binary layout) instead of rendering; compared with Embree when built in");
   buildFlag->excludes(raycastFlag);
+  CLI::Option* simtFlag = benchCmd->add_flag(
+      "--simt", bench->simt,
+      "replay the --raycast ray sets through a SIMT model of the walks (warps in lockstep, memory sectors, an L1) instead of timing; "
+      "prints SIMD efficiency, sectors per warp iteration and a GPU's predicted rates");
+  simtFlag->excludes(raycastFlag)->excludes(buildFlag);
+  benchCmd->add_option("--warps", bench->warpWidths, "--simt: warp widths (default 32,64)")->delimiter(',')->check(CLI::IsMember({32, 64}));
+  benchCmd->add_option("--gpu-model", bench->gpuModel, "--simt: the GPU the prediction models (default h200)");
+  benchCmd->add_option("--reorder", bench->reorders, "--simt: also model the bounce and shadow rays sorted by direction octant (octant) or octant and origin Morton code (morton)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"octant", "morton"}));
+  benchCmd->add_option("--measured", bench->measuredPath, "--simt: a GPU's bench --raycast --out JSON, printed beside the prediction");
 
   return {benchCmd, [bench] {
             if (bench->scenes.empty()) bench->scenes.push_back("scenes/cornell-box.json");
+            if (bench->variants.empty() && bench->simt) bench->variants = simt_variants();
             if (bench->variants.empty())
               for (const KernelVariant& v : kernel_variants()) bench->variants.push_back(v.name);
             for (const std::string* path : {&bench->jsonPath, &bench->csvPath})
               if (!path->empty()) require_output_directory(*path);
             if (bench->build) return run_build_bench(*bench);
+            if (bench->simt) return run_simt_bench(*bench);
             return bench->raycast ? run_raycast_bench(*bench) : run_bench(*bench);
           }};
 }

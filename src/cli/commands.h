@@ -6,7 +6,9 @@
 // Exit status: 0 success (compare: the images agree), 1 compare: they differ
 // (bench: a variant disagreed with the CPU reference and was not timed), 2 bad
 // input (scene, mesh, options), 3 rendering failed (no Vulkan device, out of
-// memory, validation messages, truncated traversal).
+// memory, validation messages, truncated traversal, an output that could not
+// be written), 75 (EX_TEMPFAIL) the render's device was lost: the samples
+// done are kept, and the command printed finishes the render.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -16,6 +18,8 @@
 #include <string>
 
 namespace wp::cli {
+
+constexpr int kExitDeviceLost = 75;
 
 struct Command {
   CLI::App* app;             // the subcommand, to tell whether it was given

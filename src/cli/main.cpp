@@ -10,7 +10,8 @@
 //   wavepath test FILE                    run a darts test file           (test.cpp)
 //
 // Exit status (commands.h): 0 success, 1 compare or bench found a
-// disagreement or a darts test failed, 2 bad input, 3 rendering failed.
+// disagreement or a darts test failed, 2 bad input, 3 rendering failed, 75
+// the device was lost (the samples done kept, a command to finish printed).
 #include <cstdio>
 #include <vector>
 

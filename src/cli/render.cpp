@@ -47,6 +47,8 @@ void print_stage_times(const StageTimes& times) {
   std::printf("rays: %llu closest-hit (%.2f Mrays/s in extend), %llu shadow (%.2f Mrays/s in connect)\n",
               (unsigned long long)times.closestHitRays, times.closest_hit_rays_per_second() * 1e-6,
               (unsigned long long)times.shadowRays, times.shadow_rays_per_second() * 1e-6);
+  std::printf("host: %llu submissions' sums read back and added to the image in %.3f s (wall)\n", (unsigned long long)times.submissions,
+              times.foldSeconds);
   if (times.photonPassSeconds > 0.0)
     std::printf("photon map: %llu records, traced, balanced and uploaded in %.3f s (wall)\n", (unsigned long long)times.photonRecords,
                 times.photonPassSeconds);
@@ -141,17 +143,45 @@ int run_render(const RenderArgs& a) {
     const int sig = g_stopSignal;
     return sig == 0 ? std::string() : std::string("interrupted by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM");
   };
+  // The partial file the render can go on from, and its samples: the file
+  // resumed, then each checkpoint written.
+  std::string kept = job.done.empty() ? "" : a.resume;
+  std::vector<SampleRange> keptRanges = job.done;
+  auto write_checkpoint = [&](const ImageStats& img, const std::vector<SampleRange>& ranges, const std::string& status) {
+    try {
+      write_partial(a.checkpoint, img, ranges, status, true);
+    } catch (const RenderError& e) {  // a full disk: say what is still there
+      if (kept != a.checkpoint) throw;
+      throw RenderError(std::string(e.what()) + " (the checkpoint there, of samples " + format_sample_ranges(keptRanges) + ", is intact)");
+    }
+    kept = a.checkpoint;
+    keptRanges = ranges;
+  };
   control.afterPass = [&](const ImageStats& img, const std::vector<SampleRange>& sofar) {
     auto now = std::chrono::steady_clock::now();
     if (a.checkpoint.empty() || std::chrono::duration<double>(now - lastCheckpoint).count() < checkpointEvery) return;
     lastCheckpoint = now;
-    write_partial(a.checkpoint, img, sofar, "checkpoint", true);
+    write_checkpoint(img, sofar, "checkpoint");
   };
   const RenderOutcome run = run_render_job(job, a, control);
   const int stopSignal = g_stopSignal;
   const bool complete = run.complete;
+  const bool deviceLost = run.deviceLost;
   const std::string& status = run.status;
   const std::vector<SampleRange>& done = job.done;
+  if (run.imageBroken) {
+    std::fprintf(stderr, "wavepath: device lost: %s, part-way through a batch of adaptive samples, which no image records; %s\n",
+                 run.lostNames.c_str(),
+                 kept.empty() ? "no samples kept (--checkpoint keeps them); run the command again"
+                              : ("kept " + kept + " (samples " + format_sample_ranges(keptRanges) + "); finish with: " +
+                                 resume_command_line(a, kept)).c_str());
+    return kExitDeviceLost;
+  }
+  if (done.empty()) {  // lost before a single pass (run_render_job throws for every other stop)
+    std::fprintf(stderr, "wavepath: device lost: %s, before a single pass was done: no samples kept, no image written; run the command again\n",
+                 run.lostNames.c_str());
+    return kExitDeviceLost;
+  }
 
   const bool exactSums = keeps_exact_sums(a, complete);
   // With adaptive sampling, CS184's sample-rate image goes beside the render.
@@ -160,7 +190,7 @@ int run_render(const RenderArgs& a) {
   try {
     if (!outIsExr) write_image(out, mean_rgb(image), scene.eightBitCurve);
     if (!rate.empty()) write_sample_rate_png(rate, image, first.spp);
-    if (!a.checkpoint.empty()) write_partial(a.checkpoint, image, done, status, true);
+    if (!a.checkpoint.empty()) write_checkpoint(image, done, status);
   } catch (...) {
     std::remove(exr.c_str());  // all images or none
     if (!outIsExr) std::remove(out.c_str());
@@ -171,7 +201,15 @@ int run_render(const RenderArgs& a) {
   }
   const std::string samples = format_sample_ranges(done);
   const std::string written = outIsExr ? exr : out + " and " + exr;
-  if (!complete) {
+  for (const std::string& d : run.lostDevices) {
+    if (!deviceLost) std::fprintf(stderr, "wavepath: device lost: %s; the other devices rendered the rest\n", d.c_str());
+  }
+  if (deviceLost) {
+    std::fprintf(stderr, "wavepath: device lost: %s: kept samples %s (of %s) in %s%s; finish with: %s\n", run.lostNames.c_str(), samples.c_str(),
+                 format_sample_ranges({job.range}).c_str(), written.c_str(),
+                 a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str(),
+                 resume_command_line(a, a.checkpoint.empty() ? exr : a.checkpoint).c_str());
+  } else if (!complete) {
     std::fprintf(stderr, "wavepath: %s: wrote the partial image of samples %s (of %s) to %s%s\n", status.c_str(),
                  samples.c_str(), format_sample_ranges({job.range}).c_str(), written.c_str(),
                  a.checkpoint.empty() ? "" : (", and the checkpoint " + a.checkpoint).c_str());
@@ -192,8 +230,9 @@ int run_render(const RenderArgs& a) {
   }
   if (a.stageTimes && job.devices.size() == 1 && job.devices[0].renderer != "cpu") print_stage_times(run.times);
   // Interrupted: the shell's status for death by that signal, so that scripts
-  // see the render did not finish (a spent time budget is a success).
-  return stopSignal ? 128 + stopSignal : 0;
+  // see the render did not finish (a spent time budget is a success); a
+  // lost device's, for a farm to run the printed command again.
+  return deviceLost ? kExitDeviceLost : stopSignal ? 128 + stopSignal : 0;
 }
 
 }  // namespace
@@ -217,7 +256,9 @@ Command add_render(CLI::App& app) {
   render->add_option("--aov", r->aovs, "first-hit layers to add to the EXR: " + aov_layer_names())->delimiter(',');
   render->add_option("--time", r->time, "time budget (90s, 5m, 1h): whole passes until it is spent; the EXR records the samples reached");
   render->add_option("--checkpoint", r->checkpoint, "partial EXR to write every --checkpoint-every and when the render stops");
-  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s)");
+  // The last given counts: a script's own (scripts/slurm/render-array.sh) gives way to one passed after it.
+  render->add_option("--checkpoint-every", r->checkpointEvery, "how often to write the checkpoint (default 60s; the last given counts)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   render->add_option("--resume", r->resume,
                      "continue the render a checkpoint or partial EXR holds samples of, rendering only those missing (the "
                      "checkpoint's own path: resume if it exists, else start)");

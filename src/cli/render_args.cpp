@@ -39,7 +39,7 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
                      "lights are not geometry) or 3-2 (emissive meshes are black, area lights are visible quads, as the "
                      "course's 3-2 renderer draws them)")
       ->check(CLI::IsMember({"3-1", "3-2"}));
-  app.add_option("--seed", r.seed, "random seed; renders with equal seeds are identical");
+  app.add_option("--seed", r.seed, "random seed; renders with equal seeds take the same samples");
   app.add_option("--device", r.device, "Vulkan device: index or part of the name (see `wavepath devices`)");
   app.add_flag("--validation", r.validation, "enable Vulkan validation; any message fails the render (also WAVEPATH_VALIDATION=1)");
   app.add_option("--variant", r.variant, "kernel variant (wavepath devices lists them); default: the device's, as devices shows");
@@ -63,14 +63,20 @@ void apply_hemisphere_flag(RenderArgs& r, bool hemisphere) {
   r.integrator = "path tracer hemisphere";
 }
 
+namespace {
+
+// `word` as one word of a shell's command line.
+std::string quoted(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+.,/:=@%") == std::string::npos)
+    return word;
+  std::string q = "'";
+  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
 std::string render_command_line(const RenderArgs& a) {
-  auto quoted = [](const std::string& word) {
-    if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+.,/:=@%") == std::string::npos)
-      return word;
-    std::string q = "'";
-    for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-  };
   auto number = [](double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.9g", v);
@@ -110,6 +116,27 @@ std::string render_command_line(const RenderArgs& a) {
   if (a.photonPass != "auto") add("--photon-pass", a.photonPass);
   if (a.tilePixels > 0) add("--tile-pixels", std::to_string(a.tilePixels));
   add("--resume", a.resume);
+  return line;
+}
+
+std::string resume_command_line(const RenderArgs& a, const std::string& partial) {
+  RenderArgs image = a;
+  image.resume.clear();
+  std::string line = render_command_line(image);
+  auto add = [&](const char* option, const std::string& value) {
+    if (!value.empty()) line += std::string(" ") + option + " " + quoted(value);
+  };
+  add("--format", a.format);
+  add("--exr", a.exr);
+  add("--samples", a.samples);
+  add("--device", a.device);
+  std::string devices;
+  for (const std::string& d : a.devices) devices += (devices.empty() ? "" : ",") + d;
+  add("--devices", devices);
+  if (a.threads > 0) add("--threads", std::to_string(a.threads));
+  add("--checkpoint", a.checkpoint);
+  if (!a.checkpoint.empty() && a.checkpointEvery != "60s") add("--checkpoint-every", a.checkpointEvery);
+  add("--resume", partial);
   return line;
 }
 

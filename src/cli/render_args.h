@@ -21,5 +21,9 @@ void apply_hemisphere_flag(RenderArgs& r, bool hemisphere);
 // scene and every option that changes the image (the view prints it to
 // render its window's view again).
 std::string render_command_line(const RenderArgs& a);
+// The `wavepath render` command line that continues the render `a` asks
+// for from the partial file `partial`: the same image, outputs, sample
+// range, devices and checkpoint.
+std::string resume_command_line(const RenderArgs& a, const std::string& partial);
 
 }  // namespace wp::cli

@@ -2,11 +2,13 @@
 // the descriptor set, each kernel's pipeline specialized to the scene and the
 // device, timestamps, and the driver's statistics of each kernel.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "gpu/specialize.h"
 #include "gpu/wavefront_impl.h"
 #include "util/error.h"
+#include "util/fault.h"
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
 #include "accumulate.spv.h"
@@ -20,6 +22,23 @@
 #include "sort.spv.h"
 
 namespace wp {
+
+namespace {
+
+std::string memory_text(uint64_t bytes) {
+  char text[32];
+  if (bytes < (1u << 20)) std::snprintf(text, sizeof text, "%.0f KiB", std::ceil(double(bytes) / 1024.0));
+  else std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1 << 20));
+  return text;
+}
+
+// The device, and the memory it has, for messages.
+std::string device_memory(const VulkanContext& ctx) {
+  if (fault::device_memory_limit() > 0) return ctx.info().name + " (WAVEPATH_FAULT gives it " + memory_text(fault::device_memory_limit()) + ")";
+  return ctx.info().name + " (" + memory_text(ctx.info().deviceLocalMemory) + " of device-local memory)";
+}
+
+}  // namespace
 
 WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, const WavefrontSettings& st) : ctx(c), scene(s), settings(st) {
   const uint64_t maxRange = ctx.info().maxStorageBufferRange;
@@ -41,7 +60,13 @@ WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, co
                                  std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
                                  uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,
                                  std::min<uint64_t>(ctx.info().maxTexelBufferElements, maxRange / sizeof(uint32_t)) / queue_count()});
-  create_buffers(pixels, maxRange);
+  try {
+    create_scene_buffers();
+  } catch (const DeviceOutOfMemory&) {
+    throw RenderError("out of device memory: the scene's arrays (BVH, primitives, materials, textures) need " +
+                      memory_text(measure(&Impl::create_scene_buffers)) + ", more than " + device_memory(ctx) + " holds");
+  }
+  fit_tile_buffers(maxRange);
   create_pipelines();
   commandPool = vk::raii::CommandPool(ctx.device(), vk::CommandPoolCreateInfo(
                                                         vk::CommandPoolCreateFlagBits::eResetCommandBuffer, ctx.queue_family()));
@@ -110,23 +135,44 @@ vk::DescriptorType WavefrontRenderer::Impl::descriptor_type(uint32_t binding) {
   return is_texel_binding(binding) ? vk::DescriptorType::eUniformTexelBuffer : vk::DescriptorType::eStorageBuffer;
 }
 
+void WavefrontRenderer::Impl::make_buffer(std::unique_ptr<Buffer>& slot, uint64_t bytes, vk::BufferUsageFlags usage, bool hostVisible) {
+  if (measured) {
+    *measured += std::max<uint64_t>(bytes, 16);
+    return;
+  }
+  slot = std::make_unique<Buffer>(ctx, bytes, usage, hostVisible);
+}
+
 void WavefrontRenderer::Impl::add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra) {
   using U = vk::BufferUsageFlagBits;
-  buffers[binding] = std::make_unique<Buffer>(ctx, bytes, U::eStorageBuffer | U::eTransferDst | U::eTransferSrc | extra, false);
+  make_buffer(buffers[binding], bytes, U::eStorageBuffer | U::eTransferDst | U::eTransferSrc | extra, false);
 }
 
 void WavefrontRenderer::Impl::add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes, vk::Format format) {
   add_work(binding, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer);
+  if (measured) return;
   views[view] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(), format, 0, VK_WHOLE_SIZE));
 }
 
-void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange) {
-  buffers.resize(BINDING_COUNT);
-  for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
-  buffers[BINDING_SCENE] = std::make_unique<Buffer>(ctx, sizeof(shader::SceneParams),
-                                                    vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
-  shader::SceneParams params = device_params();
-  ctx.upload(*buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
+uint64_t WavefrontRenderer::Impl::measure(void (Impl::*create)()) {
+  uint64_t bytes = 0;
+  measured = &bytes;
+  (this->*create)();
+  measured = nullptr;
+  return bytes;
+}
+
+void WavefrontRenderer::Impl::create_scene_buffers() {
+  if (!measured) {
+    buffers.resize(BINDING_COUNT);
+    for (uint32_t b = 0; b < BINDING_COUNT; ++b) views.emplace_back(nullptr);
+  }
+  make_buffer(buffers[BINDING_SCENE], sizeof(shader::SceneParams), vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferDst,
+              false);
+  if (!measured) {
+    shader::SceneParams params = device_params();
+    ctx.upload(*buffers[BINDING_SCENE], &params, sizeof(shader::SceneParams));
+  }
   add_texels(BINDING_NODES, scene.nodes, "BVH nodes");
   add_texels(BINDING_WIDE_NODES, scene.wideNodes, "wide BVH nodes");
   add_texels(BINDING_TRIANGLES, scene.triangles, "primitives");
@@ -143,13 +189,10 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_texels(BINDING_PHOTONS, scene.photons, "photon map");
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
   add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
-  // The image in tiles of consecutive pixels, as many as the accumulators
-  // (and the AOVs') may hold in one storage buffer: an image too large for
-  // one is rendered tile after tile each round of samples (render_samples).
+}
+
+void WavefrontRenderer::Impl::create_tile_buffers() {
   const bool aovs = !scene.aovs.empty();
-  uint64_t tileLimit = maxRange / (aovs ? std::max(sizeof(shader::PixelAccum), sizeof(shader::AovAccum)) : sizeof(shader::PixelAccum));
-  if (settings.maxTilePixels > 0) tileLimit = std::min<uint64_t>(tileLimit, settings.maxTilePixels);
-  tilePixels = uint32_t(std::min<uint64_t>(pixels, tileLimit));
   add_work(BINDING_PIXEL_LIST, uint64_t(tilePixels) * sizeof(uint32_t));
   add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
   add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * hit_record_bytes(scene));
@@ -161,14 +204,62 @@ void WavefrontRenderer::Impl::create_buffers(uint32_t pixels, uint64_t maxRange)
   add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
   const uint64_t accumBytes = uint64_t(tilePixels) * sizeof(shader::PixelAccum);
   add_work(BINDING_ACCUM, accumBytes);
-  readAccum = std::make_unique<Buffer>(ctx, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
+  make_buffer(readAccum, accumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
   // AOV layers: a first-hit record per path slot and sums per pixel of the
   // tile; a placeholder each where the render records none.
   const uint64_t aovAccumBytes = aovs ? uint64_t(tilePixels) * sizeof(shader::AovAccum) : sizeof(shader::AovAccum);
   add_work(BINDING_AOV_SAMPLES, (aovs ? uint64_t(capacity) : 1u) * sizeof(shader::AovSample));
   add_work(BINDING_AOV_ACCUM, aovAccumBytes);
-  readAovAccum = std::make_unique<Buffer>(ctx, aovAccumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
-  readCounters = std::make_unique<Buffer>(ctx, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
+  make_buffer(readAovAccum, aovAccumBytes, vk::BufferUsageFlagBits::eTransferDst, true);
+  make_buffer(readCounters, COUNTER_COUNT * sizeof(uint32_t), vk::BufferUsageFlagBits::eTransferDst, true);
+}
+
+void WavefrontRenderer::Impl::release_tile_buffers() {
+  for (uint32_t b : {BINDING_PATH_TEXELS, BINDING_HIT_TEXELS, BINDING_QUEUE_TEXELS, BINDING_SHADOW_RAY_TEXELS}) views[b] = nullptr;
+  for (uint32_t b : {BINDING_PIXEL_LIST, BINDING_PATHS, BINDING_HITS, BINDING_QUEUES, BINDING_SORT, BINDING_SHADOW_RAYS, BINDING_COUNTERS,
+                     BINDING_INDIRECT, BINDING_ACCUM, BINDING_AOV_SAMPLES, BINDING_AOV_ACCUM})
+    buffers[b].reset();
+  readAccum.reset();
+  readAovAccum.reset();
+  readCounters.reset();
+}
+
+void WavefrontRenderer::Impl::fit_tile_buffers(uint64_t maxRange) {
+  // The image in tiles of consecutive pixels, as many as the accumulators
+  // (and the AOVs') may hold in one storage buffer: an image too large for
+  // one is rendered tile after tile each round of samples (render_samples).
+  const uint32_t pixels = uint32_t(scene.width) * uint32_t(scene.height);
+  const bool aovs = !scene.aovs.empty();
+  uint64_t tileLimit = maxRange / (aovs ? std::max(sizeof(shader::PixelAccum), sizeof(shader::AovAccum)) : sizeof(shader::PixelAccum));
+  if (settings.maxTilePixels > 0) tileLimit = std::min<uint64_t>(tileLimit, settings.maxTilePixels);
+  tilePixels = uint32_t(std::min<uint64_t>(pixels, tileLimit));
+  // Where the device has no room for them, tiles of half as many pixels
+  // (and no more path slots than a tile's pixels), down to one row: tiles
+  // render the same image as one.
+  const uint32_t row = uint32_t(scene.width);
+  const uint32_t asked = tilePixels;
+  uint64_t askedBytes = 0;
+  for (;;) {
+    try {
+      create_tile_buffers();
+      break;
+    } catch (const DeviceOutOfMemory&) {
+      release_tile_buffers();
+      const uint64_t need = measure(&Impl::create_tile_buffers);
+      if (askedBytes == 0) askedBytes = need;
+      if (tilePixels <= row) {
+        throw RenderError("out of device memory: even tiles of one row (" + std::to_string(tilePixels) + " pixels) need " + memory_text(need) +
+                          " of buffers beside the scene's " + memory_text(measure(&Impl::create_scene_buffers)) + ", more than " +
+                          device_memory(ctx) + " holds");
+      }
+      tilePixels = std::max(row, tilePixels / 2);
+      capacity = std::min(capacity, tilePixels);
+    }
+  }
+  if (tilePixels < asked) {
+    std::fprintf(stderr, "wavepath: %s: out of device memory for tiles of %u pixels (%s of buffers); rendering in tiles of %u pixels\n",
+                 ctx.info().name.c_str(), asked, memory_text(askedBytes).c_str(), tilePixels);
+  }
 }
 
 shader::SceneParams WavefrontRenderer::Impl::device_params(bool wholeCap) const {

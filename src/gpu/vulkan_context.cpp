@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "util/error.h"
+#include "util/fault.h"
 #include "util/huge_pages.h"
 
 namespace wp {
@@ -244,7 +245,12 @@ VulkanContext::VulkanContext(const std::string& selector, bool validation, const
 }
 
 VulkanContext::~VulkanContext() {
-  if (device_) device_->waitIdle();
+  // A lost device has nothing left to wait for (and waiting would throw).
+  if (!device_ || lost_) return;
+  try {
+    device_->waitIdle();
+  } catch (const vk::SystemError&) {
+  }
 }
 
 uint32_t VulkanContext::memory_type(uint32_t typeBits, vk::MemoryPropertyFlags want) const {
@@ -261,8 +267,22 @@ void VulkanContext::run_now(const std::function<void(vk::CommandBuffer)>& record
   record(cb);
   cb.end();
   vk::raii::Fence fence(*device_, vk::FenceCreateInfo());
-  queue_.submit(vk::SubmitInfo({}, {}, cb), *fence);
-  while (device_->waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
+  submit_and_wait(cb, fence);
+}
+
+void VulkanContext::submit_and_wait(vk::CommandBuffer cb, const vk::raii::Fence& fence, bool samples) const {
+  if (lost_ || (samples && fault::device_lost_at_submit())) {
+    lost_ = true;
+    throw DeviceLost(info_.name);
+  }
+  try {
+    device_->resetFences(*fence);
+    queue_.submit(vk::SubmitInfo({}, {}, cb), *fence);
+    while (device_->waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
+    }
+  } catch (const vk::DeviceLostError&) {
+    lost_ = true;
+    throw DeviceLost(info_.name);
   }
 }
 
@@ -296,11 +316,16 @@ Buffer::Buffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFla
                               : ctx.memory_type(req.memoryTypeBits, M::eDeviceLocal);
   if (type == UINT32_MAX) type = ctx.memory_type(req.memoryTypeBits, {});
   if (type == UINT32_MAX) throw RenderError("no Vulkan memory type fits a buffer");
+  if (fault::device_memory_exhausted(req.size)) throw DeviceOutOfMemory(ctx.info().name, req.size);
   try {
     memory_ = vk::raii::DeviceMemory(ctx.device(), vk::MemoryAllocateInfo(req.size, type));
   } catch (const vk::SystemError& e) {
-    throw RenderError("out of GPU memory allocating " + std::to_string(size >> 20) + " MiB (" + e.what() + ")");
+    fault::device_memory_freed(req.size);
+    if (e.code() == vk::Result::eErrorOutOfDeviceMemory || e.code() == vk::Result::eErrorOutOfHostMemory)
+      throw DeviceOutOfMemory(ctx.info().name, req.size);
+    throw RenderError("cannot allocate " + std::to_string(req.size >> 20) + " MiB of memory on " + ctx.info().name + " (" + e.what() + ")");
   }
+  held_ = req.size;
   buffer_.bindMemory(*memory_, 0);
   auto flags = ctx.physical().getMemoryProperties().memoryTypes[type].propertyFlags;
   if ((flags & M::eHostVisible) && (flags & M::eHostCoherent)) mapped_ = memory_.mapMemory(0, VK_WHOLE_SIZE);
@@ -310,6 +335,10 @@ Buffer::Buffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFla
   // 4 KiB. A 10M-triangle scene's process took 1.1-4.3 s less on the
   // benchmark VM (docs/benchmarks.md, "Fresh memory").
   if (mapped_ && ctx.info().type == "cpu") advise_huge_pages(mapped_, req.size);
+}
+
+Buffer::~Buffer() {
+  fault::device_memory_freed(held_);
 }
 
 }  // namespace wp

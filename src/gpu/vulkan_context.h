@@ -13,7 +13,33 @@
 #include <string>
 #include <vector>
 
+#include "util/error.h"
+
 namespace wp {
+
+// The device was lost (VK_ERROR_DEVICE_LOST: a driver reset, an Xid error, a
+// hung kernel killed by a watchdog): nothing more runs on it. A renderer
+// that was rendering says what its image holds (WavefrontRenderer::render).
+class DeviceLost : public RenderError {
+ public:
+  explicit DeviceLost(const std::string& device)
+      : RenderError("the device " + device + " was lost (VK_ERROR_DEVICE_LOST)"), device(device) {}
+  std::string device;
+  // The sample every pixel of the image being rendered holds, and whether it
+  // holds just those: false where samples past it were already added (an
+  // adaptive batch part done), so that the image must not be written.
+  uint32_t reached = 0;
+  bool intact = false;
+};
+
+// A device memory allocation failed (VK_ERROR_OUT_OF_DEVICE_MEMORY).
+class DeviceOutOfMemory : public RenderError {
+ public:
+  DeviceOutOfMemory(const std::string& device, uint64_t bytes)
+      : RenderError("out of device memory on " + device + " allocating " + std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"),
+        bytes(bytes) {}
+  uint64_t bytes;
+};
 
 struct GpuDeviceInfo {
   uint32_t index = 0;
@@ -46,7 +72,11 @@ struct Presentation {
 
 class Buffer {
  public:
+  // Throws DeviceOutOfMemory where the device has no room for it.
   Buffer(const class VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage, bool hostVisible);
+  ~Buffer();
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
   vk::Buffer handle() const { return *buffer_; }
   vk::DeviceSize size() const { return size_; }
   void* mapped() const { return mapped_; }  // null unless host visible
@@ -56,6 +86,7 @@ class Buffer {
   vk::raii::DeviceMemory memory_;  // declared first: destroyed after the buffer bound to it
   vk::raii::Buffer buffer_;
   void* mapped_ = nullptr;
+  uint64_t held_ = 0;  // bytes of device memory counted by util/fault.h
 };
 
 class VulkanContext {
@@ -89,6 +120,13 @@ class VulkanContext {
   void upload_staged(const Buffer& dst, const void* data, size_t bytes, size_t chunkBytes = kUploadChunkBytes) const;
   // Records into a one-shot command buffer, submits and waits.
   void run_now(const std::function<void(vk::CommandBuffer)>& record) const;
+  // Submits `cb` and waits for `fence` (reset first). Every submission of
+  // a render goes through here: where the device is lost it throws
+  // DeviceLost, and so does every later call. `samples`: the submission
+  // renders samples, which WAVEPATH_FAULT's device-lost@submit counts
+  // (util/fault.h; uploads, which only some devices submit, do not).
+  void submit_and_wait(vk::CommandBuffer cb, const vk::raii::Fence& fence, bool samples = false) const;
+  bool lost() const { return lost_; }
   uint32_t memory_type(uint32_t typeBits, vk::MemoryPropertyFlags want) const;
 
  private:
@@ -102,6 +140,7 @@ class VulkanContext {
   vk::Queue queue_;
   uint32_t queueFamily_ = 0;
   GpuDeviceInfo info_;
+  mutable bool lost_ = false;
   std::shared_ptr<std::atomic<uint64_t>> validationMessages_ = std::make_shared<std::atomic<uint64_t>>(0);
 };
 

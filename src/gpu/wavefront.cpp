@@ -91,7 +91,14 @@ uint32_t WavefrontRenderer::Impl::render(ImageStats& image, SampleRange range, P
     const uint32_t batch = uint32_t(scene.adaptive.batch);
     while (reached < range.end && !active.empty()) {
       uint32_t next = std::min((reached / batch + 1) * batch, range.end);
-      render_samples(image, truncated, progress, reached, next, &active, {});
+      try {
+        render_samples(image, truncated, progress, reached, next, &active, {});
+      } catch (DeviceLost& lost) {
+        // A batch part done leaves its pixels with samples the others lack.
+        lost.intact = lost.reached == reached;
+        lost.reached = reached;
+        throw;
+      }
       reached = next;
       std::vector<uint32_t> still;
       for (uint32_t p : active) {
@@ -169,10 +176,7 @@ double WavefrontRenderer::Impl::submit_tile(vk::CommandBuffer cb, const vk::raii
   cb.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, {}, {});
   cb.end();
   auto t0 = std::chrono::steady_clock::now();
-  ctx.device().resetFences(*fence);
-  ctx.queue().submit(vk::SubmitInfo({}, {}, cb), *fence);
-  while (ctx.device().waitForFences(*fence, VK_TRUE, 1000000000ull) == vk::Result::eTimeout) {
-  }
+  ctx.submit_and_wait(cb, fence, true);
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -184,51 +188,85 @@ uint32_t WavefrontRenderer::Impl::render_samples(ImageStats& image, uint64_t& tr
   const std::vector<Tile> tiles = tiles_of(uint32_t(image.pixels()), list);
   // The listed pixels of the only tile go up once; of several, each tile's before its submission.
   if (list && tiles.size() == 1) ctx.upload(*buffers[BINDING_PIXEL_LIST], list->data(), list->size() * sizeof(uint32_t));
+  // With several tiles, a round's float sums wait here, tile by tile, until
+  // the last tile has taken the round's samples too, and only then go into
+  // the image: a device lost in the middle of a round leaves the image
+  // holding the samples every pixel has (32 bytes a pixel, and 64 more with
+  // AOV layers, on the host; one tile renders straight into the image).
+  const bool held = tiles.size() > 1;
+  const bool aovs = !scene.aovs.empty();
+  std::vector<shader::PixelAccum> heldAccum(held ? image.pixels() : 0);
+  std::vector<shader::AovAccum> heldAov(held && aovs ? image.pixels() : 0);
   uint32_t perSubmit = 1;
-  for (uint32_t sample = first; sample < end;) {
-    const uint32_t n = std::min(perSubmit, end - sample);
-    double longest = 0.0;
-    for (const Tile& tile : tiles) {
-      if (list && tiles.size() > 1)
-        ctx.upload(*buffers[BINDING_PIXEL_LIST], list->data() + tile.first, tile.count * sizeof(uint32_t));
-      double seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
-      // A ray past its share of the loop budget (trace_items.glsl): the same
-      // samples again, one ray per invocation from now on.
-      if (static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED] > 0 && tracingRays > 1) {
-        ++oneRayReruns;
-        tracingRays = 1;
-        create_tracing_pipelines();
-        seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
+  uint32_t sample = first;
+  try {
+    while (sample < end) {
+      const uint32_t n = std::min(perSubmit, end - sample);
+      double longest = 0.0;
+      uint64_t nonFinite = 0;
+      for (const Tile& tile : tiles) {
+        if (list && tiles.size() > 1)
+          ctx.upload(*buffers[BINDING_PIXEL_LIST], list->data() + tile.first, tile.count * sizeof(uint32_t));
+        double seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
+        // A ray past its share of the loop budget (trace_items.glsl): the same
+        // samples again, one ray per invocation from now on.
+        if (static_cast<const uint32_t*>(readCounters->mapped())[COUNTER_TRUNCATED] > 0 && tracingRays > 1) {
+          ++oneRayReruns;
+          tracingRays = 1;
+          create_tracing_pipelines();
+          seconds = submit_tile(cb, fence, tile, sample, n, list != nullptr);
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
+        const auto* aov = static_cast<const shader::AovAccum*>(readAovAccum->mapped());
+        if (held && &tile != &tiles.back()) {
+          std::copy(acc, acc + tile.span, heldAccum.begin() + tile.base);
+          if (aovs) std::copy(aov, aov + tile.span, heldAov.begin() + tile.base);
+        }
+        times.foldSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        ++times.submissions;
+        nonFinite += fold_counters(truncated);
+        collect_times();
+        progress.add(uint64_t(n) * tile.count);
+        longest = std::max(longest, seconds);
       }
-      fold(image, tile, truncated);
-      collect_times();
-      progress.add(uint64_t(n) * tile.count);
-      longest = std::max(longest, seconds);
+      const auto t0 = std::chrono::steady_clock::now();
+      for (const Tile& tile : tiles) {
+        const bool last = &tile == &tiles.back();
+        fold(image, tile, last ? static_cast<const shader::PixelAccum*>(readAccum->mapped()) : heldAccum.data() + tile.base,
+             !aovs ? nullptr : last ? static_cast<const shader::AovAccum*>(readAovAccum->mapped()) : heldAov.data() + tile.base);
+      }
+      times.foldSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      image.nonFinite += nonFinite;
+      sample += n;
+      if (afterPass && sample < end && !afterPass(image, sample)) return sample;
+      // Aim for submissions of about targetSubmitSeconds: long enough to keep
+      // the device busy, short enough for a live progress line. Float sums in
+      // the accumulators stay exact enough for a few hundred samples.
+      if (longest < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
     }
-    sample += n;
-    if (afterPass && sample < end && !afterPass(image, sample)) return sample;
-    // Aim for submissions of about targetSubmitSeconds: long enough to keep
-    // the device busy, short enough for a live progress line. Float sums in
-    // the accumulators stay exact enough for a few hundred samples.
-    if (longest < settings.targetSubmitSeconds * 0.5) perSubmit = std::min(perSubmit * 2, 256u);
+  } catch (DeviceLost& lost) {
+    lost.reached = sample;  // every round before it was added whole
+    lost.intact = true;
+    throw;
   }
   return end;
 }
 
-void WavefrontRenderer::Impl::fold(ImageStats& image, const Tile& tile, uint64_t& truncated) {
-  const auto* acc = static_cast<const shader::PixelAccum*>(readAccum->mapped());
+void WavefrontRenderer::Impl::fold(ImageStats& image, const Tile& tile, const shader::PixelAccum* acc, const shader::AovAccum* aov) {
   for (size_t p = 0; p < tile.span; ++p) add_to_pixel(image, tile.base + p, acc[p]);
   AovLayout layout(image);
-  if (!layout.empty()) {
-    const auto* aov = static_cast<const shader::AovAccum*>(readAovAccum->mapped());
+  if (!layout.empty())
     for (size_t p = 0; p < tile.span; ++p) add_aovs_to_pixel(image, layout, tile.base + p, aov[p]);
-  }
+}
+
+uint64_t WavefrontRenderer::Impl::fold_counters(uint64_t& truncated) {
   const auto* counters = static_cast<const uint32_t*>(readCounters->mapped());
   truncated += counters[COUNTER_TRUNCATED];
-  image.nonFinite += counters[COUNTER_NONFINITE];
   auto count64 = [counters](uint32_t slot) { return uint64_t(counters[slot]) | uint64_t(counters[slot + 1]) << 32; };
   times.closestHitRays += count64(COUNTER_CLOSEST_RAYS);
   times.shadowRays += count64(COUNTER_SHADOW_RAYS);
+  return counters[COUNTER_NONFINITE];
 }
 
 WavefrontRenderer::WavefrontRenderer(const VulkanContext& ctx, const CompiledScene& scene, const WavefrontSettings& settings)

@@ -27,6 +27,11 @@ struct StageTimes {
   // wall time (the photons kernel, ordering, balancing, upload) and records.
   double photonPassSeconds = 0.0;
   uint64_t photonRecords = 0;
+  // The host's part of every submission: its sums read back and added to
+  // the image in double (a tiled round's first held until the round ends),
+  // in wall seconds; and the submissions.
+  double foldSeconds = 0.0;
+  uint64_t submissions = 0;
   // Rays per second of GPU time in the stage that traced them; 0 where that
   // stage did not run (the megakernel traces every ray in one kernel).
   double closest_hit_rays_per_second() const { return seconds[kExtend] > 0.0 ? double(closestHitRays) / seconds[kExtend] : 0.0; }
@@ -113,13 +118,23 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
 
 class WavefrontRenderer {
  public:
+  // Where the device's memory cannot hold the buffers of the image's tiles
+  // (DeviceOutOfMemory), tries tiles of half as many pixels, down to one
+  // row, saying so on stderr: tiles render the same image. Throws
+  // RenderError naming the memory needed and the device's where even the
+  // scene or one row does not fit.
   WavefrontRenderer(const VulkanContext& ctx, const CompiledScene& scene, const WavefrontSettings& settings = {});
   ~WavefrontRenderer();
   // Renders samples `range` of every pixel, adding them to `image` (which
   // may hold earlier samples: a resumed render) and calling `afterPass`
   // between passes (render_control.h). Returns the sample every pixel
   // reached: range.end, or where afterPass stopped the render. Throws
-  // RenderError if a traversal was truncated (the image would be wrong).
+  // RenderError if a traversal was truncated (the image would be wrong),
+  // and DeviceLost where the device is lost (vulkan_context.h): its
+  // `reached` is the sample every pixel of `image` then holds, `intact`
+  // whether the image holds just those (an image in tiles gets a round's
+  // sums once every tile has them; under adaptive sampling a batch part
+  // done breaks it).
   uint32_t render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass = {});
   // All of the scene's samples, 0 to scene.spp, into a new image.
   ImageStats render(Progress& progress);

@@ -116,18 +116,37 @@ struct WavefrontRenderer::Impl {
       throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
                         ctx.info().name + " allows " + std::to_string(maxBytes >> 20) + " MiB per texel buffer");
     }
-    buffers[binding] = std::make_unique<Buffer>(ctx, bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    make_buffer(buffers[binding], bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    if (measured) return;
     ctx.upload(*buffers[binding], data.data(), bytes);
     views[binding] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
                                                                                   format, 0, VK_WHOLE_SIZE));
   }
+
+  // Makes a buffer in `slot`, or where `measured` is set, adds its bytes to
+  // *measured and makes none: the scene's and the tiles' buffers are
+  // counted by the code that makes them, for the messages of a device
+  // without room for them.
+  uint64_t* measured = nullptr;
+  void make_buffer(std::unique_ptr<Buffer>& slot, uint64_t bytes, vk::BufferUsageFlags usage, bool hostVisible);
 
   void add_work(uint32_t binding, uint64_t bytes, vk::BufferUsageFlags extra = {});
 
   // A work buffer the kernels also read as RGBA32UI texels, through `view`.
   void add_readable_work(uint32_t binding, uint32_t view, uint64_t bytes, vk::Format format = vk::Format::eR32G32B32A32Uint);
 
-  void create_buffers(uint32_t pixels, uint64_t maxRange);
+  // The scene's arrays, which every tile reads.
+  void create_scene_buffers();
+  // The buffers of paths, rays and accumulators, for `capacity` path slots
+  // and tiles of `tilePixels`; and where the device has no room for them,
+  // freed again.
+  void create_tile_buffers();
+  void release_tile_buffers();
+  // The bytes of device memory the scene's buffers, or the tiles', take.
+  uint64_t measure(void (Impl::*create)());
+  // Makes the tile buffers, in smaller tiles (and fewer path slots) where
+  // the device has no room for them (WavefrontRenderer's constructor).
+  void fit_tile_buffers(uint64_t maxRange);
 
   // Lavapipe ends all loops of an invocation after 65,535 iterations in all,
   // silently. The wavefront kernels trace one ray per invocation, so each ray
@@ -250,7 +269,8 @@ struct WavefrontRenderer::Impl {
   // ones, tile after tile each round of samples. Folds the results into
   // `image`. Calls `afterPass` (if any) after each round, when every pixel
   // has the same samples, and stops where it returns false; returns the
-  // sample reached.
+  // sample reached. A lost device's DeviceLost says the sample the image
+  // holds for every pixel (a round's start).
   uint32_t render_samples(ImageStats& image, uint64_t& truncated, Progress& progress, uint32_t first, uint32_t end,
                           const std::vector<uint32_t>* list, const PassHook& afterPass);
   // One submission: samples [sample, sample + n) of a tile; its seconds.
@@ -287,10 +307,12 @@ struct WavefrontRenderer::Impl {
   // scene's empty one.
   void build_photon_map();
 
-  // Adds one submission's float accumulators into the double-precision image,
-  // and its counters into the totals.
-  // (The accumulators hold `tile`.)
-  void fold(ImageStats& image, const Tile& tile, uint64_t& truncated);
+  // Adds a submission's float sums of `tile`'s pixels (and their AOVs',
+  // where the image has AOV layers) into the double-precision image.
+  void fold(ImageStats& image, const Tile& tile, const shader::PixelAccum* acc, const shader::AovAccum* aov);
+  // Adds the last submission's counters into the totals (truncated rays,
+  // traced rays); returns its non-finite samples.
+  uint64_t fold_counters(uint64_t& truncated);
 };
 
 }  // namespace wp

@@ -14,6 +14,7 @@
 #include "image/exr.h"
 
 #include "util/error.h"
+#include "util/fault.h"
 
 namespace wp {
 
@@ -52,7 +53,12 @@ bool write_file(const std::string& path, const std::vector<uint8_t>& bytes, std:
     return false;
   }
   bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  return std::fclose(f) == 0 && ok;
+  if (!ok) error = std::strerror(errno);
+  if (std::fclose(f) != 0 && ok) {  // buffered bytes the disk had no room for
+    error = std::strerror(errno);
+    ok = false;
+  }
+  return ok;
 }
 
 // PFM (Portable Float Map): "PF", width and height, and a scale whose sign
@@ -166,15 +172,20 @@ void require_output_directory(const std::string& path) {
 void write_atomically(const std::string& path, const char* what, const std::function<bool(const std::string&, std::string&)>& write) {
   std::string tmp = path + ".tmp" + std::to_string(::getpid());
   std::string error;
-  if (!write(tmp, error)) {
+  bool ok = write(tmp, error);
+  if (ok && fault::disk_full_at_write()) {  // as if the disk filled before the file's end (util/fault.h)
+    error = std::strerror(ENOSPC);
+    ok = false;
+  }
+  if (!ok) {
     std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write " + what + (error.empty() ? "" : ": " + error));
+    throw RenderError(path + ": cannot write " + what + (error.empty() ? "" : ": " + error));
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write " + what + ": " + ec.message());
+    throw RenderError(path + ": cannot write " + what + ": " + ec.message());
   }
 }
 

@@ -43,8 +43,8 @@ struct RgbImage {
 std::vector<uint8_t> encode_8bit_pixels(const RgbImage& image, EightBitCurve curve);
 
 // Writes `image` in the format of `path`'s extension, 8-bit formats through
-// `curve`; an InputError names the file where the extension is not a format
-// or the write fails.
+// `curve`; an InputError names the file where the extension is not a format,
+// a RenderError where the write fails.
 void write_image(const std::string& path, const RgbImage& image, EightBitCurve curve = EightBitCurve::Srgb);
 
 // The file contents of 8-bit RGB pixels (three bytes a pixel, rows top to
@@ -61,7 +61,9 @@ void require_output_directory(const std::string& path);
 
 
 // Writes through write(temporaryPath, error), then renames over `path`;
-// throws InputError("PATH: cannot write WHAT: error") where either fails.
+// throws RenderError("PATH: cannot write WHAT: error") where either fails
+// (the folder was checked up front, so this is the disk's doing: full,
+// failing). A file at `path` before is then left as it was.
 void write_atomically(const std::string& path, const char* what, const std::function<bool(const std::string&, std::string&)>& write);
 
 }  // namespace wp

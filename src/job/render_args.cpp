@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <unistd.h>
 #include <cstdlib>
@@ -13,6 +15,7 @@
 
 #include "cpu/reference.h"
 #include "gpu/vulkan_context.h"
+#include "render/partial.h"
 #include "scene/importers.h"
 #include "scene/load_scene.h"
 #include "util/error.h"
@@ -145,10 +148,17 @@ uint32_t render_on(const std::string& renderer, const CompiledScene& compiled, c
   VulkanContext ctx(a.device, validation);
   uint32_t reached;
   {
-    WavefrontRenderer gpu(ctx, compiled, renderer_settings(variant, a));
+    std::unique_ptr<WavefrontRenderer> gpu;
+    try {
+      gpu = std::make_unique<WavefrontRenderer>(ctx, compiled, renderer_settings(variant, a));
+    } catch (DeviceLost& lost) {  // before a sample: the image is as it came
+      lost.reached = range.begin;
+      lost.intact = true;
+      throw;
+    }
     Progress progress(ctx.info().name, total, progressOn);
-    reached = gpu.render(image, range, progress, afterPass);
-    if (times) *times = gpu.stage_times();
+    reached = gpu->render(image, range, progress, afterPass);
+    if (times) *times = gpu->stage_times();
   }
   if (ctx.validation_messages() > 0) {
     throw RenderError(std::to_string(ctx.validation_messages()) + " Vulkan validation message(s) reported; no image written");
@@ -178,7 +188,7 @@ std::vector<SampleRange> join_ranges(std::vector<SampleRange> ranges) {
 std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devices, const RenderArgs& a, ImageStats& image,
                                            std::vector<SampleRange> done, const std::vector<SampleRange>& todo,
                                            const std::function<bool()>& shouldStop, const ChunkHook& afterChunk,
-                                           std::string* where) {
+                                           std::string* where, std::vector<std::string>* lostDevices) {
   // Chunks: about four per renderer over all the work, so that a fast
   // renderer takes more of them than a slow one.
   uint64_t total = 0;
@@ -188,8 +198,17 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
   for (SampleRange r : todo)
     for (uint32_t b = r.begin; b < r.end; b += std::min(chunk, r.end - b)) chunks.push_back({b, std::min(b + chunk, r.end)});
 
-  std::mutex mutex;  // guards image, done, next, names and errors
+  std::mutex mutex;  // guards image, done, chunks, next, own, pending, names and error
+  std::condition_variable changed;  // a chunk was queued or ended, or the render fails
+  // Each renderer's first chunk is its own, so that every one renders (on a
+  // small render one slow to start might find none left); the others go to
+  // whichever is free.
+  std::vector<std::optional<SampleRange>> own(devices.size());
   size_t next = 0;
+  for (size_t d = 0; d < devices.size() && next < chunks.size(); ++d) own[d] = chunks[next++];
+  // Chunks owned or in hand: a renderer lost gives back what it had left of
+  // its chunk, so the others wait for these before they end.
+  size_t pending = std::min(devices.size(), chunks.size());
   std::vector<std::string> names(devices.size());
   std::exception_ptr error;
   bool validation = a.validation || VulkanContext::validation_requested_by_environment();
@@ -200,6 +219,7 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
   PassHook keepGoing = [&](const ImageStats&, uint32_t) { return !shouldStop(); };
 
   auto run = [&](size_t d) {
+    std::string lostAt;  // where a lost device stopped: its chunk and the samples it kept of it
     try {
       const RenderDevice& dev = devices[d];
       const CompiledScene& cs = *dev.scene;
@@ -207,34 +227,84 @@ std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devi
       std::unique_ptr<WavefrontRenderer> gpu;
       if (dev.renderer != "cpu") {
         ctx = std::make_unique<VulkanContext>(dev.device, validation);
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          names[d] = ctx->info().name + (dev.renderer == "gpu" ? "" : ", " + dev.renderer);
+        }
         gpu = std::make_unique<WavefrontRenderer>(*ctx, cs, renderer_settings(kernel_variant(dev.renderer), a));
-      }
-      {
+      } else {
         std::lock_guard<std::mutex> lock(mutex);
-        names[d] = gpu ? ctx->info().name + (dev.renderer == "gpu" ? "" : ", " + dev.renderer) : "the CPU reference";
+        names[d] = "the CPU reference";
       }
       for (;;) {
         SampleRange c;
         {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (next == chunks.size() || error || shouldStop()) break;
-          c = chunks[next++];
+          std::unique_lock<std::mutex> lock(mutex);
+          // With no chunk left, wait while others render: one may be lost
+          // and give the rest of its chunk back.
+          changed.wait(lock, [&] { return own[d] || next < chunks.size() || pending == 0 || error || shouldStop(); });
+          if (error || shouldStop() || (!own[d] && next == chunks.size())) break;
+          if (own[d]) {
+            c = *own[d];
+            own[d].reset();
+          } else {
+            c = chunks[next++];
+            ++pending;
+          }
         }
         ImageStats part(image.width, image.height, image.layers);
-        uint32_t reached = gpu ? gpu->render(part, c, silent, keepGoing) : render_cpu(cs, a.threads, part, c, silent, keepGoing);
+        uint32_t reached = c.begin;
+        std::exception_ptr lost;
+        try {
+          reached = gpu ? gpu->render(part, c, silent, keepGoing) : render_cpu(cs, a.threads, part, c, silent, keepGoing);
+        } catch (const DeviceLost& e) {
+          // A chunk's image up to its last pass is whole (--devices renders
+          // no adaptive batches, the one thing that breaks it).
+          if (!e.intact) throw RenderError(std::string(e.what()) + " part-way through a batch of adaptive samples");
+          reached = e.reached;
+          lost = std::current_exception();
+          lostAt = " during samples " + format_sample_ranges({c}) + " (it kept " +
+                   (reached > c.begin ? format_sample_ranges({{c.begin, reached}}) : "none") + ")";
+        }
         progress.add(uint64_t(image.pixels()) * (reached - c.begin));
         std::lock_guard<std::mutex> lock(mutex);
+        --pending;
+        if (lost && reached < c.end) chunks.push_back({reached, c.end});
         image.add(part);
         done.push_back({c.begin, reached});
         done = join_ranges(done);
+        changed.notify_all();
         if (afterChunk) afterChunk(image, done);
+        if (lost) std::rethrow_exception(lost);
         if (reached < c.end) break;
       }
       if (ctx && ctx->validation_messages() > 0)
         throw RenderError(std::to_string(ctx->validation_messages()) + " Vulkan validation message(s) reported; no image written");
+    } catch (const DeviceLost& e) {
+      // The others take over what it had left: its own chunk where it was
+      // lost before it began, the rest of the chunk in hand (queued above),
+      // and the chunks not yet dealt.
+      std::lock_guard<std::mutex> lock(mutex);
+      if (own[d]) {
+        chunks.push_back(*own[d]);
+        own[d].reset();
+        --pending;
+      }
+      if (names[d].empty()) names[d] = e.device;
+      lostDevices->push_back(names[d] + lostAt);
+      names[d] += " (lost)";
+      changed.notify_all();
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex);
       if (!error) error = std::current_exception();
+      changed.notify_all();
+    }
+    // Stopped before its own chunk began: that chunk stays undone.
+    std::lock_guard<std::mutex> lock(mutex);
+    if (own[d]) {
+      own[d].reset();
+      --pending;
+      changed.notify_all();
     }
   };
   std::vector<std::thread> threads;

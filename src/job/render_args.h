@@ -111,16 +111,20 @@ struct RenderDevice {
 using ChunkHook = std::function<void(const ImageStats& image, const std::vector<SampleRange>& done)>;
 
 // Renders the sample ranges `todo` on every device at once: chunks of
-// samples dealt to whichever renderer is free, each chunk rendered into an
+// samples, each renderer's first its own, the others dealt to whichever
+// renderer is free, each chunk rendered into an
 // image of its own and its sums added to `image` when it ends. `shouldStop`
 // (checked between passes) ends every renderer at its pass's end; a chunk
-// stopped part-way adds the samples it took. Returns the ranges done (with
-// what `image` held before: `done`), joined where adjacent; *where names the
-// renderers.
+// stopped part-way adds the samples it took. A device lost (DeviceLost)
+// adds the samples of its chunk up to its last pass, and the others render
+// the rest of its chunk and the chunks left; *lostDevices gets a line on
+// each (its name, its chunk, what it kept). Returns the ranges done (with
+// what `image` held before: `done`), joined where adjacent (gaps remain
+// where every device was lost); *where names the renderers.
 std::vector<SampleRange> render_on_devices(const std::vector<RenderDevice>& devices, const RenderArgs& a, ImageStats& image,
                                            std::vector<SampleRange> done, const std::vector<SampleRange>& todo,
                                            const std::function<bool()>& shouldStop, const ChunkHook& afterChunk,
-                                           std::string* where);
+                                           std::string* where, std::vector<std::string>* lostDevices);
 
 // `ranges` sorted and joined where adjacent.
 std::vector<SampleRange> join_ranges(std::vector<SampleRange> ranges);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 
+#include "gpu/vulkan_context.h"
 #include "gpu/wavefront.h"
 #include "render/partial.h"
 #include "util/error.h"
@@ -98,6 +100,7 @@ RenderOutcome run_render_job(RenderJob& job, const RenderArgs& a, const RenderCo
   };
   const auto start = std::chrono::steady_clock::now();
   out.where = "nothing (the resumed file held every sample)";
+  std::optional<DeviceLost> lost;  // the one renderer's device, lost
   if (todo.size() == 1 && job.devices.size() == 1) {
     // One renderer, one range: straight into the image, pass by pass.
     const SampleRange r = todo[0];
@@ -111,17 +114,42 @@ RenderOutcome run_render_job(RenderJob& job, const RenderArgs& a, const RenderCo
     };
     RenderArgs one = a;
     one.device = job.devices[0].device;
-    uint32_t reached = render_on(job.devices[0].renderer, *job.devices[0].scene, one, job.image, r, afterPass, &out.where, &out.times);
+    uint32_t reached = r.begin;
+    try {
+      reached = render_on(job.devices[0].renderer, *job.devices[0].scene, one, job.image, r, afterPass, &out.where, &out.times);
+    } catch (const DeviceLost& e) {
+      lost = e;
+      out.where = e.device + " (lost)";
+      if (e.intact) reached = e.reached;
+    }
+    if (lost && !lost->intact) {
+      // Its image holds samples of an adaptive batch part done, which no
+      // partial file can record: the caller keeps what it wrote before.
+      out.deviceLost = out.imageBroken = true;
+      out.lostNames = lost->device;
+      out.status = "device lost: " + out.lostNames;
+      out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      for (SampleRange d : job.done) out.samplesNow += d.size();
+      return out;
+    }
     job.done.push_back({r.begin, reached});
     job.done = join_ranges(job.done);
   } else if (!todo.empty()) {
-    job.done = render_on_devices(job.devices, a, job.image, job.done, todo, shouldStop, control.afterPass, &out.where);
+    job.done = render_on_devices(job.devices, a, job.image, job.done, todo, shouldStop, control.afterPass, &out.where, &out.lostDevices);
   }
   if (!todo.empty()) job.record.renderer = out.where;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.complete = job.done.size() == 1 && job.done[0].begin == job.range.begin && job.done[0].end == job.range.end;
-  out.status = out.complete ? "complete" : !stoppedBy.empty() ? stoppedBy : "time budget of " + control.budgetText + " spent";
-  if (job.done.empty()) throw RenderError("stopped (" + out.status + ") before a single pass was done: no image written");
+  // Stopped by a lost device: the one, or every one of several (some lost
+  // while the others were stopped is a stop).
+  out.deviceLost = !out.complete && (lost || (!out.lostDevices.empty() && stoppedBy.empty() && !budgetSpent));
+  out.lostNames = lost ? lost->device : "";
+  for (const std::string& d : out.lostDevices) out.lostNames += (out.lostNames.empty() ? "" : ", ") + d;
+  out.status = out.complete     ? "complete"
+               : out.deviceLost ? "device lost: " + out.lostNames
+               : !stoppedBy.empty() ? stoppedBy
+                                    : "time budget of " + control.budgetText + " spent";
+  if (job.done.empty() && !out.deviceLost) throw RenderError("stopped (" + out.status + ") before a single pass was done: no image written");
   for (SampleRange r : job.done) out.samplesNow += r.size();
   job.record.samples = format_sample_ranges(job.done);
   job.record.status = out.status;

@@ -64,14 +64,23 @@ struct RenderOutcome {
   StageTimes times;       // per stage (one GPU renderer)
   double seconds = 0.0;   // rendering
   uint64_t samplesBefore = 0, samplesNow = 0;  // per pixel: resumed, and held at the end
+  // Devices lost (DeviceLost, docs/partial-renders.md's Faults). One
+  // renderer stops there; among several the others take over, and the
+  // render stops only where every one is lost.
+  bool deviceLost = false;   // it stopped for that: status "device lost: " + lostNames; job.done may be empty
+  bool imageBroken = false;  // lost part-way through a batch of adaptive samples: job.image holds samples no range
+                             // records, not to be written; job.done and job.record are as planned
+  std::string lostNames;     // the device lost, or those lost among several (with their chunks)
+  std::vector<std::string> lostDevices;  // among several: each lost, its chunk and what it kept
 };
 
 // Renders the samples of job.range that job.done lacks into job.image,
 // with one renderer pass by pass or with several in chunks
 // (render_on_devices), until they are done, control.stopReason gives a
 // reason or the budget is spent. Updates job.done and job.record (samples,
-// status, renderer). Throws RenderError where it stopped before a single
-// pass was done.
+// status, renderer). A device lost ends the run as a stop does (the
+// outcome says so) rather than throwing. Throws RenderError where it stopped
+// for another reason before a single pass was done.
 RenderOutcome run_render_job(RenderJob& job, const RenderArgs& a, const RenderControl& control = {});
 
 // Whether a render's EXR keeps the exact sums (a partial file that merges

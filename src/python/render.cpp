@@ -1,6 +1,7 @@
 // render(), read() and Render: a render as `wavepath render` runs it
 // (plan_render, run_render_job), its images as NumPy arrays, and save() in
 // the command line's formats.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -93,6 +94,31 @@ void report_progress(PassState& st, const std::vector<SampleRange>& sofar) {
   }
 }
 
+// wavepath.DeviceLost, a RuntimeError (bind_render makes it).
+PyObject* g_deviceLost = nullptr;
+
+// Raises DeviceLost(message) with its `render` the samples kept (or None).
+[[noreturn]] void raise_device_lost(const std::string& message, const py::object& kept) {
+  py::object e = py::reinterpret_borrow<py::object>(g_deviceLost)(message);
+  e.attr("render") = kept;
+  PyErr_SetObject(g_deviceLost, e.ptr());
+  throw py::error_already_set();
+}
+
+// What DeviceLost says: the device, what was kept, and how to finish.
+std::string device_lost_message(const RenderOutcome& run, const RenderJob& job) {
+  const std::string lost = "device lost: " + run.lostNames;
+  if (run.imageBroken) return lost + ", part-way through a batch of adaptive samples, which no image records: no samples kept; render again";
+  if (job.done.empty()) return lost + ", before a single pass was done: no samples kept; render again";
+  std::vector<SampleRange> missing;
+  for (SampleRange r : missing_ranges(job.done, job.range.end))
+    if (r.end > job.range.begin) missing.push_back({std::max(r.begin, job.range.begin), r.end});
+  std::string rest;
+  for (SampleRange r : missing) rest += (rest.empty() ? "" : ", ") + std::string("samples=(") + std::to_string(r.begin) + ", " + std::to_string(r.end) + ")";
+  return lost + ": kept samples " + format_sample_ranges(job.done) + " (of " + format_sample_ranges({job.range}) +
+         ") in this exception's render; finish with a render of " + rest + ", as this one otherwise, and merge() the two";
+}
+
 PyRender render(const std::shared_ptr<PyScene>& scene, const py::object& device, const py::object& variant, const py::object& seed,
                 const py::object& samples, const py::object& aov, const py::object& time, const py::object& progress,
                 const py::object& threads) {
@@ -146,6 +172,8 @@ PyRender render(const std::shared_ptr<PyScene>& scene, const py::object& device,
   control.afterPass = [&st](const ImageStats&, const std::vector<SampleRange>& sofar) { report_progress(st, sofar); };
   auto data = std::make_shared<RenderData>();
   bool stoppedEmpty = false;
+  std::string deviceLost;  // DeviceLost's message, where the device was lost
+  bool lostAll = false;    // and nothing was kept
   {
     py::gil_scoped_release release;
     RenderJob job;
@@ -158,6 +186,10 @@ PyRender render(const std::shared_ptr<PyScene>& scene, const py::object& device,
     st.range = job.range;
     try {
       const RenderOutcome run = run_render_job(job, a, control);
+      if (run.deviceLost) {
+        deviceLost = device_lost_message(run, job);
+        lostAll = run.imageBroken || job.done.empty();
+      }
       data->image = std::move(job.image);
       data->record = job.record;
       data->ranges = job.done;
@@ -173,6 +205,9 @@ PyRender render(const std::shared_ptr<PyScene>& scene, const py::object& device,
     }
   }
   if (st.error) throw std::move(*st.error);
+  // A lost device is an error, as the command line's exit status says,
+  // which carries the samples done (a KeyboardInterrupt returns them).
+  if (!deviceLost.empty()) raise_device_lost(deviceLost, lostAll ? py::none() : py::cast(make_render(data)));
   if (stoppedEmpty) throw std::move(*st.interrupt);
   if (!progress.is_none() && data->record.status == "complete") progress(1.0);
   return make_render(data);
@@ -193,14 +228,25 @@ void save(const PyRender& r, const py::object& path, const py::object& exactSums
   const std::string p = path_of(path);
   const RenderData& d = *r.data;
   const bool sums = exactSums.is_none() ? d.saveExactSums : exactSums.cast<bool>();
-  py::gil_scoped_release release;
-  std::optional<ImageFormat> format = image_format_of(p);
-  if (!format) throw InputError(p + ": the output image's extension must name one of " + image_format_names());
-  require_output_directory(p);
-  if (*format == ImageFormat::Exr) {
-    write_exr(p, d.image, d.record, sums);
-  } else {
-    write_image(p, mean_rgb(d.image), eight_bit_curve_named(render_setting(d.record.settings, "png")));
+  std::string failed;
+  {
+    py::gil_scoped_release release;
+    std::optional<ImageFormat> format = image_format_of(p);
+    if (!format) throw InputError(p + ": the output image's extension must name one of " + image_format_names());
+    require_output_directory(p);
+    try {
+      if (*format == ImageFormat::Exr) {
+        write_exr(p, d.image, d.record, sums);
+      } else {
+        write_image(p, mean_rgb(d.image), eight_bit_curve_named(render_setting(d.record.settings, "png")));
+      }
+    } catch (const RenderError& e) {  // the write failed (a full disk): the file before, if any, is as it was
+      failed = e.what();
+    }
+  }
+  if (!failed.empty()) {
+    PyErr_SetString(PyExc_OSError, failed.c_str());
+    throw py::error_already_set();
   }
 }
 
@@ -219,6 +265,17 @@ mean, variance (H, W, 3 float32, linear), count (H, W float64), aov[name] and
 the exact sums (sum, sum_sq: H, W, channels float64) are read-only NumPy
 arrays that outlive the Render. See docs/python.md for which are views.)");
 
+  g_deviceLost = py::module_::import("builtins")
+                     .attr("type")("DeviceLost", py::make_tuple(py::handle(PyExc_RuntimeError)),
+                                   py::dict(py::arg("__module__") = "wavepath",
+                                            py::arg("__doc__") = "The render's Vulkan device was lost (VK_ERROR_DEVICE_LOST): a RuntimeError "
+                                                                 "whose render attribute holds the samples of the passes that ended, marked "
+                                                                 "partial (None where none did).",
+                                            py::arg("render") = py::none()))
+                     .release()
+                     .ptr();
+  m.attr("DeviceLost") = py::handle(g_deviceLost);
+
   m.def("render", &render, py::arg("scene"), py::arg("device") = py::none(), py::arg("variant") = py::none(), py::arg("seed") = py::none(),
         py::arg("samples") = py::none(), py::arg("aov") = py::tuple(), py::arg("time") = py::none(),
         py::arg("progress") = py::none(), py::arg("threads") = py::none(),
@@ -235,7 +292,8 @@ fraction done between passes; threads: the CPU reference's.
 
 Ctrl-C (KeyboardInterrupt) stops the render at the end of its pass and
 returns the samples done, marked partial. Bad input raises ValueError, a
-device failure RuntimeError.)");
+device failure RuntimeError; a lost device raises DeviceLost (a
+RuntimeError) whose render holds the samples done, marked partial.)");
 
   m.def("read", [](const py::object& path) { return make_render(read(path)); }, py::arg("path"),
         "read(path) -> Render: an EXR that `wavepath render` or save() wrote, with the record in its header (a partial render's exact sums)");
@@ -245,7 +303,8 @@ device failure RuntimeError.)");
       R"(save(path, exact_sums=None): writes the image in the format of the path's extension, as the command line's -o does
 (PNG, JPEG, BMP, TGA: 8-bit in the scene format's curve; HDR, PFM: linear; EXR: the render's EXR with its record).
 An EXR keeps the exact sums a merge or resume needs where the command line's would (a part, a budgeted or
-stopped render; any merge or file read with them) unless exact_sums says otherwise.)");
+stopped render; any merge or file read with them) unless exact_sums says otherwise.
+A write that fails (a full disk) raises OSError naming the file and the error; a file there before is left as it was.)");
   cls.def_property_readonly("mean", [](PyRender& r) {
     if (!r.mean) r.mean = owning(std::move(mean_rgb(r.data->image).rgb), image_shape(r.data->image, 3));
     return r.mean;

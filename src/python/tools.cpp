@@ -103,7 +103,11 @@ py::list bench(const py::object& scenes, const py::object& variants, int spp, in
   } else {
     for (py::handle s : scenes) o.scenes.push_back(path_of(s));
   }
-  if (variants.is_none()) {
+  if (mode != "render" && mode != "raycast" && mode != "build" && mode != "simt")
+    throw InputError("bench: mode is render, raycast, build or simt, not " + mode);
+  if (variants.is_none() && mode == "simt") {
+    o.variants = simt_variants();
+  } else if (variants.is_none()) {
     for (const KernelVariant& v : kernel_variants()) o.variants.push_back(v.name);
   } else if (py::isinstance<py::str>(variants)) {
     o.variants.push_back(variants.cast<std::string>());
@@ -120,13 +124,14 @@ py::list bench(const py::object& scenes, const py::object& variants, int spp, in
       throw InputError("bench: resolution is (W, H), each 1 to " + std::to_string(MAX_IMAGE_SIZE));
   }
   if (!device.is_none()) o.device = py::str(device);
-  if (mode != "render" && mode != "raycast" && mode != "build") throw InputError("bench: mode is render, raycast or build, not " + mode);
   o.raycast = mode == "raycast";
   o.build = mode == "build";
+  o.simt = mode == "simt";
   std::string json;
   o.results = &json;
   reading_files(o.scenes, [&] {
     if (o.build) run_build_bench(o);
+    else if (o.simt) run_simt_bench(o);
     else if (o.raycast) run_raycast_bench(o);
     else run_bench(o);
   });
@@ -134,8 +139,8 @@ py::list bench(const py::object& scenes, const py::object& variants, int spp, in
   // --out writes: one per scene and variant (raycast: and ray set; build: per scene).
   const py::object doc = py::module_::import("json").attr("loads")(json);
   py::list rows;
-  if (o.build) {
-    for (py::handle r : doc["build"]) rows.append(r);
+  if (o.build || o.simt) {  // simt: one per scene, ray set, variant and warp width, each naming its GPU model
+    for (py::handle r : doc[o.build ? "build" : "simt"]) rows.append(r);
     return rows;
   }
   const py::object deviceName = doc["device"]["name"];
@@ -258,11 +263,13 @@ to write the HTML report to. layer: an AOV layer to compare instead.)");
         py::arg("resolution") = py::none(), py::arg("check_spp") = 64, py::arg("device") = py::none(), py::arg("mode") = "render",
         R"(bench(scenes=None, variants=None, spp=4, repeats=3, resolution=None, check_spp=64, device=None, mode="render") -> list of dict
 
-Runs `wavepath bench` (mode "raycast": --raycast, "build": --build) and
-returns the rows of its table, as its --out JSON holds them: one per scene
-and variant (and ray set), a variant that disagreed with the CPU reference
-with check_passed False and no times. Defaults as the command's: the Cornell
-box, every variant. It also prints the table to the process's stdout.)");
+Runs `wavepath bench` (mode "raycast": --raycast, "build": --build, "simt":
+--simt, the SIMT model at its defaults) and returns the rows of its table, as
+its --out JSON holds them: one per scene and variant (and ray set; simt: and
+warp width), a variant that disagreed with the CPU reference with
+check_passed False and no times. Defaults as the command's: the Cornell box,
+every variant (simt: those whose walks differ). It also prints the table to
+the process's stdout.)");
 }
 
 }  // namespace wp::python

@@ -14,6 +14,7 @@
 #include <cstddef>
 
 #include "../../shaders/shared/common.glsl"
+#include "walk_log.h"
 
 namespace wp::shader {
 // GLSL built-ins that GLM lacks for scalars.
@@ -88,15 +89,41 @@ struct SceneView : ShaderMath {
   uint32_t* stackDepthSeen = nullptr;
   void note_stack_depth(uint32_t sp) const {
     if (stackDepthSeen && sp > *stackDepthSeen) *stackDepthSeen = sp;
+    if (walkLog) walkLog->stack_depth(sp);
   }
 #define WP_NOTE_STACK_DEPTH(sp) note_stack_depth(sp)
   // Where set, the walks count their iterations: the ray-casting benchmark's
   // measure of a tree's quality, which does not move with the machine's speed.
   uint64_t* stepsTaken = nullptr;
+  // Where set, the walks log every iteration: its phases and the texels and
+  // stack entries it touches (the SIMT model, src/bench/simt_model.h).
+  WalkLog* walkLog = nullptr;
   void note_step() const {
     if (stepsTaken) ++*stepsTaken;
+    if (walkLog) walkLog->step();
+  }
+  void note_phase(uint32_t phase) const {
+    if (walkLog) walkLog->phase(phase);
+  }
+  void note_stack(WalkMemory kind, uint32_t entry) const {
+    if (walkLog) walkLog->access(kind, entry);
+  }
+  WalkMemory memory_of(const void* texels) const {
+    if (texels == nodeTexels || texels == wideNodeTexels) return WalkMemory::Nodes;
+    if (texels == triangleTexels) return WalkMemory::Primitives;
+    if (texels == instanceTexels) return WalkMemory::Instances;
+    return WalkMemory::Other;
+  }
+  // The shared code's texelFetch, noting the texel where a walk is logged.
+  template <class T>
+  auto texelFetch(const T* texels, int i) const {
+    if (walkLog) walkLog->access(memory_of(texels), uint32_t(i));
+    return ::wp::shader::texelFetch(texels, i);
   }
 #define WP_NOTE_STEP() note_step()
+#define WP_NOTE_PHASE(phase) note_phase(phase)
+#define WP_NOTE_STACK_READ(entry) note_stack(WalkMemory::StackRead, entry)
+#define WP_NOTE_STACK_WRITE(entry) note_stack(WalkMemory::StackWrite, entry)
 #include "../../shaders/shared/scene.glsl"
 #include "../../shaders/shared/integrator.glsl"
 #include "../../shaders/shared/probes.glsl"

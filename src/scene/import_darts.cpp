@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -855,6 +856,13 @@ class DartsImporter {
       try {
         cached = meshes_.emplace(path, load_obj(path)).first;
         for (const std::string& f : cached->second.files) scene_.inputFiles.push_back(f);
+        // A file of no OBJ statements (not an OBJ at all: a typo in the name,
+        // a path past the scene's folder) parses as an empty mesh; say so
+        // rather than render an image without it.
+        if (cached->second.mesh.triangle_count() == 0) {
+          std::fprintf(stderr, "wavepath: warning: %s: no triangles (is it an OBJ file?), loaded by %s at %s\n", path.c_str(),
+                       file_.c_str(), j["filename"].path().c_str());
+        }
       } catch (const InputError& e) {
         throw InputError(std::string(e.what()) + " (loaded by " + file_ + " at " + j.path() + ")");
       }

@@ -46,8 +46,21 @@ bool is_exr(const std::vector<unsigned char>& bytes) {
 }
 
 void check_size(const std::string& name, long long w, long long h) {
-  if (w <= 0 || h <= 0 || w * h > kMaxPixels)
-    throw InputError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + ", larger than wavepath accepts");
+  if (w <= 0 || h <= 0) throw InputError(name + ": the image's header gives it a size of " + std::to_string(w) + "x" + std::to_string(h));
+  if (w * h > kMaxPixels) {
+    throw InputError(name + ": the image is too large: " + std::to_string(w) + "x" + std::to_string(h) + " pixels, more than the " +
+                     std::to_string(kMaxPixels) + " (8192x4096) wavepath accepts");
+  }
+}
+
+// A PNG's size from its header (IHDR, which the format puts first), read
+// before stb_image's: stb_image refuses a PNG of more than 2^30 bytes of
+// pixels while reading its header, and then reports every other decoder's
+// refusal instead ("unknown image type").
+void check_png_size(const std::vector<unsigned char>& bytes, const std::string& name) {
+  if (bytes.size() < 24 || std::memcmp(bytes.data() + 12, "IHDR", 4) != 0) return;  // stb_image says what is wrong
+  auto be32 = [&](size_t at) { return (long long)bytes[at] << 24 | bytes[at + 1] << 16 | bytes[at + 2] << 8 | bytes[at + 3]; };
+  check_size(name, be32(16), be32(20));
 }
 
 // An OpenEXR image's colour: R, G and B; a luminance image's Y (or its one
@@ -83,6 +96,7 @@ LinearImage decode_stb(const std::vector<unsigned char>& bytes, const std::strin
   int w = 0;
   int h = 0;
   int channels = 0;
+  check_png_size(bytes, name);
   if (!stbi_info_from_memory(data8, size, &w, &h, &channels)) {
     throw InputError(name + ": cannot read image: " + std::string(stbi_failure_reason()));
   }

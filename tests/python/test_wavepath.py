@@ -1,6 +1,8 @@
 # The module against the command line: the same images, merges and
-# messages; Ctrl-C, the arrays' lifetime, and renders in two threads.
+# messages; Ctrl-C, the arrays' lifetime, renders in two threads, and the
+# SIMT model's rows.
 import gc
+import json
 import os
 import signal
 import threading
@@ -152,3 +154,16 @@ def test_two_threads_render_at_once(small, gpu_render):
     # Two renders of well over 0.1 s each: a render holding the GIL would
     # have left the loop a few turns at most.
     assert ticks > 50
+
+
+def test_bench_simt_rows_are_the_command_lines(tmp_path):
+    # The SIMT model (bench --simt) is deterministic: the rows equal its
+    # --out JSON's, one per ray set, variant and warp width.
+    status, err = cli("bench", "--simt", "--scenes", CORNELL, "--resolution", 16, 16, "--out", tmp_path / "simt.json")
+    assert status == 0, err
+    rows = wavepath.bench(CORNELL, mode="simt", resolution=(16, 16))
+    assert rows == json.load(open(tmp_path / "simt.json"))["simt"]
+    assert {r["warp_width"] for r in rows} == {32, 64} and {r["rays_set"] for r in rows} == {"primary", "bounce", "shadow"}
+    assert len({r["variant"] for r in rows}) > 1
+    with pytest.raises(ValueError, match="simt"):
+        wavepath.bench(mode="simd")

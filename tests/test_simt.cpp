@@ -1,0 +1,130 @@
+// The SIMT model of the walks (src/bench/simt_model.h): its counts against
+// what they must be for warps whose rays are known.
+#include "test_support.h"
+
+#include "bench/ray_sets.h"
+#include "bench/simt_model.h"
+#include "gpu/wavefront.h"
+
+namespace wp::test {
+namespace {
+
+struct RayCase {
+  CompiledScene cs;
+  bench::RaySets sets;
+};
+
+RayCase ray_case(const std::string& variant, int size = 24) {
+  Scene scene = load_scene(source_path("scenes/cornell-box.json"));
+  scene.camera.width = size;
+  scene.camera.height = size;
+  RayCase s{compile_scene(scene, variant_options(RenderOptions{}, variant)), {}};
+  s.sets = bench::make_rays(s.cs);
+  return s;
+}
+
+// The walk's iterations for one ray, counted by the CPU traversal itself.
+uint64_t steps_of(const CompiledScene& cs, const shader::ShadowRay& r, bool anyHit) {
+  shader::SceneView view = cs.view();
+  uint64_t steps = 0;
+  view.stepsTaken = &steps;
+  shader::Hit h;
+  view.trace_ray(r.origin, r.dir, r.tmax, anyHit, h);
+  return steps;
+}
+
+// A warp of 32 copies of one ray runs in lockstep: every lane takes every
+// iteration and every phase, and the lanes read the same node and primitive
+// sectors as one lane alone (the stack is each lane's own).
+TEST(Simt, IdenticalRaysRunInLockstepAndShareTheirSectors) {
+  for (const char* variant : {"gpu", "gpu-bvh2", "gpu-regstack"}) {
+    SCOPED_TRACE(variant);
+    RayCase s = ray_case(variant);
+    const shader::ShadowRay ray = s.sets.bounce[s.sets.bounce.size() / 2];
+    const std::vector<shader::ShadowRay> one{ray}, copies(32, ray);
+    const SimtWalk walk = simt_walk(variant, s.cs);
+    const GpuModel& gpu = gpu_model("h200");
+    const SimtFigures alone = simulate_walks(s.cs, one, false, walk, gpu, 32);
+    const SimtFigures warp = simulate_walks(s.cs, copies, false, walk, gpu, 32);
+    EXPECT_EQ(warp.warps, 1u);
+    EXPECT_EQ(warp.warpIterations, steps_of(s.cs, ray, false));
+    EXPECT_DOUBLE_EQ(warp.simdEfficiency, 1.0);
+    EXPECT_DOUBLE_EQ(warp.phaseEfficiency, 1.0);
+    EXPECT_DOUBLE_EQ(warp.nodeSectors, alone.nodeSectors);
+    EXPECT_DOUBLE_EQ(warp.primSectors, alone.primSectors);
+    // A lane alone in its warp keeps 1/32 of the lanes busy.
+    EXPECT_DOUBLE_EQ(alone.simdEfficiency, 1.0 / 32.0);
+  }
+}
+
+// The model's iterations are the walk's own, ray by ray; a warp runs as long
+// as its longest walk, so its efficiency is the mean walk over the longest.
+TEST(Simt, WarpsRunAsLongAsTheirLongestWalk) {
+  for (const char* variant : {"gpu", "gpu-bvh2"}) {
+    SCOPED_TRACE(variant);
+    RayCase s = ray_case(variant);
+    std::vector<shader::ShadowRay> rays(s.sets.bounce.begin(), s.sets.bounce.begin() + 64);
+    const SimtFigures f = simulate_walks(s.cs, rays, false, simt_walk(variant, s.cs), gpu_model("h200"), 32);
+    uint64_t lanes = 0, warpIterations = 0;
+    for (size_t w = 0; w < 2; ++w) {
+      uint64_t longest = 0;
+      for (size_t l = 0; l < 32; ++l) {
+        const uint64_t n = steps_of(s.cs, rays[w * 32 + l], false);
+        lanes += n;
+        longest = std::max(longest, n);
+      }
+      warpIterations += longest;
+    }
+    EXPECT_EQ(f.rays, 64u);
+    EXPECT_EQ(f.laneIterations, lanes);
+    EXPECT_EQ(f.warpIterations, warpIterations);
+    EXPECT_DOUBLE_EQ(f.simdEfficiency, double(lanes) / double(warpIterations * 32));
+    // Warps of 64 lanes: one warp as long as the longest of all 64.
+    const SimtFigures wide = simulate_walks(s.cs, rays, false, simt_walk(variant, s.cs), gpu_model("h200"), 64);
+    EXPECT_EQ(wide.warps, 1u);
+    EXPECT_LE(wide.simdEfficiency, f.simdEfficiency);
+  }
+}
+
+// Several rays a lane (trace_items.glsl): the same walks, the same lane
+// iterations, but lanes refilled as their rays end keep more of them busy.
+TEST(Simt, LanesThatTakeTheNextRayKeepTheWarpBusier) {
+  RayCase s = ray_case("gpu-multiray", 48);
+  const GpuModel& gpu = gpu_model("h200");
+  SimtWalk one = simt_walk("gpu", s.cs);
+  SimtWalk many = simt_walk("gpu-multiray", s.cs);
+  ASSERT_EQ(many.raysPerLane, 16u);
+  const SimtFigures a = simulate_walks(s.cs, s.sets.bounce, false, one, gpu, 32);
+  const SimtFigures b = simulate_walks(s.cs, s.sets.bounce, false, many, gpu, 32);
+  EXPECT_EQ(a.rays, s.sets.bounce.size());
+  EXPECT_EQ(b.rays, s.sets.bounce.size());
+  EXPECT_EQ(a.laneIterations, b.laneIterations);
+  EXPECT_GT(b.simdEfficiency, a.simdEfficiency + 0.05);
+}
+
+// Identical rays through one SM's L1: after the first warp, every record's
+// sector is there (each warp's stack is its own, written before it is read).
+TEST(Simt, TheL1KeepsWhatAWarpReadForTheNext) {
+  RayCase s = ray_case("gpu-bvh2");
+  GpuModel oneSm = gpu_model("h200");
+  oneSm.sms = 1;
+  const std::vector<shader::ShadowRay> copies(32 * 16, s.sets.primary[s.sets.primary.size() / 2]);
+  const SimtFigures f = simulate_walks(s.cs, copies, false, simt_walk("gpu-bvh2", s.cs), oneSm, 32);
+  EXPECT_EQ(f.warps, 16u);
+  EXPECT_GT(f.l1HitRate, 0.9);
+  EXPECT_LT(f.l2BytesPerRay, f.bytesPerRay * 0.1);
+  // Spread over 16 SMs, the 8 workgroups (of two warps) meet 8 cold L1s,
+  // and each reads the records' sectors from L2 once.
+  oneSm.sms = 16;
+  const SimtFigures spread = simulate_walks(s.cs, copies, false, simt_walk("gpu-bvh2", s.cs), oneSm, 32);
+  EXPECT_DOUBLE_EQ(spread.l2BytesPerRay, f.l2BytesPerRay * 8.0);
+}
+
+TEST(Simt, UnknownModelsAndWidthsAreRefused) {
+  EXPECT_THROW(gpu_model("h300"), InputError);
+  RayCase s = ray_case("gpu", 4);
+  EXPECT_THROW(simulate_walks(s.cs, s.sets.primary, false, simt_walk("gpu", s.cs), gpu_model("h200"), 48), InputError);
+}
+
+}  // namespace
+}  // namespace wp::test
