@@ -318,6 +318,10 @@ struct Scene {
   int samplesPerPixel = 1;
   SamplerKind sampler = SamplerKind::Independent;
   glm::vec3 background{0.0f};
+  // The background is the white sky an importer added because the file has
+  // no light worth the name (default_sky_wanted); the command line says so
+  // when it renders with it (apply_environment, load_scene.h).
+  bool defaultSky = false;
   // An image texture used as an equirectangular environment map in place of
   // the constant background, or WP_INVALID.
   uint32_t environment = WP_INVALID;
@@ -389,6 +393,17 @@ void settle_instances(Scene& scene);
 // Flattens every instance into world triangles (the scene as it renders
 // without instancing; `--flatten-instances`).
 void flatten_instances(Scene& scene);
+// Whether a file with no punctual light should get the default white sky:
+// true unless its emitters light it (docs/scene-format.md, "glTF 2.0"):
+// emitters brighter than that sky (radiance above 1 in some channel, which
+// glTF reaches only through KHR_materials_emissive_strength) emitting in
+// all at least kEmittersLightTheScene of what the sky would pour onto the
+// scene's bounding box. Labels, screens and LEDs, authored for viewers,
+// emit no more than a white surface under their environment returns; a
+// lamp's filament on a product model is a speck against the sky.
+bool default_sky_wanted(const Scene& scene);
+inline constexpr double kEmittersLightTheScene = 0.05;
+
 // Whether a material of the scene may emit light (it has an emission
 // texture that is not constant black).
 bool material_emits(const Scene& scene, uint32_t material);
