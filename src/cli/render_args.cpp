@@ -69,12 +69,7 @@ Scene load_scene_with_overrides(const RenderArgs& a) {
   if (!a.cell.empty()) set_cell(scene.camera, a.cell[0], a.cell[1], a.cell[2], a.cell[3]);
   if (a.aperture >= 0.0f) scene.camera.apertureRadius = a.aperture;
   if (a.focusDistance > 0.0f) scene.camera.focusDistance = a.focusDistance;
-  if (a.environment == "none") {  // no environment: a black background
-    scene.environment = WP_INVALID;
-    scene.background = glm::vec3(0.0f);
-  } else if (!a.environment.empty()) {
-    scene.environment = add_image_texture(scene, a.environment, "given by --env");
-  }
+  apply_environment(scene, a.environment);
   return scene;
 }
 
@@ -320,7 +315,7 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
                      "next-event-estimation samples per path vertex, 1 to " + std::to_string(MAX_LIGHT_SAMPLES) + " (CS184: -l)")
       ->check(CLI::Range(1, int(MAX_LIGHT_SAMPLES)));
   app.add_option("-e,--env", r.environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e); none: no environment, a black "
-                     "background (a glTF model without lights is otherwise lit by a white sky)");
+                     "background; sky: a uniform white sky of radiance 1 (what a glTF model without a light worth the name gets)");
   app.add_option("--camera", r.camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
   app.add_flag("--flatten-instances", r.flattenInstances,
                "place every instance's triangles in world space, as one flat BVH, instead of walking each instanced mesh's own tree");
