@@ -28,6 +28,12 @@ third-party asset, no licence to track):
   layers.glb      KHR_materials_clearcoat, _sheen, _specular, _iridescence,
                   _anisotropy and _volume, each with its textures (the
                   channels each reads), under a sun.
+  lamp-room.glb   a room as Blender exports one lit by an emissive mesh
+                  (KHR_materials_emissive_strength, no punctual light): it
+                  renders by its lamp alone, without the default sky.
+  labels.glb      balls on a plinth with emissive labels no brighter than
+                  a white surface (emissiveFactor 1 times a texture): the
+                  default sky lights it.
   instances.gltf  meshes placed by several nodes (instances): a smooth,
                   normal-mapped, one-sided pebble with tangents and vertex
                   colours placed plain, turned, stretched, mirrored, sheared,
@@ -703,6 +709,98 @@ def instances():
     write_json(os.path.join(OUT, "instances.gltf"), doc)
 
 
+# ---- lamp-room.glb and labels.glb: who gets the default sky ------------------
+
+def lamp_room():
+    """A room as Blender exports one lit by an emissive mesh: Y up, meshes
+    with normals and UVs, the lamp's Principled emission written as
+    emissiveFactor (its colour) and KHR_materials_emissive_strength (its
+    strength, above 1), no punctual light, a camera outside the open front.
+    Its emitter lights it, so it gets no default sky."""
+    buf = Buffer()
+    w, h, d = 4.0, 3.0, 4.0  # x from -2 to 2, y from 0 to 3, z from -2 to 2 (open towards +z)
+
+    def wall(corners, material, name):
+        a, b, c, e = corners
+        ux = [b[i] - a[i] for i in range(3)]
+        uy = [e[i] - a[i] for i in range(3)]
+        n = [ux[1] * uy[2] - ux[2] * uy[1], ux[2] * uy[0] - ux[0] * uy[2], ux[0] * uy[1] - ux[1] * uy[0]]
+        ln = math.sqrt(sum(x * x for x in n))
+        return add_mesh(buf, ([a, b, c, e], [[x / ln for x in n]] * 4, [[0, 0], [1, 0], [1, 1], [0, 1]], [0, 1, 2, 0, 2, 3]),
+                        material, name)
+    x0, x1, z0, z1 = -w / 2, w / 2, -d / 2, d / 2
+    meshes = [
+        wall([[x0, 0, z1], [x1, 0, z1], [x1, 0, z0], [x0, 0, z0]], 0, "Floor"),
+        wall([[x0, h, z0], [x1, h, z0], [x1, h, z1], [x0, h, z1]], 0, "Ceiling"),
+        wall([[x0, 0, z0], [x1, 0, z0], [x1, h, z0], [x0, h, z0]], 0, "Back"),
+        wall([[x0, 0, z1], [x0, 0, z0], [x0, h, z0], [x0, h, z1]], 1, "Left"),
+        wall([[x1, 0, z0], [x1, 0, z1], [x1, h, z1], [x1, h, z0]], 2, "Right"),
+        add_mesh(buf, cube(), 0, "Cube"),
+        add_mesh(buf, quad(1.0, 0.8, 0.0, facing_down=True), 3, "Lamp"),
+    ]
+    nodes = [{"name": mesh["name"], "mesh": i} for i, mesh in enumerate(meshes)]
+    nodes[5].update({"translation": [-0.6, 0.6, -0.4], "rotation": axis_angle([0, 1, 0], 25), "scale": [1.2, 1.2, 1.2]})
+    nodes[6]["translation"] = [0.0, h - 0.01, 0.0]
+    nodes.append({"name": "Camera", "camera": 0, "matrix": look_at_matrix([0.0, 1.5, 7.5], [0.0, 1.4, 0.0], [0, 1, 0])})
+    white = {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "extensionsUsed": ["KHR_materials_emissive_strength"],
+        "scene": 0, "scenes": [{"name": "Scene", "nodes": list(range(len(nodes)))}], "nodes": nodes, "meshes": meshes,
+        "materials": [
+            {"name": "White", "pbrMetallicRoughness": white},
+            {"name": "Red", "pbrMetallicRoughness": dict(white, baseColorFactor=[0.6, 0.08, 0.06, 1])},
+            {"name": "Green", "pbrMetallicRoughness": dict(white, baseColorFactor=[0.1, 0.45, 0.12, 1])},
+            {"name": "Emission", "emissiveFactor": [1.0, 0.95, 0.85],
+             "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 25.0}},
+             "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}}],
+        "cameras": [{"name": "Camera", "type": "perspective",
+                     "perspective": {"yfov": 0.7, "aspectRatio": 1.333, "znear": 0.1, "zfar": 100}}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "lamp-room.glb"), "wb") as out:
+        out.write(glb(doc, buf.data))
+
+
+def label_text(x, y):
+    """A label: black strokes on white, as ClearCoatTest's (white where no stroke)."""
+    stroke = 2 <= y % 8 <= 5 and (x // 3) % 3 != 2 and 2 <= x < 46
+    return (20, 20, 20) if stroke else (235, 235, 235)
+
+
+def labels():
+    """A model lit, as viewers light it, by their environment: three balls on
+    a plinth, each with a label in front whose text is an emissive texture
+    (emissiveFactor 1, no strength above it: no brighter than a white surface
+    under the default sky). It gets the default sky."""
+    buf = Buffer()
+    pos, nrm, uv, _, idx = uv_sphere(rings=12, segments=24)
+    ball = {"attributes": {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "NORMAL": buf.accessor("f", FLOAT, "VEC3", nrm)},
+            "indices": buf.accessor("H", USHORT, "SCALAR", idx), "material": 0}
+    meshes = [{"name": "ball", "primitives": [ball]}, add_mesh(buf, cube(), 1, "plinth")]
+    # A label stands upright facing +z: the quad in y turned about x.
+    label = add_mesh(buf, quad(1.2, 0.3, 0.0), 2, "label")
+    meshes.append(label)
+    nodes = [{"name": "plinth", "mesh": 1, "translation": [0, -0.15, 0], "scale": [5.0, 0.3, 1.6]}]
+    for i, x in enumerate((-1.6, 0.0, 1.6)):
+        nodes.append({"name": "ball %d" % i, "mesh": 0, "translation": [x, 0.6, 0], "scale": [0.6, 0.6, 0.6]})
+        nodes.append({"name": "label %d" % i, "mesh": 2, "translation": [x, 0.15, 0.75], "rotation": axis_angle([1, 0, 0], 90)})
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}], "nodes": nodes, "meshes": meshes,
+        "materials": [
+            {"name": "ball", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.3, 0.8, 1], "metallicFactor": 0.0, "roughnessFactor": 0.3}},
+            {"name": "plinth", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0.0, "roughnessFactor": 0.9}},
+            {"name": "label", "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0},
+             "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0, "roughnessFactor": 0.9}}],
+        "textures": [{"source": 0}],
+        "images": [{"bufferView": buf.view(png(48, 16, label_text)), "mimeType": "image/png"}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "labels.glb"), "wb") as out:
+        out.write(glb(doc, buf.data))
+
+
 def main():
     os.makedirs(os.path.join(OUT, "external"), exist_ok=True)
     darts = box_room()
@@ -713,6 +811,8 @@ def main():
     mirror_bumps()
     layers()
     instances()
+    lamp_room()
+    labels()
 
 
 if __name__ == "__main__":

@@ -156,15 +156,18 @@ check "an orthographic glTF camera renders" $([ -s "$work/ortho.png" ]; echo $?)
 check "a .glb renders through --camera persp at the size asked" $([ -f "$work/glb.png" ] && [ "$(od -An -tu1 -j16 -N8 "$work/glb.png" | tr -s ' ')" = " 0 0 0 24 0 0 0 18" ]; echo $?)
 # --env none takes the white sky of a model without lights away: every
 # float of the PFM (a model lit by the sky alone) is 0.
-"$wavepath" render "$data/gltf/textured.glb" --camera persp --env none -r 8 6 --spp 8 -q -o "$work/dark.pfm"
+"$wavepath" render "$data/gltf/textured.glb" --camera persp --env none -r 8 6 --spp 8 -q -o "$work/dark.pfm" 2>"$work/dark.err"
+check "--env none: no line about the default sky" $([ ! -s "$work/dark.err" ]; echo $?)
 check "--env none: a model lit only by the default sky renders black" \
   $(python3 -c "import struct,sys; d=open('$work/dark.pfm','rb').read(); h=d.split(b'\n',3); v=struct.unpack('<%df' % (8*6*3), h[3][:8*6*3*4]); sys.exit(any(v))"; echo $?)
-"$wavepath" render "$data/gltf/textured.glb" --camera persp -r 8 6 --spp 8 -q -o "$work/sky.pfm"
+"$wavepath" render "$data/gltf/textured.glb" --camera persp -r 8 6 --spp 8 -q -o "$work/sky.pfm" 2>"$work/sky.err"
+check "the default sky, added, is named in one line on stderr with --env none" \
+  $([ "$(wc -l <"$work/sky.err")" = 1 ] && grep -q "textured.glb: .*white sky.*--env none removes it" "$work/sky.err"; echo $?)
 check "and without it the sky lights the model" \
   $(python3 -c "import struct,sys; d=open('$work/sky.pfm','rb').read(); h=d.split(b'\n',3); v=struct.unpack('<%df' % (8*6*3), h[3][:8*6*3*4]); sys.exit(not all(x > 0 for x in v))"; echo $?)
 generator="$(cd "$(dirname "$0")/.." && pwd)/scripts/make-gltf-test-assets.py"
 models="$(cd "$data/gltf" && pwd)"
-(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb surface.glb mirror-bumps.glb \
+(cd "$work" && mkdir -p gen && cd gen && python3 "$generator" && for f in box-room.gltf box-room.json textured.glb surface.glb mirror-bumps.glb lamp-room.glb labels.glb \
   external/scene.gltf external/scene.bin external/checker.png; do cmp -s "tests/data/gltf/$f" "$models/$f" || exit 1; done)
 check "make-gltf-test-assets.py writes the models the repository holds" $?
 # The README's glTF example: its generator writes what the repository holds, and it renders.

@@ -191,6 +191,91 @@ TEST(Collada, Cs184Skeleton32LightsAsThatSkeletonBuildsThem) {
   EXPECT_EQ(blocked, 0u) << "of " << samples << " shadow rays to the area light met its quad";
 }
 
+// The lamp as the course's renderer shows it under the 3-2 skeleton: an
+// emissive lamp mesh (black there) placed as Blender places it, within 5e-8
+// of its area light's plane (one plane in floats), and the light's quad
+// there too. The course meets whichever is nearer in double: the mesh's
+// height above the light is 1.6e-7 z (its node's tilt) minus 9.5e-9 (1.49
+// read as a float, collada.cpp:631-640, where the light's matrix reads it
+// as a double), so the quad shows where z < 0.0596 and outside the mesh.
+// Every camera ray of the lamp's pixels is classified by that rule here and
+// the rendered pixel (-m 0: what the camera sees) must be its mean. The
+// band 0 < z < 0.0596 is the float-read's: read as doubles, the mesh would
+// hide the quad there.
+TEST(Collada, Cs184Skeleton32ShowsTheLampAsTheCourseDoes) {
+  const std::string libs =
+      "<library_cameras><camera id=\"c\"><optics><technique_common><perspective><xfov>50</xfov><yfov>35</yfov>"
+      "</perspective></technique_common></optics></camera></library_cameras>\n"
+      "<library_lights><light id=\"l\"><technique_common><ambient><color>0 0 0</color></ambient></technique_common>"
+      "<extra><technique profile=\"CGL\"><area><color>6 6 6</color></area></technique></extra></light></library_lights>\n"
+      "<library_effects><effect id=\"fx\"><profile_COMMON><technique sid=\"common\"><phong/></technique></profile_COMMON>"
+      "<extra><technique profile=\"CGL\"><emission><radiance>6 6 6</radiance></emission></technique></extra></effect></library_effects>\n"
+      "<library_materials><material id=\"m\"><instance_effect url=\"#fx\"/></material></library_materials>\n"
+      "<library_geometries><geometry id=\"g\"><mesh><source id=\"p\"><float_array id=\"pa\" count=\"12\">"
+      "0.4 1.49 -0.3 0.4 1.49 0.3 -0.4 1.49 0.3 -0.4 1.49 -0.3</float_array></source><vertices id=\"v\"><input semantic=\"POSITION\" "
+      "source=\"#p\"/></vertices><polylist material=\"sym\" count=\"1\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/>"
+      "<vcount>4</vcount><p>0 1 2 3</p></polylist></mesh></geometry></library_geometries>\n";
+  // The camera looks up at the lamp along (0, -0.8, 0.6) from 1.5 times the
+  // lamp's diagonal (the orbit rule); the light faces down, 0.6 x 0.8.
+  const std::string nodes =
+      "<node id=\"cn\"><matrix>1 0 0 0 0 1 0 -0.8 0 0 1 1.6 0 0 0 1</matrix><instance_camera url=\"#c\"/></node>\n"
+      "<node id=\"ln\"><matrix>0.6 0 0 0 0 0 1 1.49 0 -0.8 0 0 0 0 0 1</matrix><instance_light url=\"#l\"/></node>\n"
+      "<node id=\"gn\"><matrix>1 0 0 0 0 1 -1.6e-7 0 0 0 1 0 0 0 0 1</matrix><instance_geometry url=\"#g\"><bind_material>"
+      "<technique_common><instance_material symbol=\"sym\" target=\"#m\"/></technique_common></bind_material></instance_geometry></node>\n";
+  Scene s = load_scene(write_scene("lamp-plane.dae", dae(libs, nodes)));
+  ASSERT_EQ(s.cs184LightPlaneContacts.size(), 2u) << "the lamp's two triangles lie in the light's plane";
+  use_cs184_3_2_skeleton(s);
+  s.integrator.maxBounces = 0;
+  set_resolution(s.camera, 96, 72);
+  RenderOptions o;
+  o.spp = 8;
+  CompiledScene cs = compile_scene(s, reference_options(o));
+  Progress quiet("", 0, false);
+  const ImageStats img = render_cpu(cs, 0, quiet);
+  shader::SceneView view = cs.view();
+
+  const double meshAbove = double(1.49f) - 1.49, tilt = 1.6e-7, split = meshAbove / tilt;  // z = 0.0596
+  const double margin = 2e-3;  // rays this close to an edge or the split are left out (the quad sits 6e-5 back)
+  int lit = 0, hidden = 0, band = 0, checked = 0, wrong = 0;
+  std::string firstWrong;
+  for (uint32_t pixel = 0; pixel < uint32_t(cs.width * cs.height); ++pixel) {
+    double expected = 0.0;
+    bool clear = true, allLit = true, allHidden = true, allInBand = true;
+    for (uint32_t k = 0; k < uint32_t(o.spp); ++k) {
+      shader::PathState ps;
+      view.path_begin(ps, pixel, k);  // the render's own camera rays
+      const glm::dvec3 origin(ps.origin), dir(ps.dir);
+      const double t = (1.49 - origin.y) / dir.y;
+      const glm::dvec3 p = origin + t * dir;
+      const double ax = std::fabs(p.x), az = std::fabs(p.z);
+      const bool inQuad = t > 0.0 && ax < 0.3 && az < 0.4, inMesh = t > 0.0 && ax < 0.4 && az < 0.3;
+      for (double edge : {ax - 0.3, az - 0.4, ax - 0.4, az - 0.3, p.z - split}) clear = clear && std::fabs(edge) > margin;
+      // The mesh's height above the light, along the light's facing (down).
+      const bool meshInFront = inMesh && -(meshAbove - tilt * p.z) > 0.0;
+      const bool seen = inQuad && !meshInFront;
+      expected += seen ? 6.0 / (0.6 * 0.8) * dir.y : 0.0;  // radiance / area times the cosine (bsdf.h:274-278)
+      allLit = allLit && seen;
+      allHidden = allHidden && inQuad && meshInFront;
+      allInBand = allInBand && seen && inMesh && p.z > 0.0;
+    }
+    if (!clear) continue;
+    expected /= o.spp;
+    const double got = img.mean(pixel).x;
+    if (std::fabs(got - expected) > 1e-4 * expected + 1e-6 && wrong++ == 0)
+      firstWrong = "pixel " + std::to_string(pixel % cs.width) + ", " + std::to_string(pixel / cs.width) + ": " + std::to_string(got) +
+                   " where the course's rule gives " + std::to_string(expected);
+    ++checked;
+    lit += allLit;
+    hidden += allHidden;
+    band += allInBand;
+  }
+  EXPECT_EQ(wrong, 0) << "of " << checked << " pixels; the first, " << firstWrong;
+  EXPECT_GT(lit, 1000);
+  EXPECT_GT(hidden, 300);
+  EXPECT_GT(band, 500) << "pixels where the course shows the quad over the lamp mesh only because it reads positions as floats";
+  EXPECT_GT(checked, cs.width * cs.height / 2);
+}
+
 // The camera as application.cpp places it, computed here from the course's
 // formulas: a known point lands on the pixel they give, in the 800x600 frame
 // and in a -r 480 360 render, which is the frame's central crop.

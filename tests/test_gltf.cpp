@@ -544,8 +544,9 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
 }
 
 // The default light: a model without punctual lights is lit by the white
-// sky, emissive surfaces or not (a label lights little); one with a
-// punctual light is not. Animations are named in the warning.
+// sky where its emitters are no brighter than that sky (a label: here one
+// that would light its small model if it counted); one with a punctual
+// light is not. Animations are named in the warning.
 TEST(Gltf, WhiteSkyUnlessTheModelBringsPunctualLights) {
   json glow = one_triangle({0, 0, 0, 1, 0, 0, 0, 1, 0});
   glow["meshes"][0]["primitives"][0]["material"] = 0;
@@ -565,6 +566,75 @@ TEST(Gltf, WhiteSkyUnlessTheModelBringsPunctualLights) {
   load_scene(write_scene("animated.gltf", animated.dump()));
   const std::string said = testing::internal::GetCapturedStderr();
   EXPECT_NE(said.find("not read yet, rendered without: animations (the model renders at rest)"), std::string::npos) << said;
+}
+
+// The default sky only where a file has no light worth the name
+// (default_sky_wanted): a room lit by an emissive mesh as Blender exports it
+// renders by its lamp alone; balls with emissive labels no brighter than a
+// white surface get the sky, as viewers show them (counted as lights, those
+// labels would emit enough to switch it off); so does a model whose one
+// emitter brighter than the sky is a speck. One line on stderr exactly when
+// the sky is added; --env none and --env sky say what they are asked.
+TEST(Gltf, DefaultSkyOnlyWhereNoLightIsWorthTheName) {
+  const std::string room = gltf_path("lamp-room.glb"), labels = gltf_path("labels.glb");
+  struct Case {
+    std::string file, env;
+    bool line;
+    float background;
+  };
+  const Case cases[] = {{labels, "", true, 1.0f},  {labels, "none", false, 0.0f}, {labels, "sky", false, 1.0f},
+                        {room, "", false, 0.0f},   {room, "none", false, 0.0f},   {room, "sky", false, 1.0f}};
+  for (const Case& c : cases) {
+    Scene s = load_scene(c.file);
+    EXPECT_EQ(s.defaultSky, c.file == labels) << c.file;
+    testing::internal::CaptureStderr();
+    apply_environment(s, c.env);
+    const std::string said = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(s.background, glm::vec3(c.background)) << c.file << " --env '" << c.env << "'";
+    if (c.line) {
+      EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), 1) << said;
+      EXPECT_NE(said.find(c.file + ": "), std::string::npos) << said;
+      EXPECT_NE(said.find("white sky"), std::string::npos) << said;
+      EXPECT_NE(said.find("--env none removes it"), std::string::npos) << said;
+    } else {
+      EXPECT_EQ(said, "") << c.file << " --env '" << c.env << "'";
+    }
+  }
+  // Rendered: the camera sees past the room's open front, black without the
+  // sky, white with it asked for.
+  Scene s = load_scene(room);
+  s.integrator.maxBounces = 1;
+  set_resolution(s.camera, 32, 24);
+  RenderOptions o;
+  o.spp = 2;
+  Progress quiet("", 0, false);
+  EXPECT_EQ(render_cpu(compile_scene(s, reference_options(o)), 0, quiet).mean(0), glm::dvec3(0.0));
+  apply_environment(s, "sky");
+  EXPECT_EQ(render_cpu(compile_scene(s, reference_options(o)), 0, quiet).mean(0), glm::dvec3(1.0));
+  // The threshold: a bright emitter is a light when it emits at least
+  // kEmittersLightTheScene of what the sky would pour onto the model's box.
+  // An emissive triangle of area 0.5 and strength 40 (illuminance 23.4)
+  // in a 1 x 1 box: a light; the same beside a second triangle that widens the box to 100 x
+  // 100: a speck (its 11.7 against 2 * 100 * 100: below 5 %).
+  const std::vector<float> glow = {0, 0, 0, 1, 0, 0, 0, 1, 0}, wide = {0, 0, 0, 100, 0, 0, 0, 100, 0};
+  for (bool speck : {false, true}) {
+    std::vector<float> floats = glow;
+    if (speck) floats.insert(floats.end(), wide.begin(), wide.end());
+    json doc = one_triangle(floats);
+    doc["accessors"][0]["count"] = 3;
+    doc["bufferViews"][0]["byteLength"] = 36;
+    doc["buffers"][0]["byteLength"] = floats.size() * 4;
+    if (speck) {
+      doc["accessors"].push_back(json::parse(R"({"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"})"));
+      doc["bufferViews"].push_back(json::parse(R"({"buffer": 0, "byteOffset": 36, "byteLength": 36})"));
+      doc["meshes"][0]["primitives"].push_back(json::parse(R"({"attributes": {"POSITION": 1}})"));
+    }
+    doc["meshes"][0]["primitives"][0]["material"] = 0;
+    doc["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+    doc["materials"] = json::parse(R"([{"emissiveFactor": [1, 0.5, 0.2], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 40}}}])");
+    const Scene g = load_scene(write_scene(speck ? "speck.gltf" : "lamp.gltf", doc.dump()));
+    EXPECT_EQ(g.defaultSky, speck) << (speck ? "a speck of light switched the sky off" : "a light got the sky");
+  }
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
                      "next-event-estimation samples per path vertex, 1 to " + std::to_string(MAX_LIGHT_SAMPLES) + " (CS184: -l)")
       ->check(CLI::Range(1, int(MAX_LIGHT_SAMPLES)));
   app.add_option("-e,--env", r.environment, "equirectangular environment map (HDR, EXR, PNG...) replacing the background (CS184: -e); none: no environment, a black "
-                     "background (a glTF model without lights is otherwise lit by a white sky)");
+                     "background; sky: a uniform white sky of radiance 1 (what a glTF model without a light worth the name gets)");
   app.add_option("--camera", r.camera, "the glTF camera to render through, by name or index (default: the first; without one, a camera framing the scene)");
   app.add_flag("--flatten-instances", r.flattenInstances,
                "place every instance's triangles in world space, as one flat BVH, instead of walking each instanced mesh's own tree");

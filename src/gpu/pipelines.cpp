@@ -354,7 +354,8 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   std::vector<uint32_t> specialized;
   if (settings.specializeSpirv) {
     std::string error;
-    specialized = specialize_kernel(k.code, k.bytes / sizeof(uint32_t), std::vector<uint32_t>(values, values + kConstants), error);
+    specialized = specialize_kernel(k.code, k.bytes / sizeof(uint32_t), std::vector<uint32_t>(values, values + kConstants), error,
+                                    k.folding);
     if (specialized.empty()) std::fprintf(stderr, "wavepath: the kernel's SPIR-V could not be specialized (%s); the driver specializes it\n", error.c_str());
   }
   vk::ShaderModuleCreateInfo moduleInfo = specialized.empty()
@@ -369,15 +370,15 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
 
 void WavefrontRenderer::Impl::create_tracing_pipelines() {
   prepare = make_pipeline(kernel(prepare_spv));
-  extend = make_pipeline(kernel(extend_spv));
+  extend = make_pipeline(kernel(extend_spv, Folding::Branches));
   if (scene.params.mode.w > 1u) {
     if (!ctx.info().floatAtomicAdd) {
       throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
                         std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
     }
-    connect = make_pipeline(kernel(connect_multi_spv));
+    connect = make_pipeline(kernel(connect_multi_spv, Folding::Branches));
   } else {
-    connect = make_pipeline(kernel(connect_spv));
+    connect = make_pipeline(kernel(connect_spv, Folding::Branches));
   }
   raycast = vk::raii::Pipeline(nullptr);  // the ray caster's multi-ray pipelines are remade on use (ray_caster)
   occlude = vk::raii::Pipeline(nullptr);

@@ -14,7 +14,7 @@ namespace wp {
 
 const vk::raii::Pipeline& WavefrontRenderer::Impl::ray_caster(bool single, bool anyHit) {
   vk::raii::Pipeline& p = anyHit ? (single ? occludeSingle : occlude) : (single ? raycastSingle : raycast);
-  if (!*p) p = make_pipeline(kernel(raycast_spv), {single, true, anyHit});
+  if (!*p) p = make_pipeline(kernel(raycast_spv, Folding::Branches), {single, true, anyHit});
   return p;
 }
 

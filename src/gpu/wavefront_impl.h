@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gpu/vulkan_context.h"
+#include "gpu/specialize.h"
 #include "gpu/wavefront.h"
 #include "util/error.h"
 
@@ -23,11 +24,14 @@ using shader::KernelPush;
 struct Kernel {
   const uint32_t* code;
   size_t bytes;
+  Folding folding;  // how far the host folds its constants (gpu/specialize.h)
 };
 
+// A kernel; one whose work is the walk (extend, connect, raycast) takes the
+// host's folding of branches only, which its loops run faster for.
 template <size_t N>
-Kernel kernel(const uint32_t (&code)[N]) {
-  return Kernel{code, N * sizeof(uint32_t)};
+Kernel kernel(const uint32_t (&code)[N], Folding folding = Folding::ThroughLocals) {
+  return Kernel{code, N * sizeof(uint32_t), folding};
 }
 
 // Every stage reads what the previous one wrote, indirect arguments included.

@@ -61,12 +61,6 @@ Scene load_scene_content(const RenderArgs& a) {
     use_cs184_3_2_skeleton(scene);
   }
   if (a.flattenInstances) flatten_instances(scene);
-  if (a.environment == "none") {  // no environment: a black background
-    scene.environment = WP_INVALID;
-    scene.background = glm::vec3(0.0f);
-  } else if (!a.environment.empty()) {
-    scene.environment = add_image_texture(scene, a.environment, "given by --env");
-  }
   return scene;
 }
 
@@ -83,6 +77,7 @@ void apply_camera_overrides(Scene& scene, const RenderArgs& a) {
 Scene load_scene_with_overrides(const RenderArgs& a) {
   Scene scene = load_scene_content(a);
   apply_camera_overrides(scene, a);
+  apply_environment(scene, a.environment);
   return scene;
 }
 

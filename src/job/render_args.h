@@ -67,12 +67,15 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed);
 
 // The scene file with the arguments' overrides (resolution, lens, environment).
 Scene load_scene_with_overrides(const RenderArgs& a);
-// Its two halves: the scene file with the overrides of what it holds (its
-// lights read physically or as CS184's 3-2 skeleton does, instances
-// flattened, the environment), and the overrides of its camera (which one,
-// the resolution, a CS184 settings file, a cell, the lens) applied to
+// Its three parts, in its order: the scene file with the overrides of what
+// it holds (its lights read physically or as CS184's 3-2 skeleton does,
+// instances flattened); the overrides of its camera (which one, the
+// resolution, a CS184 settings file, a cell, the lens) applied to
 // scene.camera, the file's camera (the Python module's Scene applies them
-// again to that camera when they change, without loading the file again).
+// again to that camera when they change, without loading the file again);
+// then the environment, apply_environment(scene, a.environment)
+// (scene/load_scene.h), whose note on a default sky follows any error of
+// the camera's.
 Scene load_scene_content(const RenderArgs& a);
 void apply_camera_overrides(Scene& scene, const RenderArgs& a);
 

@@ -7,6 +7,7 @@
 #include "job/scene_info.h"
 #include "python/bindings.h"
 #include "render/compiled_scene.h"
+#include "scene/load_scene.h"
 #include "scene/transform.h"
 
 namespace wp::python {
@@ -40,18 +41,22 @@ bool same_content(const RenderArgs& a, const RenderArgs& b) {
          a.flattenInstances == b.flattenInstances && a.environment == b.environment;
 }
 
+// The file `env` names, if it names one ("none" and "sky" do not).
+std::string environment_file(const RenderArgs& a) { return a.environment == "none" || a.environment == "sky" ? "" : a.environment; }
+
 std::shared_ptr<PyScene> load(const py::object& path, const py::kwargs& overrides) {
   auto s = std::make_shared<PyScene>();
   s->args.scene = path_of(path);
   s->args = parse_overrides(s->args, overrides, "load");
   const RenderArgs& a = s->args;
-  reading_files({a.scene, a.environment, a.cameraSettings}, [&] {
+  reading_files({a.scene, environment_file(a), a.cameraSettings}, [&] {
     if (a.resolution.size() == 2) check_image_fits_host(a.resolution[0], a.resolution[1], a.aovs);
     const auto t0 = std::chrono::steady_clock::now();
     s->scene = load_scene_content(a);
-    s->loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     s->fileCamera = s->scene.camera;
     apply_camera_overrides(s->scene, a);
+    apply_environment(s->scene, a.environment);
+    s->loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   });
   return s;
 }
@@ -67,12 +72,13 @@ void set(PyScene& s, const py::kwargs& overrides) {
     now = s.args;
   }
   const RenderArgs next = parse_overrides(now, overrides, "Scene.set");
-  reading_files({next.environment, next.cameraSettings}, [&] {
+  reading_files({environment_file(next), next.cameraSettings}, [&] {
     std::lock_guard<std::mutex> lock(s.mutex);
     if (!same_content(s.args, next)) {
       Scene fresh = load_scene_content(next);
       const Camera fileCamera = fresh.camera;
       apply_camera_overrides(fresh, next);
+      apply_environment(fresh, next.environment);
       s.scene = std::move(fresh);
       s.fileCamera = fileCamera;
     } else {

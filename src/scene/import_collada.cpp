@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -473,8 +474,46 @@ class ColladaReader {
     if (scene_.triangles.size() + out.materials.size() > kMaxTriangles)
       fail(instance, "the scene would hold more than " + std::to_string(kMaxTriangles) + " triangles");
     if (!out.materials.empty()) {
+      const size_t first = scene_.triangles.size();
       add_mesh(scene_, out, glm::mat4(1.0f), slots, WP_INVALID,
                [&](const std::string& what) { fail(instance, what); });
+      find_light_plane_contacts(first, out.positions, positions, toWorld);
+    }
+  }
+
+  // The triangles from `first` on (one mesh's, at `world`) that lie in an
+  // area light's plane, with their corners' heights above it as the course
+  // computes them: the positions parsed as floats (collada.cpp:631-640),
+  // placed in double (gl_scene/mesh.cpp:31). Near the light, wavepath's own
+  // float positions lose the difference (the course's lamps lie within 5e-8
+  // of their light's plane); the heights keep it.
+  void find_light_plane_contacts(size_t first, const std::vector<glm::vec3>& world, const Source& positions, const glm::dmat4& toWorld) {
+    // A float world position's vertex, built on the first contact (+ 0.0f: the
+    // placement turns -0 into +0).
+    const auto key = [](glm::vec3 v) { return std::array<float, 3>{v.x + 0.0f, v.y + 0.0f, v.z + 0.0f}; };
+    std::map<std::array<float, 3>, size_t> vertexOf;
+    for (size_t t = first; t < scene_.triangles.size(); ++t) {
+      const SceneTriangle& tri = scene_.triangles[t];
+      for (const LightPlane& plane : lightPlanes_) {
+        bool in = true;
+        for (const glm::vec3& v : tri.v) {
+          const glm::dvec3 p(v);
+          in = in && std::fabs(glm::dot(p - plane.origin, plane.facing)) <= plane.near;
+        }
+        const glm::dvec3 lo = glm::min(glm::dvec3(tri.v[0]), glm::min(glm::dvec3(tri.v[1]), glm::dvec3(tri.v[2])));
+        const glm::dvec3 hi = glm::max(glm::dvec3(tri.v[0]), glm::max(glm::dvec3(tri.v[1]), glm::dvec3(tri.v[2])));
+        if (!in || glm::any(glm::lessThan(hi, plane.lo)) || glm::any(glm::greaterThan(lo, plane.hi))) continue;
+        if (vertexOf.empty())
+          for (size_t i = 0; i < world.size(); ++i) vertexOf.emplace(key(world[i]), i);
+        Cs184LightPlaneContact contact{uint32_t(t), plane.firstTriangle, {}};
+        for (int c = 0; c < 3; ++c) {
+          const double* local = &positions.values[vertexOf.at(key(tri.v[c])) * positions.stride];
+          const glm::dvec4 w = toWorld * glm::dvec4(double(float(local[0])), double(float(local[1])), double(float(local[2])), 1.0);
+          contact.height[c] = glm::dot(glm::dvec3(w) / w.w - plane.origin, plane.facing);
+        }
+        scene_.cs184LightPlaneContacts.push_back(contact);
+        break;
+      }
     }
   }
 
@@ -618,6 +657,11 @@ class ColladaReader {
       const uint32_t mat = uint32_t(scene_.materials.size() - 1);
       glm::dvec3 q[4] = {o - 0.5 * dx - 0.5 * dy, o + 0.5 * dx - 0.5 * dy, o + 0.5 * dx + 0.5 * dy, o - 0.5 * dx + 0.5 * dy};
       const bool flip = glm::dot(glm::cross(dx, dy), facing) < 0.0;  // the front (cross of the sides) must face `facing`
+      LightPlane plane{o, glm::normalize(facing), glm::dvec3(INFINITY), glm::dvec3(-INFINITY), 1.0, uint32_t(scene_.lightOnlyTriangles.size())};
+      for (const glm::dvec3& c : q) plane.near = std::max(plane.near, std::max(std::fabs(c.x), std::max(std::fabs(c.y), std::fabs(c.z))));
+      plane.near *= 2.5 * kCs184QuadSetBack;  // past where the 3-2 skeleton's quad is put, behind the plane
+      for (const glm::dvec3& c : q) plane.lo = glm::min(plane.lo, c - plane.near), plane.hi = glm::max(plane.hi, c + plane.near);
+      lightPlanes_.push_back(plane);
       for (int t = 0; t < 2; ++t) {
         SceneTriangle tri;
         glm::dvec3 a = q[0], b = q[t + 1], d = q[t + 2];
@@ -637,13 +681,16 @@ class ColladaReader {
     pugi::xml_node cameraNode;
     glm::dmat4 cameraToWorld(1.0);
     Bounds bounds;
+    // The lights first, so that each mesh is read knowing the area lights' planes.
+    for (const Placed& p : placed)
+      if (std::string(p.instance.name()) == "instance_light") read_light(resolve(p.instance, "url", "light"), p.toWorld);
     for (const Placed& p : placed) {
       const std::string kind = p.instance.name();
       if (kind == "instance_camera") {
         cameraNode = resolve(p.instance, "url", "camera");  // the last one wins, as in the course
         cameraToWorld = p.toWorld;
       } else if (kind == "instance_light") {
-        read_light(resolve(p.instance, "url", "light"), p.toWorld);
+        continue;
       } else {
         pugi::xml_node geometry = resolve(p.instance, "url", "geometry");
         if (pugi::xml_node mesh = geometry.child("mesh")) {
@@ -749,6 +796,15 @@ class ColladaReader {
   std::unordered_map<pugi::xml_node_struct*, uint32_t> materials_;
   uint32_t defaultMaterial_ = WP_INVALID;
   glm::dmat4 upAxis_{1.0};
+  // The CGL area lights' planes, as the course places them: where meshes
+  // may lie in them (find_light_plane_contacts).
+  struct LightPlane {
+    glm::dvec3 origin, facing;  // facing: a unit vector
+    glm::dvec3 lo, hi;          // the light's box, widened by `near`
+    double near;                // how far from the plane a triangle lies in it
+    uint32_t firstTriangle;     // in Scene::lightOnlyTriangles
+  };
+  std::vector<LightPlane> lightPlanes_;
   std::vector<pugi::xml_node> ancestors_;  // of the node being read (instance_node cycles)
   size_t nodesVisited_ = 0;
   Scene scene_;
@@ -787,54 +843,6 @@ void apply_cs184_camera_settings(const std::vector<double>& v, Camera& camera, c
 
 void apply_cs184_camera_settings(const std::string& path, Camera& camera) {
   apply_cs184_camera_settings(read_cs184_camera_settings(path), camera, path);
-}
-
-void use_cs184_3_2_skeleton(Scene& scene) {
-  // The area lights' materials, and each one's area (its two triangles).
-  std::map<uint32_t, double> lightArea;
-  for (const SceneTriangle& t : scene.lightOnlyTriangles)
-    lightArea[t.material] += 0.5 * glm::length(glm::cross(glm::dvec3(t.v[1] - t.v[0]), glm::dvec3(t.v[2] - t.v[0])));
-  // collada.cpp:879 gives every emissive mesh EmissionBSDF(radiance,
-  // Vector3D(0)): its emission is the radiance times the cosine with a zero
-  // direction. The mesh stays, black, absorbing what reaches it.
-  for (uint32_t i = 0; i < scene.materials.size(); ++i)
-    if (!lightArea.count(i)) scene.materials[i].emission = WP_INVALID;
-  // gl_scene/scene.cpp:166 puts every light among the objects too, and
-  // light.cpp:77-105 makes an area light two triangles facing its direction
-  // with EmissionBSDF(radiance / area, direction).
-  std::map<uint32_t, uint32_t> quadMaterial;
-  for (const auto& [material, area] : lightArea) {
-    SceneMaterial quad = scene.materials[material];
-    const glm::vec3 radiance = scene.textures[quad.emission].color;
-    quad.emission = add_texture(scene, constant_texture(radiance / float(area)));
-    quad.params.x = 1.0f;  // emission times the cosine (FEATURE_COSINE_EMISSION)
-    scene.materials.push_back(quad);
-    quadMaterial[material] = uint32_t(scene.materials.size() - 1);
-  }
-  // The quad lies in its light's plane, where the course's Cornell files
-  // also put the lamp mesh (to 5e-8): which of the two a ray meets would be
-  // rounding's choice, one on the CPU and another on the GPU (the course's
-  // renderer shows them fighting). Moved back 4e-5 of its scale, away from
-  // where it faces, the quad is behind the lamp mesh wherever they overlap,
-  // and behind the end of every shadow ray aimed at its own light (which
-  // stops a few hundred ulps short of the light's plane): in front of it,
-  // it would shadow its own light.
-  for (SceneTriangle t : scene.lightOnlyTriangles) {
-    t.material = quadMaterial[t.material];
-    const glm::vec3 facing = glm::normalize(glm::cross(t.v[1] - t.v[0], t.v[2] - t.v[0]));
-    float scale = 1.0f;
-    for (const glm::vec3& v : t.v) scale = std::max(scale, std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))));
-    for (glm::vec3& v : t.v) v -= facing * (4e-5f * scale);
-    scene.triangles.push_back(t);
-  }
-  scene.cs184Skeleton = 32;
-}
-
-void use_consistent_lights(Scene& scene) {
-  scene.triangles.insert(scene.triangles.end(), scene.lightOnlyTriangles.begin(), scene.lightOnlyTriangles.end());
-  scene.lightOnlyTriangles.clear();
-  scene.cs184Estimator = false;
-  scene.integrator.kind = IntegratorKind::PathMis;
 }
 
 }  // namespace wp

@@ -142,11 +142,15 @@ class GltfImporter {
     default_camera();
     if (!unread_.empty())
       std::fprintf(stderr, "wavepath: warning: %s: not read yet, rendered without: %s\n", path_.c_str(), joined(unread_).c_str());
-    // A model without punctual lights is lit by a white sky, as viewers
-    // light it (the Khronos sample viewer, model-viewer, Blender's default
-    // world); emissive surfaces do not count: labels and LEDs light little.
-    // `--env none` takes the sky away, `--env MAP` replaces it.
-    if (scene_.pointLights.empty()) scene_.background = glm::vec3(1.0f);
+    // A model without a light worth the name is lit by a white sky, as
+    // viewers light every model; a file whose emitters light it renders by
+    // them alone, as Blender renders what its importer reads
+    // (default_sky_wanted). `--env none` takes the sky away, `--env MAP`
+    // replaces it, `--env sky` asks for it.
+    if (scene_.pointLights.empty() && default_sky_wanted(scene_)) {
+      scene_.background = glm::vec3(1.0f);
+      scene_.defaultSky = true;
+    }
     for (const std::string& f : sandbox_.read) scene_.inputFiles.push_back(f);
     return std::move(scene_);
   }

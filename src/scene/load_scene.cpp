@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -42,6 +43,21 @@ Scene load_scene(const std::string& path) {
   }
   scene.inputFiles.insert(scene.inputFiles.begin(), path);
   return scene;
+}
+
+void apply_environment(Scene& scene, const std::string& env) {
+  if (env == "none") {
+    scene.environment = WP_INVALID;
+    scene.background = glm::vec3(0.0f);
+  } else if (env == "sky") {
+    scene.environment = WP_INVALID;
+    scene.background = glm::vec3(1.0f);
+  } else if (!env.empty()) {
+    scene.environment = add_image_texture(scene, env, "given by --env");
+  }
+  if (scene.defaultSky && env.empty())
+    std::fprintf(stderr, "wavepath: %s: no light of its own worth the name, so it is lit by a uniform white sky of radiance 1 (--env none removes it)\n",
+                 scene.sourcePath.c_str());
 }
 
 }  // namespace wp

@@ -19,4 +19,11 @@ SceneFormat scene_format(const std::string& path, const std::string& head);
 // too.
 Scene load_scene(const std::string& path);
 
+// What the command line's --env asks of `scene`'s surroundings: "" leaves
+// the scene's own, "none" a black background, "sky" the uniform white sky
+// of radiance 1, anything else an equirectangular image file. Where the
+// scene renders under the default sky its importer added for want of a
+// light (Scene::defaultSky), one line on stderr says so.
+void apply_environment(Scene& scene, const std::string& env);
+
 }  // namespace wp

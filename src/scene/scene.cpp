@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/shader_cpp.h"
 #include "scene/texture_image.h"
 #include "scene/transform.h"
 #include "util/error.h"
@@ -342,6 +343,37 @@ bool material_emits(const Scene& scene, uint32_t material) {
   if (e == WP_INVALID) return false;
   const SceneTexture& t = scene.textures.at(e);
   return !(t.kind == TEX_CONSTANT && t.color == glm::vec3(0.0f));
+}
+
+bool default_sky_wanted(const Scene& scene) {
+  // Each emitting material's brightest channel anywhere and mean
+  // illuminance (a texture's factor times its texels' brightest and mean).
+  shader::ShaderMath math;
+  std::vector<double> peak(scene.materials.size(), 0.0), mean(scene.materials.size(), 0.0);
+  for (uint32_t m = 0; m < scene.materials.size(); ++m) {
+    if (!material_emits(scene, m)) continue;
+    const SceneTexture& t = scene.textures[scene.materials[m].emission];
+    glm::dvec3 hi(t.color), sum(t.color);
+    if (t.kind == TEX_IMAGE && t.image < scene.images.size() && !scene.images[t.image].pixels.empty()) {
+      const LinearImage& image = scene.images[t.image];
+      glm::dvec3 texelHi(0.0), texelSum(0.0);
+      for (const glm::vec3& p : image.pixels) texelHi = glm::max(texelHi, glm::dvec3(p)), texelSum += glm::dvec3(p);
+      hi *= texelHi;
+      sum *= texelSum / double(image.pixels.size());
+    }
+    peak[m] = std::max({hi.x, hi.y, hi.z});
+    mean[m] = double(math.illuminance(glm::vec3(sum)));
+  }
+  // What those brighter than the sky emit (a side's radiance times its area,
+  // over pi), against what the sky of radiance 1 pours onto the box.
+  double power = 0.0;
+  for (const SceneTriangle& t : scene.triangles)
+    if (t.material < peak.size() && peak[t.material] > 1.0)
+      power += mean[t.material] * 0.5 * glm::length(glm::cross(glm::dvec3(t.v[1] - t.v[0]), glm::dvec3(t.v[2] - t.v[0])));
+  const auto [lo, hi] = scene_bounds(scene);
+  const glm::dvec3 d = glm::max(glm::dvec3(hi) - glm::dvec3(lo), glm::dvec3(0.0));
+  const double boxArea = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+  return !(power > 0.0 && power >= kEmittersLightTheScene * boxArea);
 }
 
 // Flattens the instances of the meshes `keep` refuses into world triangles,

@@ -271,6 +271,24 @@ struct SceneInstancedMesh {
   std::vector<SceneTriangleShading> shading;
   glm::vec3 lo{INFINITY}, hi{-INFINITY};  // the triangles' bounds
 };
+
+// A triangle of a CS184 scene lying in an area light's plane (as the
+// course's lamp meshes do, to 5e-8: one plane in floats) and overlapping
+// the light, with its corners' heights above that plane along the
+// direction the light faces, as the course computes them in double (its
+// positions parsed as floats, its matrices as doubles). The sign says which
+// of the two surfaces the course's camera meets where the 3-2 skeleton
+// makes the light a quad too (use_cs184_3_2_skeleton).
+struct Cs184LightPlaneContact {
+  uint32_t triangle;  // into Scene::triangles
+  uint32_t light;     // the light's first triangle in Scene::lightOnlyTriangles
+  double height[3];   // > 0: in front of the light, on the side it faces
+};
+// How far behind its light's plane the 3-2 skeleton puts the light's quad,
+// in units of the light's scale (its largest coordinate, at least 1): far
+// above the floats' rounding there, far below what a camera resolves.
+inline constexpr double kCs184QuadSetBack = 4e-5;
+
 // A placement of an instanced mesh.
 struct SceneInstance {
   uint32_t mesh;  // index into Scene::instancedMeshes
@@ -301,6 +319,10 @@ struct Scene {
   int samplesPerPixel = 1;
   SamplerKind sampler = SamplerKind::Independent;
   glm::vec3 background{0.0f};
+  // The background is the white sky an importer added because the file has
+  // no light worth the name (default_sky_wanted); the command line says so
+  // when it renders with it (apply_environment, load_scene.h).
+  bool defaultSky = false;
   // An image texture used as an equirectangular environment map in place of
   // the constant background, or WP_INVALID.
   uint32_t environment = WP_INVALID;
@@ -322,6 +344,8 @@ struct Scene {
   // Emissive triangles that no ray meets, lighting the scene through light
   // sampling alone (CS184's area lights, which are not geometry there).
   std::vector<SceneTriangle> lightOnlyTriangles;
+  // Triangles lying in those lights' planes (CS184's lamp meshes).
+  std::vector<Cs184LightPlaneContact> cs184LightPlaneContacts;
   // CS184's estimator (SCENE_FLAG_CS184; docs/scene-format.md, "CS184"):
   // emissive surfaces are not in the light table, so they light nothing and
   // only the camera and specular bounces see them.
@@ -370,6 +394,17 @@ void settle_instances(Scene& scene);
 // Flattens every instance into world triangles (the scene as it renders
 // without instancing; `--flatten-instances`).
 void flatten_instances(Scene& scene);
+// Whether a file with no punctual light should get the default white sky:
+// true unless its emitters light it (docs/scene-format.md, "glTF 2.0"):
+// emitters brighter than that sky (radiance above 1 in some channel, which
+// glTF reaches only through KHR_materials_emissive_strength) emitting in
+// all at least kEmittersLightTheScene of what the sky would pour onto the
+// scene's bounding box. Labels, screens and LEDs, authored for viewers,
+// emit no more than a white surface under their environment returns; a
+// lamp's filament on a product model is a speck against the sky.
+bool default_sky_wanted(const Scene& scene);
+inline constexpr double kEmittersLightTheScene = 0.05;
+
 // Whether a material of the scene may emit light (it has an emission
 // texture that is not constant black).
 bool material_emits(const Scene& scene, uint32_t material);
