@@ -10,7 +10,7 @@ void main() {
   if (i >= pc.pathCount) return;
   SampleRays rays;
   AovSample aov;
-  PathState p = trace_sample(wave_pixel(i), pc.sampleIndex, rays, aov);
+  PathState p = trace_sample(wave_pixel(i), wave_sample(i), rays, aov);
   if (rays.truncated > 0u) atomicAdd(counters[COUNTER_TRUNCATED], rays.truncated);
   count_rays(COUNTER_CLOSEST_RAYS, rays.closest);
   count_rays(COUNTER_SHADOW_RAYS, rays.shadow);

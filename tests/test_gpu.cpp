@@ -727,6 +727,38 @@ TEST_F(Gpu, SameSeedSameImageOtherSeedOtherImage) {
   EXPECT_NE(a.sum, c.sum);
 }
 
+// A small image's wave holds several samples (samples_per_wave), and the
+// accumulate kernel adds each pixel's in order: the sums are those of one
+// sample a wave to the bit, with AOV layers, with adaptive sampling's pixel
+// lists, and where a submission's samples end in a part-full wave (100x100:
+// 6 samples a wave). The submissions grow 1, 2, 4, ... samples alike in both
+// (a target no submission reaches), so they group the samples alike; another
+// seed's sums differ.
+TEST_F(Gpu, SamplesPackedIntoWavesGiveTheSumsOfOneSampleAWave) {
+  const struct { int size; bool adaptive; } cases[] = {{24, false}, {24, true}, {100, false}};
+  for (const auto& [size, adaptive] : cases) {
+    SCOPED_TRACE(std::to_string(size) + (adaptive ? ", adaptive" : ""));
+    Scene scene = cornell_box(size);
+    RenderOptions o;
+    o.spp = 24;
+    o.aovs = {"albedo", "normal"};
+    if (adaptive) o.adaptive = AdaptiveSampling{8, 0.05f};
+    CompiledScene cs = compile_scene(scene, o);
+    WavefrontSettings packed;
+    packed.targetSubmitSeconds = 1e9;
+    WavefrontSettings single = packed;
+    single.maxPathsPerWave = uint32_t(size * size);
+    Progress quiet("", 0, false);
+    ImageStats a = WavefrontRenderer(*ctx_, cs, packed).render(quiet);
+    ImageStats b = WavefrontRenderer(*ctx_, cs, single).render(quiet);
+    EXPECT_EQ(a.sum, b.sum);
+    EXPECT_EQ(a.sumSq, b.sumSq);
+    EXPECT_EQ(a.count, b.count);
+    o.seed = 3;
+    EXPECT_NE(WavefrontRenderer(*ctx_, compile_scene(scene, o), packed).render(quiet).sum, a.sum);
+  }
+}
+
 // Every material, texture, light type and integrator of the course feature
 // set, each on a small scene that exercises it: the GPU agrees with the CPU
 // reference statistically (same shared code, independent seeds).

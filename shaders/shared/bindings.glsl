@@ -83,13 +83,18 @@ struct KernelPush {
   uint phase;       // prepare kernel: PREPARE_*; generate kernel: GENERATE_*
   uint photonSeed;  // photons kernel: the photon map's seed
   uint accumBase;   // the first pixel of the tile the accumulators hold (accumulate_path)
+  uint waveSpan;    // pixels a sample of this wave covers: path i renders pixel i % waveSpan of the wave's, sample
+                    // sampleIndex + i / waveSpan (a small image takes several samples a wave)
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 #define PREPARE_EXTEND 0u
 #define PREPARE_CONNECT 1u
 #define PREPARE_SORT 2u
-// Generate kernel: path i renders pixel waveStart + i, or (adaptive sampling)
-// pixel pixelList[waveStart + i].
+// Generate kernel: path i renders pixel waveStart + i % waveSpan, or
+// (adaptive sampling) pixel pixelList[waveStart + i % waveSpan].
 #define GENERATE_CONSECUTIVE 0u
 #define GENERATE_FROM_LIST 1u
 // Photons kernel: start the batch's photons, or take each a bounce further.

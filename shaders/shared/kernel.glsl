@@ -225,7 +225,13 @@ void count_rays(uint slot, uint n) {
 // The pixel of path i of a wave: consecutive pixels, or those of the adaptive
 // sampler's list.
 uint wave_pixel(uint i) {
-  return pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + i] : pc.waveStart + i;
+  uint j = i % pc.waveSpan;
+  return pc.phase == GENERATE_FROM_LIST ? pixelList[pc.waveStart + j] : pc.waveStart + j;
+}
+
+// The sample path i of the wave renders.
+uint wave_sample(uint i) {
+  return pc.sampleIndex + i / pc.waveSpan;
 }
 
 // The queue a path is sorted into (gpu-sort): the sort key of the material its

@@ -33,7 +33,13 @@ std::vector<shader::Photon> WavefrontRenderer::Impl::trace_photons(uint32_t coun
   for (uint32_t first = 0; first < count; first += capacity) {
     const uint32_t n = std::min(capacity, count - first);
     // Photons first .. first + n of count, in path slots 0 .. n.
-    KernelPush push{first, n, count, 0u, capacity, PHOTONS_EMIT, seed, 0u};
+    KernelPush push{};
+    push.waveStart = first;
+    push.pathCount = n;
+    push.sampleIndex = count;
+    push.capacity = capacity;
+    push.phase = PHOTONS_EMIT;
+    push.photonSeed = seed;
     ctx.run_now([&](vk::CommandBuffer cb) {
       cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
       dispatch(cb, photons, push, groups_for(n), StageTimes::kGenerate);

@@ -55,7 +55,10 @@ WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, co
   sorting = sort_by_material();
   // A photon map traced here takes batches of path slots: more than a small
   // image's pixels (the batches' dispatches, not their photons, cost on CPU devices).
-  const uint64_t slots = std::max<uint64_t>(pixels, scene.photonMapLeftToDevice ? kPhotonBatch : 0);
+  // A small image's waves hold several samples (samples_per_wave).
+  const uint64_t samplesPerWave = std::min<uint64_t>(std::max(scene.spp, 1), kMaxSamplesPerWave);
+  const uint64_t slots = std::max<uint64_t>({pixels, scene.photonMapLeftToDevice ? kPhotonBatch : 0,
+                                             std::min<uint64_t>(kSmallImageWavePaths, uint64_t(pixels) * samplesPerWave)});
   capacity = std::min<uint64_t>({slots, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
                                  std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
                                  uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,

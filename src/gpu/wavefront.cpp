@@ -39,11 +39,18 @@ void WavefrontRenderer::Impl::dispatch_indirect(vk::CommandBuffer cb, const vk::
   stamp(cb, stage);
 }
 
-void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed,
-                                          uint32_t accumBase) {
+uint32_t WavefrontRenderer::Impl::samples_per_wave(uint32_t pixels) const {
+  if (settings.megakernel || pixels >= capacity) return 1;
+  return std::min(capacity / pixels, kMaxSamplesPerWave);
+}
+
+void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t span, uint32_t sampleIndex, uint32_t samples,
+                                          bool listed, uint32_t accumBase) {
+  const uint32_t pathCount = span * samples;
   KernelPush push{};
   push.accumBase = accumBase;
   push.waveStart = waveStart;
+  push.waveSpan = span;
   push.pathCount = pathCount;
   push.sampleIndex = sampleIndex;
   push.capacity = capacity;
@@ -73,7 +80,7 @@ void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveSta
     dispatch(cb, prepare, push, 1, StageTimes::kPrepare);
     dispatch_indirect(cb, connect, push, INDIRECT_CONNECT, StageTimes::kConnect);
   }
-  dispatch(cb, accumulate, push, groups_for(pathCount), StageTimes::kAccumulate);
+  dispatch(cb, accumulate, push, groups_for(span), StageTimes::kAccumulate);
 }
 
 uint32_t WavefrontRenderer::Impl::render(ImageStats& image, SampleRange range, Progress& progress, const PassHook& afterPass) {
@@ -146,6 +153,7 @@ std::vector<WavefrontRenderer::Impl::Tile> WavefrontRenderer::Impl::tiles_of(uin
 double WavefrontRenderer::Impl::submit_tile(vk::CommandBuffer cb, const vk::raii::Fence& fence, const Tile& tile, uint32_t sample, uint32_t n,
                                             bool listed) {
   const uint32_t wavesPerSample = (tile.count + capacity - 1) / capacity;
+  const uint32_t perWave = samples_per_wave(tile.count);
   const uint32_t dispatchesPerBounce = sorting ? 7 : 5;
   const uint32_t dispatchesPerWave = settings.megakernel ? 1 : 2 + dispatchesPerBounce * path_passes();
   const bool aovs = !scene.aovs.empty();
@@ -162,9 +170,11 @@ double WavefrontRenderer::Impl::submit_tile(vk::CommandBuffer cb, const vk::raii
   if (timestamps) cb.writeTimestamp(vk::PipelineStageFlagBits::eComputeShader, *queries, 0);
   // Waves start at pixel tile.first, or (listed) at entry 0 of the tile's part of the list.
   const uint32_t start0 = listed ? 0 : tile.first;
-  for (uint32_t s = sample; s < sample + n; ++s)
+  for (uint32_t s = sample; s < sample + n; s += perWave) {
+    const uint32_t samples = std::min(perWave, sample + n - s);
     for (uint32_t at = 0; at < tile.count; at += capacity)
-      record_wave(cb, start0 + at, std::min(capacity, tile.count - at), s, listed, tile.base);
+      record_wave(cb, start0 + at, std::min(capacity, tile.count - at), s, samples, listed, tile.base);
+  }
   const uint64_t accumBytes = uint64_t(tile.span) * sizeof(shader::PixelAccum);
   cb.copyBuffer(buffers[BINDING_ACCUM]->handle(), readAccum->handle(), vk::BufferCopy(0, 0, accumBytes));
   if (aovs) {

@@ -248,7 +248,15 @@ struct WavefrontRenderer::Impl {
                          bool last = true);
 
   // One wave: a sample for `pathCount` pixels from `waveStart`, all bounces.
-  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t pathCount, uint32_t sampleIndex, bool listed, uint32_t accumBase);
+  // One wave: `samples` consecutive samples, from sampleIndex, of `span`
+  // pixels from waveStart (span x samples paths).
+  void record_wave(vk::CommandBuffer cb, uint32_t waveStart, uint32_t span, uint32_t sampleIndex, uint32_t samples, bool listed,
+                   uint32_t accumBase);
+  // The samples a wave of a tile of `pixels` holds: as many as its path
+  // slots take (a sample of a small image is a short wave, and on CPU devices
+  // a dispatch costs about 80 us whatever its size), one for the megakernel,
+  // which adds each path to its pixel as it ends.
+  uint32_t samples_per_wave(uint32_t pixels) const;
 
   // A tile: pixels [base, base + span) of the image, whose accumulators the
   // device holds at once. Consecutive pixels: waves over the span; listed
@@ -306,6 +314,10 @@ struct WavefrontRenderer::Impl {
   std::vector<shader::Photon> trace_photons(uint32_t count, uint32_t seed);
 
   static constexpr uint64_t kPhotonBatch = 1u << 18;
+  // Waves of a small image: several samples each, up to this many paths (a
+  // few MiB of path state) and this many samples (accumulate's loop a pixel).
+  static constexpr uint64_t kSmallImageWavePaths = 1u << 16;
+  static constexpr uint32_t kMaxSamplesPerWave = 256;
   // Traces the scene's photons (photonMapLeftToDevice; settings.photonPass
   // says where), balances them into the map and binds it in place of the
   // scene's empty one.

@@ -167,5 +167,5 @@ static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, tmax) == 12 && offs
               offsetof(ShadowRay, path) == 28 && offsetof(ShadowRay, contribution) == 32 && offsetof(ShadowRay, media) == 44);
 static_assert(sizeof(PixelAccum) == 32);
 static_assert(sizeof(AovSample) == 4 * AOV_CHANNELS && sizeof(AovAccum) == 8 * AOV_CHANNELS);
-static_assert(sizeof(KernelPush) == 32);
+static_assert(sizeof(KernelPush) == 48);
 }  // namespace wp::shader
