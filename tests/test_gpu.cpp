@@ -530,8 +530,10 @@ TEST_F(Gpu, InstancedScenesRenderAsTheirFlattenedCopies) {
   EXPECT_FALSE(compare_images(r.render(quiet), cpu).passed()) << "pebbles placed by each other's transforms go unseen";
 }
 
-// One wave per sample: generate and accumulate once, and per bounce pass one
-// prepare-extend-shade-prepare-connect sequence, each timed by timestamps.
+// Per wave, generate and accumulate once, and per bounce pass one
+// prepare-extend-shade-prepare-connect sequence, each timed by timestamps. A
+// 24x24 image's wave holds all the samples of a submission: the first
+// submission takes one sample, the second the other two.
 TEST_F(Gpu, StageTimesCoverEveryDispatch) {
   RenderOptions o;
   o.spp = 3;
@@ -541,7 +543,9 @@ TEST_F(Gpu, StageTimesCoverEveryDispatch) {
   Progress quiet("", 0, false);
   r.render(quiet);
   const StageTimes& t = r.stage_times();
-  const uint64_t expected[StageTimes::kStages] = {3, 3 * 3 * 2, 3 * 3, 0, 3 * 3, 3 * 3, 3, 0};
+  ASSERT_EQ(t.submissions, 2u);
+  const uint64_t waves = 2, passes = 3;
+  const uint64_t expected[StageTimes::kStages] = {waves, waves * passes * 2, waves * passes, 0, waves * passes, waves * passes, waves, 0};
   for (int s = 0; s < StageTimes::kStages; ++s) {
     EXPECT_EQ(t.dispatches[s], expected[s]) << StageTimes::kNames[s];
     EXPECT_GE(t.seconds[s], 0.0) << StageTimes::kNames[s];
@@ -646,9 +650,13 @@ TEST_F(Gpu, SortingPathsByMaterialLeavesTheImageUnchanged) {
     EXPECT_EQ(sorted.stage_times().closestHitRays, plain.stage_times().closestHitRays) << path;
     EXPECT_EQ(sorted.stage_times().shadowRays, plain.stage_times().shadowRays) << path;
     // Per bounce pass: the extra prepare (counts to offsets) and the scatter.
+    // A 64x64 image's submission is one wave, whatever its samples.
     const StageTimes& t = sorted.stage_times();
-    EXPECT_EQ(t.dispatches[StageTimes::kSort], uint64_t(o.spp) * uint64_t(o.maxBounces + 1)) << path;
-    EXPECT_EQ(t.dispatches[StageTimes::kPrepare], 3 * uint64_t(o.spp) * uint64_t(o.maxBounces + 1)) << path;
+    const uint64_t waves = t.submissions;
+    EXPECT_LT(waves, uint64_t(o.spp)) << path << ": samples not packed into waves";
+    EXPECT_EQ(t.dispatches[StageTimes::kGenerate], waves) << path;
+    EXPECT_EQ(t.dispatches[StageTimes::kSort], waves * uint64_t(o.maxBounces + 1)) << path;
+    EXPECT_EQ(t.dispatches[StageTimes::kPrepare], 3 * waves * uint64_t(o.maxBounces + 1)) << path;
     EXPECT_EQ(plain.stage_times().dispatches[StageTimes::kSort], 0u) << path;
   }
 }

@@ -77,7 +77,8 @@ std::vector<Expected> expected_layouts() {
        {FIELD(AovAccum, sumA), FIELD(AovAccum, sumB), FIELD(AovAccum, sumSqA), FIELD(AovAccum, sumSqB)}},
       {"KernelPush", sizeof(KernelPush),
        {FIELD(KernelPush, waveStart), FIELD(KernelPush, pathCount), FIELD(KernelPush, sampleIndex), FIELD(KernelPush, queueIn),
-        FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, photonSeed), FIELD(KernelPush, accumBase)}},
+        FIELD(KernelPush, capacity), FIELD(KernelPush, phase), FIELD(KernelPush, photonSeed), FIELD(KernelPush, accumBase),
+        FIELD(KernelPush, waveSpan), FIELD(KernelPush, pad0), FIELD(KernelPush, pad1), FIELD(KernelPush, pad2)}},
   };
 }
 
