@@ -8,6 +8,7 @@
 #include <random>
 
 #include "bvh/bvh.h"
+#include "scene/materials/material_module.h"
 #include "bvh/photon_map.h"
 #include "bvh/wide_bvh.h"
 #include "util/huge_pages.h"

@@ -82,8 +82,8 @@ TEST(DartsKeys, MicrofacetMaterialsReadTheirParameters) {
   EXPECT_NE(s.materials[4].amount, WP_INVALID);
   const char* conductor = R"({"materials": [{"type": "rough_conductor", "name": "m", )";
   expect_error(std::string(conductor) + R"("k": 1}]})", {"/materials/0", "eta"});
-  expect_error(std::string(conductor) + R"("eta": [1, -1, 1], "k": 1}]})", {"/materials/0/eta", "between 0 and 1000"});
-  expect_error(std::string(conductor) + R"("eta": 1, "k": -2}]})", {"/materials/0/k", "from 0 to 1000"});
+  expect_error(std::string(conductor) + R"("eta": [1, -1, 1], "k": 1}]})", {"/materials/0/eta", "eta must lie in (0, 1000) in every channel"});
+  expect_error(std::string(conductor) + R"("eta": 1, "k": -2}]})", {"/materials/0/k", "k must lie in [0, 1000) in every channel"});
   expect_error(std::string(conductor) + R"("eta": 1, "k": 1, "roughness": 1.5}]})", {"/materials/0/roughness", "[0, 1]"});
   expect_error(R"({"materials": [{"type": "metal_rough", "name": "m", "metallic": 2}]})", {"/materials/0/metallic", "[0, 1]"});
   expect_error(R"({"materials": [{"type": "rough_dielectric", "name": "m", "ior": 0}]})", {"/materials/0/ior"});

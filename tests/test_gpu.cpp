@@ -11,6 +11,7 @@
 
 #include "gpu/wavefront.h"
 #include "render/photon_pass.h"
+#include "scene/materials/material_module.h"
 #include "scene/importers.h"
 #include "scene/kinds.h"
 #include "stats/compare.h"

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "cpu/reference.h"
+#include "scene/materials/material_module.h"
 #include "test_support.h"
 
 namespace wp::test {

@@ -566,8 +566,9 @@ TEST(Layers, DartsFilesNameTheirProblems) {
   expect_error(scene(R"({"type": "clearcoat", "name": "m", "base": {"type": "diffuse_light", "emit": 1}})"), {"diffuse_light"});
   expect_error(scene(R"({"type": "clearcoat", "name": "m", "base": {"type": "metal_rough", "emit": 1}})"), {"give \"emit\" to the layer"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "specular": 1.5})"), {"/materials/0/specular", "[0, 1]"});
-  expect_error(scene(R"({"type": "metal_rough", "name": "m", "volume": {"attenuation_color": [0, 1, 1]}})"),
-               {"/materials/0/volume/attenuation_color", "(0, 1]"});
+  // As glTF's attenuationColor: [0, 1], where 0 absorbs everything.
+  expect_error(scene(R"({"type": "metal_rough", "name": "m", "volume": {"attenuation_color": [1.5, 1, 1]}})"),
+               {"/materials/0/volume/attenuation_color", "[0, 1]"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "volume": {"attenuation_distance": 0}})"), {"/materials/0/volume/attenuation_distance"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "iridescence": {"ior": 0.5}})"), {"/materials/0/iridescence/ior", "[1, 10]"});
   expect_error(scene(R"({"type": "metal_rough", "name": "m", "anisotropy": {"strength": 2}})"), {"/materials/0/anisotropy/strength", "[0, 1]"});

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "bvh/bvh.h"
+#include "scene/materials/material_module.h"
 #include "scene/obj_mesh.h"
 
 namespace wp::test {

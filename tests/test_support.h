@@ -23,6 +23,7 @@
 #include "image/exr.h"
 #include "render/compiled_scene.h"
 #include "render/shader_cpp.h"
+#include "scene/materials/material_module.h"
 #include "scene/load_scene.h"
 #include "stats/chi2.h"
 #include "util/error.h"

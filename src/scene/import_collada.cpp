@@ -16,8 +16,10 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
+#include "scene/materials/material_module.h"
 #include "scene/cs184_normals.h"
 #include "scene/importers.h"
 #include "util/error.h"
@@ -312,64 +314,54 @@ class ColladaReader {
     if (known != materials_.end()) return known->second;
     pugi::xml_node effect = resolve(required(mat, "instance_effect"), "url", "effect");
     const std::string name = mat.attribute("name") ? mat.attribute("name").value() : mat.attribute("id").value();
-    SceneMaterial m;
-    m.name = name;
-    glm::dvec3 diffuse(0.5);
-    bool fromCgl = false;
-    if (pugi::xml_node cgl = cgl_technique(effect)) {
-      for (pugi::xml_node b : cgl.children()) {
-        if (b.type() != pugi::node_element) continue;
-        const std::string type = b.name();
-        m = SceneMaterial{};  // the last BSDF element wins
-        m.name = name;
-        fromCgl = true;
-        if (type == "emission") {
-          m.kind = MAT_LIGHT;
-          m.emission = constant(color(required(b, "radiance"), "<radiance>"));
-        } else if (type == "mirror") {
-          m.kind = MAT_METAL;  // roughness 0: a mirror tinted by the reflectance
-          m.albedo = constant(color(required(b, "reflectance"), "<reflectance>"));
-        } else if (type == "microfacet") {
-          m.kind = MAT_BECKMANN_CONDUCTOR;
-          const double alpha = number(required(b, "alpha"), "<alpha>");
-          if (!(alpha >= 1e-3 && alpha <= 10.0)) fail(b.child("alpha"), "alpha must lie between 0.001 and 10");
-          const glm::dvec3 eta = color(required(b, "eta"), "<eta>"), k = color(required(b, "k"), "<k>");
-          if (!(glm::all(glm::greaterThan(eta, glm::dvec3(0.0))) && glm::all(glm::greaterThanEqual(k, glm::dvec3(0.0)))))
-            fail(b, "eta must be positive and k not negative in every channel");
-          m.albedo = constant(glm::dvec3(1.0));
-          m.params = glm::vec4(float(alpha), glm::vec3(eta));
-          m.params2 = glm::vec4(glm::vec3(k), 1.0f);  // the 3-2 skeleton's shadowing term
-        } else if (type == "glass" || type == "refraction") {
-          m.kind = MAT_CS184_GLASS;
-          const glm::dvec3 t = color(required(b, "transmittance"), "<transmittance>");
-          const glm::dvec3 r = type == "glass" ? color(required(b, "reflectance"), "<reflectance>") : glm::dvec3(1.0);
-          number(required(b, "roughness"), "<roughness>");  // read, not used: both BSDFs are smooth in the course
-          const double ior = number(required(b, "ior"), "<ior>");
-          if (!(ior > 0.0 && ior < 100.0)) fail(b.child("ior"), "ior must lie between 0 and 100");
-          m.albedo = constant(t);
-          m.params = glm::vec4(float(ior), type == "refraction" ? 1.0f : 0.0f, 0.0f, 0.0f);
-          m.params2 = glm::vec4(glm::vec3(r), 0.0f);
-        } else {
-          unsupported(b);
-        }
+    // The course's BSDFs in wavepath's kinds and their parameters' names.
+    std::optional<MaterialParams> m;
+    for (pugi::xml_node b : cgl_technique(effect).children()) {
+      if (b.type() != pugi::node_element) continue;
+      const std::string type = b.name();
+      const auto at = [this](pugi::xml_node n) { return Complaint([this, n](const std::string& problem) { fail(n, problem); }); };
+      if (type == "emission") {
+        m.emplace(MAT_LIGHT, name, at(b));
+        m->texture("emit", constant(color(required(b, "radiance"), "<radiance>")), at(b.child("radiance")));
+      } else if (type == "mirror") {
+        m.emplace(MAT_METAL, name, at(b));  // roughness 0: a mirror tinted by the reflectance
+        m->texture("albedo", constant(color(required(b, "reflectance"), "<reflectance>")), at(b.child("reflectance")));
+      } else if (type == "microfacet") {
+        m.emplace(MAT_BECKMANN_CONDUCTOR, name, at(b));
+        m->number("alpha", float(number(required(b, "alpha"), "<alpha>")), at(b.child("alpha")));
+        m->colour("eta", glm::vec3(color(required(b, "eta"), "<eta>")), at(b.child("eta")));
+        m->colour("k", glm::vec3(color(required(b, "k"), "<k>")), at(b.child("k")));
+        m->choice("shadowing", "cs184");  // the 3-2 skeleton's shadowing term
+      } else if (type == "glass" || type == "refraction") {
+        m.emplace(MAT_CS184_GLASS, name, at(b));
+        m->texture("transmittance", constant(color(required(b, "transmittance"), "<transmittance>")), at(b.child("transmittance")));
+        if (type == "glass") m->colour("reflectance", glm::vec3(color(required(b, "reflectance"), "<reflectance>")), at(b.child("reflectance")));
+        number(required(b, "roughness"), "<roughness>");  // read, not used: both BSDFs are smooth in the course
+        const double ior = number(required(b, "ior"), "<ior>");
+        if (!(ior > 0.0 && ior < 100.0)) fail(b.child("ior"), "ior must lie between 0 and 100");
+        m->number("ior", float(ior), at(b.child("ior")));
+        m->flag("refraction_only", type == "refraction");
+      } else {
+        unsupported(b);
       }
     }
-    if (!fromCgl) {
+    if (!m) {
       // profile_COMMON: the technique of sid "common"; its shading model's diffuse colour.
+      glm::dvec3 diffuse(0.5);
       for (pugi::xml_node t : effect.child("profile_COMMON").children("technique")) {
         for (pugi::xml_node model : t.children()) {
-          const std::string name = model.name();
-          if (name != "phong" && name != "lambert" && name != "blinn") continue;
+          const std::string shading = model.name();
+          if (shading != "phong" && shading != "lambert" && shading != "blinn") continue;
           pugi::xml_node d = model.child("diffuse");
           if (!d) continue;
           if (d.child("texture")) fail(d, "a diffuse <texture> is not supported (colours only)");
           if (pugi::xml_node c = d.child("color")) diffuse = color(c, "<color>");
         }
       }
-      m.albedo = constant(diffuse);
+      m.emplace(MAT_LAMBERTIAN, name, [this, effect](const std::string& problem) { fail(effect, problem); });
+      m->texture("albedo", constant(diffuse));
     }
-    scene_.materials.push_back(m);
-    uint32_t id = uint32_t(scene_.materials.size() - 1);
+    const uint32_t id = add_material(scene_, *m);
     materials_.emplace(mat.internal_object(), id);
     return id;
   }
@@ -649,12 +641,9 @@ class ColladaReader {
       const glm::dvec3 facing = glm::dvec3(m * glm::dvec4(0, 0, -1, 1)) - o;
       const glm::dvec3 dx = glm::dvec3(m * glm::dvec4(-1, 0, 0, 0)), dy = glm::dvec3(m * glm::dvec4(0, 1, 0, 0));
       if (glm::length(glm::cross(dx, dy)) == 0.0 || glm::length(facing) == 0.0) fail(kind, "the area light's transform flattens it");
-      SceneMaterial em;
-      em.kind = MAT_LIGHT;
-      em.name = light.attribute("id").value();
-      em.emission = constant(glm::dvec3(c));
-      scene_.materials.push_back(em);
-      const uint32_t mat = uint32_t(scene_.materials.size() - 1);
+      MaterialParams em(MAT_LIGHT, light.attribute("id").value(), [this, kind](const std::string& problem) { fail(kind, problem); });
+      em.texture("emit", constant(glm::dvec3(c)));
+      const uint32_t mat = add_material(scene_, em);
       glm::dvec3 q[4] = {o - 0.5 * dx - 0.5 * dy, o + 0.5 * dx - 0.5 * dy, o + 0.5 * dx + 0.5 * dy, o - 0.5 * dx + 0.5 * dy};
       const bool flip = glm::dot(glm::cross(dx, dy), facing) < 0.0;  // the front (cross of the sides) must face `facing`
       LightPlane plane{o, glm::normalize(facing), glm::dvec3(INFINITY), glm::dvec3(-INFINITY), 1.0, uint32_t(scene_.lightOnlyTriangles.size())};

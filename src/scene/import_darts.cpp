@@ -15,6 +15,7 @@
 #include "scene/darts_tests.h"
 #include "scene/json_cursor.h"
 #include "scene/kinds.h"
+#include "scene/materials/material_module.h"
 #include "scene/obj_mesh.h"
 #include "scene/transform.h"
 #include "util/error.h"
@@ -316,9 +317,6 @@ class DartsImporter {
     m.interior = in;
     m.exterior = out;
     scene_.materials.push_back(m);
-    leaves_.push_back(leaves_[material]);
-    layers_.push_back(layers_[material]);
-    sheens_.push_back(sheens_[material]);
     return bounding_[key] = uint32_t(scene_.materials.size() - 1);
   }
 
@@ -409,274 +407,88 @@ class DartsImporter {
     if (j.has("recursive") && !j["recursive"].json().is_boolean()) j["recursive"].fail("expected true or false");
   }
 
-  // An albedo: a colour or texture whose constant values must not exceed 1.
-  uint32_t albedo_param(const JsonCursor& j, const char* key) {
-    if (!j.has(key)) return add_texture(constant_texture(glm::vec3(0.8f)));
-    glm::vec3 c(0.0f);
-    uint32_t tex = texture_param(j[key], 0, &c);
-    if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) j[key].fail("albedo above 1 would create energy");
-    return tex;
-  }
+  // ---- materials -------------------------------------------------------------
+  // A material's keys are its kind's parameters (src/scene/materials/): a
+  // parameter "g.k" is key k of an object "g"; a number or colour may be a
+  // texture where its kind names one to stand for it.
 
-  // The tint of a microfacet conductor or dielectric: an albedo, white unless given.
-  uint32_t tint_param(const JsonCursor& j) {
-    return j.has("albedo") ? albedo_param(j, "albedo") : add_texture(constant_texture(glm::vec3(1.0f)));
-  }
-
-  // A number in [0, 1] (glTF's roughness and metallic).
-  static float unit_number(const JsonCursor& j, const char* key, float fallback) {
-    const float v = j.number_or(key, fallback);
-    if (!(v >= 0.0f && v <= 1.0f)) j[key].fail(std::string(key) + " must lie in [0, 1]");
-    return v;
-  }
-
-  // GGX's alpha from a perceptual `roughness` (alpha = roughness^2, as glTF
-  // defines it; default 0.3); 0, a smooth delta lobe, below GGX_MIN_ALPHA.
-  static float smooth_or_ggx_alpha(const JsonCursor& j) {
-    const float r = unit_number(j, "roughness", 0.3f);
-    return r * r >= GGX_MIN_ALPHA ? r * r : 0.0f;
-  }
-
-  // A conductor's complex index of refraction, the real part `eta` (above 0)
-  // or the imaginary part `k` (from 0), per channel, below 1000; required.
-  static glm::vec3 conductor_index(const JsonCursor& j, const char* key, bool zeroAllowed) {
-    const glm::vec3 v = j[key].vec3();
-    const bool low = zeroAllowed ? glm::all(glm::greaterThanEqual(v, glm::vec3(0.0f))) : glm::all(glm::greaterThan(v, glm::vec3(0.0f)));
-    if (!(low && glm::all(glm::lessThan(v, glm::vec3(1e3f)))))
-      j[key].fail(std::string(key) + (zeroAllowed ? " must lie from 0 to 1000" : " must lie between 0 and 1000") + " in every channel");
-    return v;
+  static Complaint complaint_at(const JsonCursor& j) {
+    return [j](const std::string& problem) { j.fail(problem); };
   }
 
   uint32_t add_material(const JsonCursor& j, const std::string& name) {
-    std::string type = j["type"].string();
-    SceneMaterial m;
-    m.name = name;
-    if (type == "lambertian") {
-      j.allow_only({"type", "name", "albedo"});
-      m.albedo = albedo_param(j, "albedo");
-    } else if (type == "diffuse_light") {
-      j.allow_only({"type", "name", "emit"});
-      m.kind = MAT_LIGHT;
-      m.emission = texture_param(j["emit"]);
-    } else if (type == "metal") {
-      j.allow_only({"type", "name", "albedo", "roughness"});
-      m.kind = MAT_METAL;
-      m.albedo = albedo_param(j, "albedo");
-      // Clamped to [0, 1], as darts clamps it (metal.cpp).
-      m.params.x = std::clamp(j.number_or("roughness", 0.0f), 0.0f, 1.0f);
-    } else if (type == "dielectric") {
-      j.allow_only({"type", "name", "ior"});
-      m.kind = MAT_DIELECTRIC;
-      m.params.x = j.has("ior") ? j["ior"].positive_number() : 1.5f;
-    } else if (type == "phong" || type == "blinn-phong") {
-      j.allow_only({"type", "name", "albedo", "exponent"});
-      m.kind = type == "phong" ? MAT_PHONG : MAT_BLINN_PHONG;
-      m.albedo = albedo_param(j, "albedo");
-      m.params.x = j.number_or("exponent", 20.0f);
-      if (!(m.params.x >= 0.0f && m.params.x <= 1e6f)) j["exponent"].fail("exponent must lie in [0, 1e6]");
-    } else if (type == "rough_conductor") {
-      j.allow_only({"type", "name", "albedo", "eta", "k", "roughness"});
-      m.kind = MAT_ROUGH_CONDUCTOR;
-      m.albedo = tint_param(j);
-      m.params = glm::vec4(smooth_or_ggx_alpha(j), conductor_index(j, "eta", false));
-      m.params2 = glm::vec4(conductor_index(j, "k", true), 0.0f);
-    } else if (type == "beckmann_conductor") {
-      j.allow_only({"type", "name", "albedo", "alpha", "eta", "k", "shadowing"});
-      m.kind = MAT_BECKMANN_CONDUCTOR;
-      m.albedo = tint_param(j);
-      const float alpha = j["alpha"].positive_number();
-      if (!(alpha >= 1e-3f && alpha <= 10.0f)) j["alpha"].fail("alpha must lie between 0.001 and 10");
-      m.params = glm::vec4(alpha, conductor_index(j, "eta", false));
-      // Smith's masking-shadowing, or the CS184 skeleton's variant of it.
-      const std::string shadowing = j.has("shadowing") ? j["shadowing"].string() : "smith";
-      if (shadowing != "smith" && shadowing != "cs184") j["shadowing"].fail("shadowing must be \"smith\" or \"cs184\"");
-      m.params2 = glm::vec4(conductor_index(j, "k", true), shadowing == "cs184" ? 1.0f : 0.0f);
-    } else if (type == "cs184_glass") {
-      j.allow_only({"type", "name", "transmittance", "reflectance", "ior", "refraction_only"});
-      m.kind = MAT_CS184_GLASS;
-      m.albedo = j.has("transmittance") ? albedo_param(j, "transmittance") : add_texture(constant_texture(glm::vec3(1.0f)));
-      const glm::vec3 reflectance = j.has("reflectance") ? j["reflectance"].vec3() : glm::vec3(1.0f);
-      if (!(glm::all(glm::greaterThanEqual(reflectance, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(reflectance, glm::vec3(1.0f)))))
-        j["reflectance"].fail("reflectance must lie in [0, 1] in every channel");
-      if (j.has("refraction_only") && !j["refraction_only"].json().is_boolean()) j["refraction_only"].fail("expected true or false");
-      const bool refractionOnly = j.has("refraction_only") && j["refraction_only"].json().get<bool>();
-      m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, refractionOnly ? 1.0f : 0.0f, 0.0f, 0.0f);
-      m.params2 = glm::vec4(reflectance, 0.0f);
-    } else if (type == "rough_dielectric") {
-      j.allow_only({"type", "name", "albedo", "ior", "roughness"});
-      m.kind = MAT_ROUGH_DIELECTRIC;
-      m.albedo = tint_param(j);
-      m.params = glm::vec4(j.has("ior") ? j["ior"].positive_number() : 1.5f, smooth_or_ggx_alpha(j), 0.0f, 0.0f);
-    } else if (type == "metal_rough") {
-      j.allow_only({"type", "name", "base_color", "metallic", "roughness", "metallic_roughness", "ior", "transmission", "emit", "specular",
-                    "specular_color", "volume", "iridescence", "anisotropy"});
-      m.kind = MAT_METAL_ROUGH;
-      // KHR_materials_specular: a factor in [0, 1] and a colour from 0, each a
-      // number or a texture (params2 holds the numbers less 1).
-      if (j.has("specular")) {
-        glm::vec3 c(1.0f);
-        const uint32_t t = texture_param(j["specular"], 0, &c);
-        if (j["specular"].is_object()) m.specular = t;
-        else if (c.x > 1.0f) j["specular"].fail("specular must lie in [0, 1]");
-        else m.params2.w = c.x - 1.0f;
-      }
-      // KHR_materials_volume: the transmission refracts into a volume whose
-      // absorption takes the light to `attenuation_color` (default 1) after
-      // `attenuation_distance` (default: none).
-      if (j.has("volume")) {
-        const JsonCursor v = j["volume"].expect_object();
-        v.allow_only({"attenuation_color", "attenuation_distance", "dispersion"});
-        glm::vec3 color(1.0f);
-        if (v.has("attenuation_color")) {
-          color = v["attenuation_color"].vec3();
-          if (!(glm::all(glm::greaterThan(color, glm::vec3(0.0f))) && glm::all(glm::lessThanEqual(color, glm::vec3(1.0f)))))
-            v["attenuation_color"].fail("attenuation_color must lie in (0, 1] in every channel");
-        }
-        const float distance = v.has("attenuation_distance") ? v["attenuation_distance"].positive_number() : 1e30f;
-        m.volume = true;
-        m.attenuation = -glm::log(color) / distance;
-        // KHR_materials_dispersion: 20 / Abbe number (default 0: none).
-        if (v.has("dispersion")) {
-          m.dispersion = v["dispersion"].number();
-          if (!(m.dispersion >= 0.0f && m.dispersion <= 1000.0f)) v["dispersion"].fail("dispersion must lie in [0, 1000] (20 / Abbe number)");
-        }
-      }
-      // KHR_materials_iridescence: a thin film of `ior` (default 1.3) and a
-      // thickness in nm from `thickness_minimum` (default 100) where
-      // `thickness_texture`'s green is 0 to `thickness_maximum` (default 400)
-      // where it is 1 (the maximum without one), mixed in by `factor`.
-      if (j.has("iridescence")) {
-        const JsonCursor f = j["iridescence"].expect_object();
-        f.allow_only({"factor", "ior", "thickness_minimum", "thickness_maximum", "thickness_texture"});
-        glm::vec3 c(1.0f);
-        const bool textured = f.has("factor") && f["factor"].is_object();
-        if (f.has("factor")) {
-          const uint32_t t = texture_param(f["factor"], 0, &c);
-          if (textured) m.iridescenceTexture = t;
-          else if (c.x > 1.0f) f["factor"].fail("factor must lie in [0, 1]");
-        }
-        const float ior = f.has("ior") ? f["ior"].positive_number() : 1.3f;
-        if (!(ior >= 1.0f && ior <= 10.0f)) f["ior"].fail("ior must lie in [1, 10]");
-        const float lo = f.number_or("thickness_minimum", 100.0f), hi = f.number_or("thickness_maximum", 400.0f);
-        if (!(lo >= 0.0f && lo <= 1e5f)) f["thickness_minimum"].fail("thickness_minimum must lie in [0, 100000] nm");
-        if (!(hi >= 0.0f && hi <= 1e5f)) f["thickness_maximum"].fail("thickness_maximum must lie in [0, 100000] nm");
-        m.iridescence = glm::vec4(textured ? 1.0f : c.x, ior, lo, hi);
-        if (f.has("thickness_texture")) m.iridescenceThickness = texture_param(f["thickness_texture"]);
-      }
-      // KHR_materials_anisotropy: `strength` in [0, 1], `rotation` of the
-      // direction from the tangent (radians, default 0), `texture` of
-      // directions (red, green) and strengths (blue).
-      if (j.has("anisotropy")) {
-        const JsonCursor a = j["anisotropy"].expect_object();
-        a.allow_only({"strength", "rotation", "texture"});
-        m.anisotropy = unit_number(a, "strength", 1.0f);
-        m.anisotropyRotation = a.number_or("rotation", 0.0f);
-        if (!(std::fabs(m.anisotropyRotation) <= 1e4f)) a["rotation"].fail("rotation must be a number of radians");
-        if (a.has("texture")) m.anisotropyTexture = texture_param(a["texture"]);
-      }
-      if (j.has("specular_color")) {
-        glm::vec3 c(1.0f);
-        const uint32_t t = texture_param(j["specular_color"], 0, &c);
-        if (j["specular_color"].is_object()) m.specularColor = t;
-        else m.params2 = glm::vec4(c - glm::vec3(1.0f), m.params2.w);
-      }
-      if (j.has("emit")) m.emission = texture_param(j["emit"]);  // as glTF's emissive materials, which also scatter
-      // As glTF's metallicRoughnessTexture: green scales roughness, blue metallic.
-      if (j.has("metallic_roughness")) m.amount = texture_param(j["metallic_roughness"]);
-      m.albedo = j.has("base_color") ? albedo_param(j, "base_color") : add_texture(constant_texture(glm::vec3(1.0f)));
-      m.params = glm::vec4(unit_number(j, "roughness", 1.0f), unit_number(j, "metallic", 1.0f),
-                           j.has("ior") ? j["ior"].positive_number() : 1.5f, unit_number(j, "transmission", 0.0f));
-    } else if (type == "clearcoat" || type == "sheen") {
-      // glTF's layers (KHR_materials_clearcoat, KHR_materials_sheen) over a
-      // base material, each parameter a number or a texture: a coat's factor
-      // and roughness (default 1 and 0) and ior (1.5); a sheen's colour and
-      // roughness (default white and 0.5).
-      const bool coat = type == "clearcoat";
-      if (coat) j.allow_only({"type", "name", "base", "factor", "roughness", "ior", "emit"});
-      else j.allow_only({"type", "name", "base", "color", "roughness", "emit"});
-      m.kind = coat ? MAT_CLEARCOAT : MAT_SHEEN;
-      if (j.has("emit")) m.emission = texture_param(j["emit"]);
-      m.a = layer_base(j["base"], name + "/base");
-      m.albedo = unit_texture(j, coat ? "factor" : "color", 1.0f);
-      m.amount = unit_texture(j, "roughness", coat ? 0.0f : 0.5f);
-      if (coat) m.params.x = j.has("ior") ? j["ior"].positive_number() : 1.5f;
-      if (leaves_[m.a] + 1 > int(BSDF_MAX_LOBES)) j.fail("a material may combine at most " + std::to_string(BSDF_MAX_LOBES) + " lobes in all");
-      if (layers_[m.a] + 1 > LAYERS_MAX) j.fail("layers may lie at most " + std::to_string(LAYERS_MAX) + " deep over a base material");
-      if (!coat && sheens_[m.a] > 0) j.fail("a material may hold at most one sheen");
-    } else if (type == "blend") {
-      j.allow_only({"type", "name", "amount", "a", "b"});
-      m.kind = MAT_BLEND;
-      m.amount = blend_amount(j);
-      m.a = blend_child(j["a"], name + "/a");
-      m.b = blend_child(j["b"], name + "/b");
-      if (leaves_[m.a] + leaves_[m.b] > BSDF_MAX_LOBES) {
-        j.fail("a blend may combine at most " + std::to_string(BSDF_MAX_LOBES) + " materials in all");
-      }
-      if (sheens_[m.a] + sheens_[m.b] > 1) j.fail("a material may hold at most one sheen");
-    } else if (type == "interface") {
-      j.allow_only({"type", "name"});
-      m.kind = MAT_INTERFACE;
-    } else {
+    const std::string type = j["type"].string();
+    const std::optional<uint32_t> kind = kind_named(material_kinds(), type);
+    if (!kind) {
       std::vector<std::string> kinds;
       for (const KindInfo& k : material_kinds()) kinds.push_back(k.name);
       std::string hint = did_you_mean(type, kinds);
       j["type"].fail("unknown material type \"" + type + "\"" + (hint.empty() ? " (expected " + kind_list(material_kinds()) + ")" : hint));
     }
-    scene_.materials.push_back(m);
-    const bool layer = m.kind == MAT_CLEARCOAT || m.kind == MAT_SHEEN;
-    leaves_.push_back(m.kind == MAT_BLEND ? leaves_[m.a] + leaves_[m.b] : layer ? leaves_[m.a] + 1 : 1);
-    layers_.push_back(layer ? layers_[m.a] + 1 : 0);
-    sheens_.push_back(m.kind == MAT_BLEND ? sheens_[m.a] + sheens_[m.b] : (layer ? sheens_[m.a] : 0) + (m.kind == MAT_SHEEN ? 1 : 0));
-    return uint32_t(scene_.materials.size() - 1);
-  }
-
-  // A layer's parameter in [0, 1]: a number, or a texture, `fallback` if absent.
-  uint32_t unit_texture(const JsonCursor& j, const char* key, float fallback) {
-    if (!j.has(key)) return add_texture(constant_texture(glm::vec3(fallback)));
-    glm::vec3 c(0.0f);
-    const uint32_t tex = texture_param(j[key], 0, &c);
-    if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) j[key].fail(std::string(key) + " must lie in [0, 1]");
-    return tex;
-  }
-
-  // The base a layer covers: a material name or an inline material; not a
-  // light, and not emitting (the layer carries the surface's emission).
-  uint32_t layer_base(const JsonCursor& j, const std::string& name) {
-    const uint32_t m = blend_child(j, name);
-    if (scene_.materials[m].emission != WP_INVALID) j.fail("a layer's base cannot emit: give \"emit\" to the layer");
-    return m;
-  }
-
-  uint32_t blend_amount(const JsonCursor& j) {
-    if (!j.has("amount")) return add_texture(constant_texture(glm::vec3(0.5f)));
-    JsonCursor a = j["amount"];
-    if (a.is_object() && a.has("type") && a["type"].is_string() && a["type"].string() == "fresnel") {
-      a.allow_only({"type", "ior"});
-      SceneTexture t;
-      t.kind = TEX_FRESNEL;
-      t.ior = a.has("ior") ? a["ior"].positive_number() : 1.5f;
-      return add_texture(t);
+    const MaterialModule& module = material_module(*kind);
+    std::vector<std::string> keys = {"type", "name"};
+    std::map<std::string, std::vector<std::string>> groups;
+    for (const ParamSpec& p : module.params) {
+      const size_t dot = p.name.find('.');
+      if (dot == std::string::npos) keys.push_back(p.name);
+      else groups[p.name.substr(0, dot)].push_back(p.name.substr(dot + 1));
     }
-    glm::vec3 c(0.0f);
-    uint32_t tex = texture_param(a, 0, &c);
-    if (c.x > 1.0f || c.y > 1.0f || c.z > 1.0f) a.fail("blend amount must lie in [0, 1]");
-    return tex;
+    j.allow_only(keys);
+    MaterialParams params(*kind, name, complaint_at(j));
+    for (const ParamSpec& p : module.params) {
+      const size_t dot = p.name.find('.');
+      if (p.type == ParamType::Group) {
+        if (!j.has(p.name.c_str())) continue;
+        j[p.name.c_str()].expect_object().allow_only(groups[p.name]);
+        params.flag(p.name, true, complaint_at(j[p.name.c_str()]));
+        continue;
+      }
+      const std::string group = dot == std::string::npos ? "" : p.name.substr(0, dot);
+      const std::string key = dot == std::string::npos ? p.name : p.name.substr(dot + 1);
+      if (!group.empty() && !j.has(group.c_str())) continue;
+      const JsonCursor parent = group.empty() ? j : j[group.c_str()];
+      if (!parent.has(key.c_str())) continue;
+      read_param(parent[key.c_str()], p, params, name + "/" + key);
+    }
+    return wp::add_material(scene_, params);
   }
 
-  // A blend's a or b: a material name or an inline material; never a light
-  // (emission belongs to the surface's own material).
-  uint32_t blend_child(const JsonCursor& j, const std::string& name) {
-    uint32_t m;
-    if (j.is_string()) {
-      auto it = named_.find(j.string());
-      if (it == named_.end()) j.fail("no material named \"" + j.string() + "\" (materials must be defined before use)");
-      m = it->second;
-    } else {
-      m = add_material(j.expect_object(), name);
+  void read_param(const JsonCursor& v, const ParamSpec& p, MaterialParams& params, const std::string& name) {
+    const Complaint at = complaint_at(v);
+    if (!p.textureName.empty() && v.is_object()) {
+      params.texture(p.textureName, texture_param(v), at);
+      return;
     }
-    if (scene_.materials[m].kind == MAT_LIGHT) j.fail("a blend or a layer cannot contain a diffuse_light");
-    if (scene_.materials[m].kind == MAT_INTERFACE) j.fail("a blend or a layer cannot contain an interface (it has no surface)");
-    return m;
+    switch (p.type) {
+      case ParamType::Number: params.number(p.name, v.number(), at); break;
+      case ParamType::Colour: params.colour(p.name, v.vec3(), at); break;
+      case ParamType::Texture:
+        if (p.fresnelAllowed && v.is_object() && v.has("type") && v["type"].is_string() && v["type"].string() == "fresnel") {
+          v.allow_only({"type", "ior"});
+          SceneTexture t;
+          t.kind = TEX_FRESNEL;
+          t.ior = v.has("ior") ? v["ior"].positive_number() : 1.5f;
+          params.texture(p.name, add_texture(t), at);
+        } else {
+          params.texture(p.name, texture_param(v), at);
+        }
+        break;
+      case ParamType::Material: params.material(p.name, material_part(v, name), at); break;
+      case ParamType::Choice: params.choice(p.name, v.string(), at); break;
+      case ParamType::Flag:
+        if (!v.json().is_boolean()) v.fail("expected true or false");
+        params.flag(p.name, v.json().get<bool>(), at);
+        break;
+      case ParamType::Group: break;
+    }
+  }
+
+  // A blend's part or a layer's base: a material's name or an inline material.
+  uint32_t material_part(const JsonCursor& j, const std::string& name) {
+    if (!j.is_string()) return add_material(j.expect_object(), name);
+    auto it = named_.find(j.string());
+    if (it == named_.end()) j.fail("no material named \"" + j.string() + "\" (materials must be defined before use)");
+    return it->second;
   }
 
   uint32_t material_of(const JsonCursor& surface) {
@@ -693,16 +505,7 @@ class DartsImporter {
   }
 
   uint32_t interface_material() {
-    if (interface_ == WP_INVALID) {
-      SceneMaterial m;
-      m.kind = MAT_INTERFACE;
-      m.name = "interface";
-      scene_.materials.push_back(m);
-      leaves_.push_back(1);
-      layers_.push_back(0);
-      sheens_.push_back(0);
-      interface_ = uint32_t(scene_.materials.size() - 1);
-    }
+    if (interface_ == WP_INVALID) interface_ = wp::add_material(scene_, MaterialParams(MAT_INTERFACE, "interface", complaint_at(JsonCursor(doc_, "", file_))));
     return interface_;
   }
 
@@ -905,20 +708,17 @@ class DartsImporter {
         mtlToScene[i] = named->second;
         continue;
       }
-      SceneMaterial m;
-      m.name = prefix + om.name;
-      if (!om.diffuseMap.empty()) {
-        m.albedo = add_image_texture(scene_, om.diffuseMap, "map_Kd of " + om.name + ", loaded by " + file_ + " at " + j.path());
+      // Kd (or map_Kd) and Ke as a Lambertian that may emit; Ke without Kd a light.
+      const bool light = is_nonzero(om.emission) && !is_nonzero(om.diffuse);
+      MaterialParams m(light ? MAT_LIGHT : MAT_LAMBERTIAN, prefix + om.name, complaint_at(j));
+      if (is_nonzero(om.emission)) m.texture("emit", add_texture(constant_texture(glm::max(om.emission, 0.0f))));
+      if (light) {
+      } else if (!om.diffuseMap.empty()) {
+        m.texture("albedo", add_image_texture(scene_, om.diffuseMap, "map_Kd of " + om.name + ", loaded by " + file_ + " at " + j.path()));
       } else {
-        m.albedo = add_texture(constant_texture(glm::clamp(om.diffuse, 0.0f, 1.0f)));
+        m.texture("albedo", add_texture(constant_texture(glm::clamp(om.diffuse, 0.0f, 1.0f))));
       }
-      if (is_nonzero(om.emission)) m.emission = add_texture(constant_texture(glm::max(om.emission, 0.0f)));
-      if (is_nonzero(om.emission) && !is_nonzero(om.diffuse)) m.kind = MAT_LIGHT;
-      scene_.materials.push_back(m);
-      leaves_.push_back(1);
-      layers_.push_back(0);
-      sheens_.push_back(0);
-      mtlToScene[i] = uint32_t(scene_.materials.size() - 1);
+      mtlToScene[i] = wp::add_material(scene_, m);
     }
     if (!override)
       for (uint32_t& m : mtlToScene) m = with_media(j, m);
@@ -1067,10 +867,8 @@ class DartsImporter {
       parse_surface(child, xform);
       if (!sampling) continue;
       if (scene_.pointLights.size() != points) child.fail("a point light has no surface to sample");
-      SceneMaterial m;
-      m.name = "child " + std::to_string(t.childMaterials.size());
-      m.kind = MAT_LIGHT;
-      m.emission = add_texture(constant_texture(glm::vec3(1.0f)));
+      MaterialParams m(MAT_LIGHT, "child " + std::to_string(t.childMaterials.size()), complaint_at(child));
+      m.texture("emit", add_texture(constant_texture(glm::vec3(1.0f))));
       // Materials defined inside children come first; this one goes last.
       for (size_t i = triangles; i < scene_.triangles.size(); ++i) scene_.triangles[i].material = uint32_t(scene_.materials.size());
       for (size_t i = spheres; i < scene_.spheres.size(); ++i) {
@@ -1078,11 +876,7 @@ class DartsImporter {
           child.fail("spheres are sampled by the cone they subtend: an ellipsoid (non-uniform scale) cannot be");
         scene_.spheres[i].material = uint32_t(scene_.materials.size());
       }
-      t.childMaterials.push_back(uint32_t(scene_.materials.size()));
-      scene_.materials.push_back(m);
-      leaves_.push_back(1);
-      layers_.push_back(0);
-      sheens_.push_back(0);
+      t.childMaterials.push_back(wp::add_material(scene_, m));
     }
   }
 
@@ -1091,9 +885,6 @@ class DartsImporter {
   Scene scene_;
   std::map<std::string, ObjFile> meshes_;  // parsed OBJ files by path
   std::map<std::string, uint32_t> named_;
-  std::vector<int> leaves_;  // per material: the lobes it flattens to (blends: the sum of their children's)
-  std::vector<int> layers_;  // per material: the layers over its base (0: not a layer)
-  std::vector<int> sheens_;  // per material: the sheens in its tree
   std::map<std::string, float> phases_;     // named phase functions: their g
   std::map<std::string, uint32_t> media_;   // named media
   std::set<std::string> unused_media_;      // named media no surface or camera names yet

@@ -22,11 +22,13 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "scene/gltf_accessors.h"
 #include "scene/kinds.h"
 #include "scene/importers.h"
+#include "scene/materials/material_module.h"
 #include "util/error.h"
 #include "util/files.h"
 
@@ -438,15 +440,9 @@ class GltfImporter {
 
   uint32_t material_for(int index, const std::string& where) {
     if (index < 0) {  // the specification's default material
-      if (defaultMaterial_ == WP_INVALID) {
-        SceneMaterial m;
-        m.kind = MAT_METAL_ROUGH;
-        m.name = "glTF default material";
-        m.albedo = add_texture(scene_, constant_texture(glm::vec3(1.0f)));
-        m.params = glm::vec4(1.0f, 1.0f, 1.5f, 0.0f);
-        scene_.materials.push_back(m);
-        defaultMaterial_ = uint32_t(scene_.materials.size() - 1);
-      }
+      // The module's defaults are the specification's: white, metallic 1, roughness 1, ior 1.5.
+      if (defaultMaterial_ == WP_INVALID)
+        defaultMaterial_ = add_material(scene_, MaterialParams(MAT_METAL_ROUGH, "glTF default material", complaint(where)));
       return defaultMaterial_;
     }
     if (index >= int(model_.materials.size())) fail(where, "names material " + std::to_string(index) + ", which does not exist");
@@ -456,51 +452,55 @@ class GltfImporter {
     const std::string at = "/materials/" + std::to_string(index);
     const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
     if (g.occlusionTexture.index >= 0) unread_.insert("occlusion maps (a path tracer computes occlusion)");
-    SceneMaterial m;
-    m.kind = MAT_METAL_ROUGH;
-    m.name = g.name.empty() ? "material " + std::to_string(index) : g.name;
+    const std::string name = g.name.empty() ? "material " + std::to_string(index) : g.name;
+    MaterialParams m(MAT_METAL_ROUGH, name, complaint(at));
     const glm::vec3 base = factor3(pbr.baseColorFactor, glm::vec3(1.0f), at + "/pbrMetallicRoughness/baseColorFactor");
     const std::vector<double>& baseFactor = pbr.baseColorFactor;
     const float alpha = baseFactor.size() == 4 ? unit(baseFactor[3], at + "/pbrMetallicRoughness/baseColorFactor/3") : 1.0f;
-    m.albedo = texture_times(TextureRef(pbr.baseColorTexture), glm::vec4(base, alpha), ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture");
+    m.texture("base_color",
+              texture_times(TextureRef(pbr.baseColorTexture), glm::vec4(base, alpha), ColorEncoding::Srgb, at + "/pbrMetallicRoughness/baseColorTexture"),
+              complaint(at + "/pbrMetallicRoughness/baseColorFactor"));
+    uint32_t normalMap = WP_INVALID;
     if (g.normalTexture.index >= 0) {
       const float scale = float(g.normalTexture.scale);
       if (!std::isfinite(scale) || std::fabs(scale) > 1e3f) fail(at + "/normalTexture/scale", "must be a finite number of at most 1000");
-      m.normalMap = texture_times(TextureRef(g.normalTexture), glm::vec4(scale, scale, 1.0f, 1.0f), ColorEncoding::Linear, at + "/normalTexture");
+      normalMap = texture_times(TextureRef(g.normalTexture), glm::vec4(scale, scale, 1.0f, 1.0f), ColorEncoding::Linear, at + "/normalTexture");
     }
-    const float metallic = unit(pbr.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor");
-    const float roughness = unit(pbr.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor");
+    m.number("metallic", unit(pbr.metallicFactor, at + "/pbrMetallicRoughness/metallicFactor"), complaint(at + "/pbrMetallicRoughness/metallicFactor"));
+    m.number("roughness", unit(pbr.roughnessFactor, at + "/pbrMetallicRoughness/roughnessFactor"),
+             complaint(at + "/pbrMetallicRoughness/roughnessFactor"));
     if (pbr.metallicRoughnessTexture.index >= 0)
-      m.amount = texture_times(TextureRef(pbr.metallicRoughnessTexture), glm::vec4(1.0f), ColorEncoding::Linear,
-                               at + "/pbrMetallicRoughness/metallicRoughnessTexture");
-    float ior = 1.5f;
+      m.texture("metallic_roughness", texture_times(TextureRef(pbr.metallicRoughnessTexture), glm::vec4(1.0f), ColorEncoding::Linear,
+                                                    at + "/pbrMetallicRoughness/metallicRoughnessTexture"));
     auto iorExt = g.extensions.find("KHR_materials_ior");
     if (iorExt != g.extensions.end() && iorExt->second.Has("ior")) {
-      ior = float(iorExt->second.Get("ior").GetNumberAsDouble());
+      const float ior = float(iorExt->second.Get("ior").GetNumberAsDouble());
       if (!(ior >= 1.0f && ior <= 10.0f)) fail(at + "/extensions/KHR_materials_ior/ior", "must lie in [1, 10]");
+      m.number("ior", ior, complaint(at + "/extensions/KHR_materials_ior/ior"));
     }
-    float transmission = 0.0f;
     auto transmissionExt = g.extensions.find("KHR_materials_transmission");
     if (transmissionExt != g.extensions.end()) {
       const tinygltf::Value& t = transmissionExt->second;
       const std::string tat = at + "/extensions/KHR_materials_transmission";
       if (t.Has("transmissionFactor")) {
         if (!t.Get("transmissionFactor").IsNumber()) fail(tat + "/transmissionFactor", "expected a number");
-        transmission = unit(t.Get("transmissionFactor").GetNumberAsDouble(), tat + "/transmissionFactor");
+        m.number("transmission", unit(t.Get("transmissionFactor").GetNumberAsDouble(), tat + "/transmissionFactor"),
+                 complaint(tat + "/transmissionFactor"));
       }
       if (t.Has("transmissionTexture"))
-        m.transmission = extension_texture(t, "transmissionTexture", glm::vec4(1.0f), ColorEncoding::Linear, tat);
+        m.texture("transmission_texture", extension_texture(t, "transmissionTexture", glm::vec4(1.0f), ColorEncoding::Linear, tat));
     }
-    m.params = glm::vec4(roughness, metallic, ior, transmission);
-    m.doubleSided = g.doubleSided;
+    // Surface properties, not the kind's parameters: on the top layer (below).
+    bool doubleSided = g.doubleSided;
+    float alphaCutoff = 0.0f;
     // MASK cuts out where alpha < cutoff; BLEND is rendered as stochastic
     // transparency (a ray passes with probability 1 - alpha), which a path
     // tracer converges to the blend a rasterizer draws.
     if (g.alphaMode == "MASK") {
       if (!(g.alphaCutoff >= 0.0 && g.alphaCutoff <= 1.0)) fail(at + "/alphaCutoff", "must lie in [0, 1]");
-      m.alphaCutoff = float(g.alphaCutoff);
+      alphaCutoff = float(g.alphaCutoff);
     } else if (g.alphaMode == "BLEND") {
-      m.alphaCutoff = -1.0f;
+      alphaCutoff = -1.0f;
     } else if (g.alphaMode != "OPAQUE") {
       fail(at + "/alphaMode", "is \"" + g.alphaMode + "\", not OPAQUE, MASK or BLEND");
     }
@@ -512,26 +512,35 @@ class GltfImporter {
         fail(at + "/extensions/KHR_materials_emissive_strength/emissiveStrength", "must be a number from 0 to 1e6");
     }
     const glm::vec3 emissive = factor3(g.emissiveFactor, glm::vec3(0.0f), at + "/emissiveFactor") * strength;
-    if (emissive != glm::vec3(0.0f))
-      m.emission = texture_times(TextureRef(g.emissiveTexture), glm::vec4(emissive, 1.0f), ColorEncoding::Srgb, at + "/emissiveTexture");
+    const uint32_t emission = emissive == glm::vec3(0.0f) ? WP_INVALID
+        : texture_times(TextureRef(g.emissiveTexture), glm::vec4(emissive, 1.0f), ColorEncoding::Srgb, at + "/emissiveTexture");
     read_specular(g, at, m);
-    read_volume(g, at, m);
+    if (read_volume(g, at, m)) doubleSided = true;
     read_iridescence(g, at, m);
     read_anisotropy(g, at, m);
     // The layers, each over what lies below (the extensions' order): the
     // base, a sheen, a clear coat. The top carries the surface's emission,
     // sidedness and cut-out; the base its alpha texture and normal map.
-    const uint32_t emission = m.emission;
-    m.emission = WP_INVALID;
-    scene_.materials.push_back(m);
-    uint32_t id = uint32_t(scene_.materials.size() - 1);
-    id = sheen_over(g, at, id);
-    id = clearcoat_over(g, at, id);
-    scene_.materials[id].emission = emission;
-    scene_.materials[id].doubleSided = m.doubleSided;
-    scene_.materials[id].alphaCutoff = m.alphaCutoff;
+    uint32_t coatNormalMap = WP_INVALID;
+    std::optional<MaterialParams> sheen = sheen_layer(g, at, name), coat = clearcoat_layer(g, at, name, coatNormalMap);
+    MaterialParams& top = coat ? *coat : sheen ? *sheen : m;
+    if (emission != WP_INVALID) top.texture("emit", emission, complaint(at + "/emissiveTexture"));
+    uint32_t id = add_material(scene_, m);
+    scene_.materials[id].normalMap = normalMap;
+    for (std::optional<MaterialParams>* layer : {&sheen, &coat}) {
+      if (!*layer) continue;
+      (*layer)->material("base", id);
+      id = add_material(scene_, **layer);
+      if (layer == &coat) scene_.materials[id].normalMap = coatNormalMap;
+    }
+    scene_.materials[id].doubleSided = doubleSided;
+    scene_.materials[id].alphaCutoff = alphaCutoff;
     materials_[index] = id;
     return id;
+  }
+
+  Complaint complaint(const std::string& where) const {
+    return [this, where](const std::string& problem) { fail(where, problem); };
   }
 
   // The UV set (0 or 1) a mesh of material m needs tangents in: that of a
@@ -604,7 +613,7 @@ class GltfImporter {
 
   // KHR_materials_specular on metal-rough m: params2 holds the factor and
   // colour less 1 (metal_rough.glsl), the textures scale them.
-  void read_specular(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) {
+  void read_specular(const tinygltf::Material& g, const std::string& at, MaterialParams& m) {
     auto found = g.extensions.find("KHR_materials_specular");
     if (found == g.extensions.end()) return;
     const tinygltf::Value& e = found->second;
@@ -612,10 +621,12 @@ class GltfImporter {
     if (!e.IsObject()) fail(eat, "expected an object");
     const float specular = extension_number(e, "specularFactor", 1.0f, 0.0f, 1.0f, eat);
     const glm::vec3 color = extension_color(e, "specularColorFactor", glm::vec3(1.0f), 1e3f, eat);
-    m.params2 = glm::vec4(color - glm::vec3(1.0f), specular - 1.0f);
-    if (e.Has("specularTexture")) m.specular = extension_texture(e, "specularTexture", glm::vec4(1.0f), ColorEncoding::AlphaAsGrey, eat);
+    m.number("specular", specular, complaint(eat + "/specularFactor"));
+    m.colour("specular_color", color, complaint(eat + "/specularColorFactor"));
+    if (e.Has("specularTexture"))
+      m.texture("specular_texture", extension_texture(e, "specularTexture", glm::vec4(1.0f), ColorEncoding::AlphaAsGrey, eat));
     if (e.Has("specularColorTexture"))
-      m.specularColor = extension_texture(e, "specularColorTexture", glm::vec4(1.0f), ColorEncoding::Srgb, eat);
+      m.texture("specular_color_texture", extension_texture(e, "specularColorTexture", glm::vec4(1.0f), ColorEncoding::Srgb, eat));
   }
 
   // KHR_materials_volume on metal-rough m: a thickness above 0 makes its
@@ -624,9 +635,10 @@ class GltfImporter {
   // absorption coefficient -ln(c) / d (README.md:150). The thickness
   // texture is a rasterizer's stand-in for the distance a path tracer
   // traces, and is not read (README.md:125).
-  void read_volume(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) const {
+  // Whether the material is a volume's boundary.
+  bool read_volume(const tinygltf::Material& g, const std::string& at, MaterialParams& m) const {
     auto found = g.extensions.find("KHR_materials_volume");
-    if (found == g.extensions.end()) return;
+    if (found == g.extensions.end()) return false;
     const tinygltf::Value& e = found->second;
     const std::string eat = at + "/extensions/KHR_materials_volume";
     if (!e.IsObject()) fail(eat, "expected an object");
@@ -634,104 +646,98 @@ class GltfImporter {
     const float distance = extension_number(e, "attenuationDistance", 1e30f, 0.0f, 1e30f, eat);
     if (!(distance > 0.0f)) fail(eat + "/attenuationDistance", "must be above 0");
     const glm::vec3 color = extension_color(e, "attenuationColor", glm::vec3(1.0f), 1.0f, eat);
-    m.volume = thickness > 0.0f;
-    m.attenuation = -glm::log(glm::max(color, glm::vec3(1e-6f))) / distance;
+    m.flag("volume", thickness > 0.0f, complaint(eat + "/thicknessFactor"));
+    m.colour("volume.attenuation_color", color, complaint(eat + "/attenuationColor"));
+    m.number("volume.attenuation_distance", distance, complaint(eat + "/attenuationDistance"));
     // KHR_materials_dispersion (20 / Abbe number) spreads the volume's index
     // over the colours; a thin-walled surface does not disperse (README.md).
     auto dispersion = g.extensions.find("KHR_materials_dispersion");
     if (dispersion != g.extensions.end()) {
       const std::string dat = at + "/extensions/KHR_materials_dispersion";
       if (!dispersion->second.IsObject()) fail(dat, "expected an object");
-      m.dispersion = extension_number(dispersion->second, "dispersion", 0.0f, 0.0f, 1000.0f, dat);
+      m.number("volume.dispersion", extension_number(dispersion->second, "dispersion", 0.0f, 0.0f, 1000.0f, dat), complaint(dat + "/dispersion"));
     }
     // "doubleSided has no effect on volume boundaries" (README.md:110-115):
     // paths inside meet the boundary from behind.
-    if (m.volume) m.doubleSided = true;
+    return thickness > 0.0f;
   }
 
   // KHR_materials_iridescence on metal-rough m: a thin film's factor (times
   // the red of its texture), ior and thickness range (nm; its texture's green
   // picks within it, the maximum without one; README.md:61-88).
-  void read_iridescence(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) {
+  void read_iridescence(const tinygltf::Material& g, const std::string& at, MaterialParams& m) {
     auto found = g.extensions.find("KHR_materials_iridescence");
     if (found == g.extensions.end()) return;
     const tinygltf::Value& e = found->second;
     const std::string eat = at + "/extensions/KHR_materials_iridescence";
     if (!e.IsObject()) fail(eat, "expected an object");
-    m.iridescence = glm::vec4(extension_number(e, "iridescenceFactor", 0.0f, 0.0f, 1.0f, eat), extension_number(e, "iridescenceIor", 1.3f, 1.0f, 10.0f, eat),
-                              extension_number(e, "iridescenceThicknessMinimum", 100.0f, 0.0f, 1e5f, eat),
-                              extension_number(e, "iridescenceThicknessMaximum", 400.0f, 0.0f, 1e5f, eat));
-    if (e.Has("iridescenceTexture")) m.iridescenceTexture = extension_texture(e, "iridescenceTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat);
+    m.flag("iridescence", true, complaint(eat));
+    m.number("iridescence.factor", extension_number(e, "iridescenceFactor", 0.0f, 0.0f, 1.0f, eat), complaint(eat + "/iridescenceFactor"));
+    m.number("iridescence.ior", extension_number(e, "iridescenceIor", 1.3f, 1.0f, 10.0f, eat), complaint(eat + "/iridescenceIor"));
+    m.number("iridescence.thickness_minimum", extension_number(e, "iridescenceThicknessMinimum", 100.0f, 0.0f, 1e5f, eat),
+             complaint(eat + "/iridescenceThicknessMinimum"));
+    m.number("iridescence.thickness_maximum", extension_number(e, "iridescenceThicknessMaximum", 400.0f, 0.0f, 1e5f, eat),
+             complaint(eat + "/iridescenceThicknessMaximum"));
+    if (e.Has("iridescenceTexture"))
+      m.texture("iridescence.factor_texture", extension_texture(e, "iridescenceTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat));
     if (e.Has("iridescenceThicknessTexture"))
-      m.iridescenceThickness = extension_texture(e, "iridescenceThicknessTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat);
+      m.texture("iridescence.thickness_texture", extension_texture(e, "iridescenceThicknessTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat));
   }
 
   // KHR_materials_anisotropy on metal-rough m: strength, rotation (radians)
   // and a texture of directions (red, green: 2 c - 1 in the tangent frame)
   // and strengths (blue), linear (README.md:65-90).
-  void read_anisotropy(const tinygltf::Material& g, const std::string& at, SceneMaterial& m) {
+  void read_anisotropy(const tinygltf::Material& g, const std::string& at, MaterialParams& m) {
     auto found = g.extensions.find("KHR_materials_anisotropy");
     if (found == g.extensions.end()) return;
     const tinygltf::Value& e = found->second;
     const std::string eat = at + "/extensions/KHR_materials_anisotropy";
     if (!e.IsObject()) fail(eat, "expected an object");
-    m.anisotropy = extension_number(e, "anisotropyStrength", 0.0f, 0.0f, 1.0f, eat);
-    m.anisotropyRotation = extension_number(e, "anisotropyRotation", 0.0f, -1e4f, 1e4f, eat);
-    if (e.Has("anisotropyTexture")) m.anisotropyTexture = extension_texture(e, "anisotropyTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat);
+    m.flag("anisotropy", true, complaint(eat));
+    m.number("anisotropy.strength", extension_number(e, "anisotropyStrength", 0.0f, 0.0f, 1.0f, eat), complaint(eat + "/anisotropyStrength"));
+    m.number("anisotropy.rotation", extension_number(e, "anisotropyRotation", 0.0f, -1e4f, 1e4f, eat), complaint(eat + "/anisotropyRotation"));
+    if (e.Has("anisotropyTexture"))
+      m.texture("anisotropy.texture", extension_texture(e, "anisotropyTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat));
   }
 
-  // A layer of `kind` over material `base`: its albedo (the coat factor or the
-  // sheen colour) and its roughness texture (read in green).
-  uint32_t add_layer(uint32_t kind, const std::string& name, uint32_t base, uint32_t albedo, uint32_t roughness) {
-    SceneMaterial layer;
-    layer.kind = kind;
-    layer.name = name;
-    layer.a = base;
-    layer.albedo = albedo;
-    layer.amount = roughness;
-    scene_.materials.push_back(layer);
-    return uint32_t(scene_.materials.size() - 1);
-  }
-
-  // KHR_materials_sheen over `base`, or base itself where the sheen is black.
-  uint32_t sheen_over(const tinygltf::Material& g, const std::string& at, uint32_t base) {
+  // KHR_materials_sheen, to lie over the base; none where the sheen is black.
+  std::optional<MaterialParams> sheen_layer(const tinygltf::Material& g, const std::string& at, const std::string& name) {
     auto found = g.extensions.find("KHR_materials_sheen");
-    if (found == g.extensions.end()) return base;
+    if (found == g.extensions.end()) return std::nullopt;
     const tinygltf::Value& e = found->second;
     const std::string eat = at + "/extensions/KHR_materials_sheen";
     if (!e.IsObject()) fail(eat, "expected an object");
     const glm::vec3 color = extension_color(e, "sheenColorFactor", glm::vec3(0.0f), 1.0f, eat);
     const float roughness = extension_number(e, "sheenRoughnessFactor", 0.0f, 0.0f, 1.0f, eat);
-    if (color == glm::vec3(0.0f)) return base;  // "If sheenColorFactor is zero, the whole sheen layer is disabled."
-    const uint32_t colorTexture = e.Has("sheenColorTexture")
-                                      ? extension_texture(e, "sheenColorTexture", glm::vec4(color, 1.0f), ColorEncoding::Srgb, eat)
-                                      : add_texture(scene_, constant_texture(color));
-    const uint32_t roughnessTexture =
-        e.Has("sheenRoughnessTexture") ? extension_texture(e, "sheenRoughnessTexture", glm::vec4(roughness), ColorEncoding::AlphaAsGrey, eat)
-                                       : add_texture(scene_, constant_texture(glm::vec3(roughness)));
-    return add_layer(MAT_SHEEN, scene_.materials[base].name + " (sheen)", base, colorTexture, roughnessTexture);
+    if (color == glm::vec3(0.0f)) return std::nullopt;  // "If sheenColorFactor is zero, the whole sheen layer is disabled."
+    MaterialParams sheen(MAT_SHEEN, name + " (sheen)", complaint(eat));
+    sheen.texture("color", e.Has("sheenColorTexture") ? extension_texture(e, "sheenColorTexture", glm::vec4(color, 1.0f), ColorEncoding::Srgb, eat)
+                                                     : add_texture(scene_, constant_texture(color)));
+    sheen.texture("roughness", e.Has("sheenRoughnessTexture")
+                                   ? extension_texture(e, "sheenRoughnessTexture", glm::vec4(roughness), ColorEncoding::AlphaAsGrey, eat)
+                                   : add_texture(scene_, constant_texture(glm::vec3(roughness))));
+    return sheen;
   }
 
-  // KHR_materials_clearcoat over `base`, or base itself where the coat is 0.
-  uint32_t clearcoat_over(const tinygltf::Material& g, const std::string& at, uint32_t base) {
+  // KHR_materials_clearcoat, to lie over the base (and its own normal map in
+  // `normalMap`); none where the coat is 0.
+  std::optional<MaterialParams> clearcoat_layer(const tinygltf::Material& g, const std::string& at, const std::string& name, uint32_t& normalMap) {
     auto found = g.extensions.find("KHR_materials_clearcoat");
-    if (found == g.extensions.end()) return base;
+    if (found == g.extensions.end()) return std::nullopt;
     const tinygltf::Value& e = found->second;
     const std::string eat = at + "/extensions/KHR_materials_clearcoat";
     if (!e.IsObject()) fail(eat, "expected an object");
     const float factor = extension_number(e, "clearcoatFactor", 0.0f, 0.0f, 1.0f, eat);
     const float roughness = extension_number(e, "clearcoatRoughnessFactor", 0.0f, 0.0f, 1.0f, eat);
-    if (factor == 0.0f) return base;  // "If clearcoatFactor = 0, the clearcoat layer is disabled."
-    const uint32_t factorTexture = e.Has("clearcoatTexture")
-                                       ? extension_texture(e, "clearcoatTexture", glm::vec4(factor), ColorEncoding::Linear, eat)
-                                       : add_texture(scene_, constant_texture(glm::vec3(factor)));
-    const uint32_t roughnessTexture =
-        e.Has("clearcoatRoughnessTexture") ? extension_texture(e, "clearcoatRoughnessTexture", glm::vec4(roughness), ColorEncoding::Linear, eat)
-                                           : add_texture(scene_, constant_texture(glm::vec3(roughness)));
-    const uint32_t coat = add_layer(MAT_CLEARCOAT, scene_.materials[base].name + " (clear coat)", base, factorTexture, roughnessTexture);
-    scene_.materials[coat].params.x = 1.5f;  // the extension's coat ior
+    if (factor == 0.0f) return std::nullopt;  // "If clearcoatFactor = 0, the clearcoat layer is disabled."
+    MaterialParams coat(MAT_CLEARCOAT, name + " (clear coat)", complaint(eat));  // the module's ior is the extension's, 1.5
+    coat.texture("factor", e.Has("clearcoatTexture") ? extension_texture(e, "clearcoatTexture", glm::vec4(factor), ColorEncoding::Linear, eat)
+                                                     : add_texture(scene_, constant_texture(glm::vec3(factor))));
+    coat.texture("roughness", e.Has("clearcoatRoughnessTexture")
+                                  ? extension_texture(e, "clearcoatRoughnessTexture", glm::vec4(roughness), ColorEncoding::Linear, eat)
+                                  : add_texture(scene_, constant_texture(glm::vec3(roughness))));
     if (e.Has("clearcoatNormalTexture"))
-      scene_.materials[coat].normalMap = extension_texture(e, "clearcoatNormalTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat, true);
+      normalMap = extension_texture(e, "clearcoatNormalTexture", glm::vec4(1.0f), ColorEncoding::Linear, eat, true);
     return coat;
   }
 

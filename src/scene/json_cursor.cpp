@@ -126,14 +126,18 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 }
 
 void JsonCursor::allow_only(std::initializer_list<const char*> allowed) const {
+  allow_only(std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void JsonCursor::allow_only(const std::vector<std::string>& allowed) const {
   expect_object();
   for (auto it = value_.begin(); it != value_.end(); ++it) {
     bool known = false;
-    for (const char* a : allowed) known = known || it.key() == a;
+    for (const std::string& a : allowed) known = known || it.key() == a;
     if (!known) {
       std::string list;
-      for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-      std::string hint = did_you_mean(it.key(), std::vector<std::string>(allowed.begin(), allowed.end()));
+      for (const std::string& a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+      std::string hint = did_you_mean(it.key(), allowed);
       JsonCursor(*it, path_ + "/" + it.key(), file_)
           .fail("unknown key \"" + it.key() + "\"" + (hint.empty() ? " (expected one of: " + list + ")" : hint));
     }

@@ -31,6 +31,7 @@ class JsonCursor {
 
   // Rejects any member not in `allowed`, naming it.
   void allow_only(std::initializer_list<const char*> allowed) const;
+  void allow_only(const std::vector<std::string>& allowed) const;
 
   bool is_object() const { return value_.is_object(); }
   bool is_array() const { return value_.is_array(); }

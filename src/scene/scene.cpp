@@ -56,15 +56,6 @@ uint32_t add_texture(Scene& scene, const SceneTexture& texture) {
   return uint32_t(scene.textures.size() - 1);
 }
 
-uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name) {
-  SceneMaterial m;
-  m.kind = MAT_LAMBERTIAN;
-  m.name = name;
-  m.albedo = add_texture(scene, constant_texture(albedo));
-  scene.materials.push_back(m);
-  return uint32_t(scene.materials.size() - 1);
-}
-
 SceneTexture image_texture(Scene& scene, const std::string& path, const std::string& where) {
   LinearImage img;
   try {

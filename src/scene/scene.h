@@ -440,9 +440,8 @@ void choose_camera(Scene& scene, const std::string& which);
 // A texture of one colour everywhere.
 SceneTexture constant_texture(glm::vec3 color);
 
-// Appends a texture / a Lambertian material of constant albedo; returns its index.
+// Appends a texture; returns its index. (Materials: add_material, scene/materials/material_module.h.)
 uint32_t add_texture(Scene& scene, const SceneTexture& texture);
-uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name = "lambertian");
 
 // Loads an image file (see texture_image.h) into the scene's images and
 // returns an image texture of it (identity mapping), not yet added. `where`

@@ -1,0 +1,78 @@
+// metal_rough.cpp — glTF 2.0's metal-rough material and its extensions
+// (shaders/shared/materials/metal_rough.glsl). The names are darts-style;
+// import_gltf.cpp translates glTF's, and gives glTF's own defaults where
+// they differ (an extension's factors).
+#include "scene/materials/material_module.h"
+
+namespace wp::materials {
+
+extern const MaterialModule metal_rough{
+    MAT_METAL_ROUGH,
+    {
+        ParamSpec::texture("base_color", glm::vec3(1.0f), unit_range()).with_problem("base_color above 1 would create energy"),
+        ParamSpec::number("metallic", 1.0f, unit_range()),
+        ParamSpec::number("roughness", 1.0f, unit_range()),
+        // As glTF's metallicRoughnessTexture: green scales roughness, blue metallic.
+        ParamSpec::optional_texture("metallic_roughness"),
+        ParamSpec::number("ior", 1.5f, positive_range()),
+        ParamSpec::number("transmission", 0.0f, unit_range()),
+        ParamSpec::optional_texture("transmission_texture"),  // its red scales transmission
+        ParamSpec::optional_texture("emit"),                  // as glTF's emissive materials, which also scatter
+        // KHR_materials_specular: a factor and a colour, each scaled by a texture.
+        ParamSpec::number("specular", 1.0f, unit_range()).or_texture("specular_texture"),
+        ParamSpec::optional_texture("specular_texture"),
+        ParamSpec::colour("specular_color", glm::vec3(1.0f), closed_range(0.0f, 1e3f)).or_texture("specular_color_texture"),
+        ParamSpec::optional_texture("specular_color_texture"),
+        // KHR_materials_volume: the transmission refracts into a volume whose
+        // absorption takes the light to attenuation_color after
+        // attenuation_distance; KHR_materials_dispersion: 20 / Abbe number.
+        ParamSpec::group("volume"),
+        ParamSpec::colour("volume.attenuation_color", glm::vec3(1.0f), unit_range()),
+        ParamSpec::number("volume.attenuation_distance", 1e30f, positive_range()),
+        ParamSpec::number("volume.dispersion", 0.0f, closed_range(0.0f, 1000.0f)).with_problem("dispersion must lie in [0, 1000] (20 / Abbe number)"),
+        // KHR_materials_iridescence: a thin film of `ior`, from
+        // thickness_minimum nm where thickness_texture's green is 0 to
+        // thickness_maximum where it is 1 (the maximum without one), mixed
+        // in by `factor`.
+        ParamSpec::group("iridescence"),
+        ParamSpec::number("iridescence.factor", 1.0f, unit_range()).or_texture("iridescence.factor_texture"),
+        ParamSpec::optional_texture("iridescence.factor_texture"),
+        ParamSpec::number("iridescence.ior", 1.3f, closed_range(1.0f, 10.0f)),
+        ParamSpec::number("iridescence.thickness_minimum", 100.0f, closed_range(0.0f, 1e5f)),
+        ParamSpec::number("iridescence.thickness_maximum", 400.0f, closed_range(0.0f, 1e5f)),
+        ParamSpec::optional_texture("iridescence.thickness_texture"),
+        // KHR_materials_anisotropy: strength, the direction's rotation from
+        // the tangent (radians), a texture of directions (red, green) and
+        // strengths (blue).
+        ParamSpec::group("anisotropy"),
+        ParamSpec::number("anisotropy.strength", 1.0f, unit_range()),
+        ParamSpec::number("anisotropy.rotation", 0.0f, closed_range(-1e4f, 1e4f)).with_problem("rotation must be a number of radians"),
+        ParamSpec::optional_texture("anisotropy.texture"),
+    },
+    [](const MaterialInputs& in, SceneMaterial& m) {
+      m.albedo = in.texture("base_color");
+      m.amount = in.texture("metallic_roughness");
+      m.transmission = in.texture("transmission_texture");
+      m.emission = in.texture("emit");
+      m.params = glm::vec4(in.number("roughness"), in.number("metallic"), in.number("ior"), in.number("transmission"));
+      // metal_rough.glsl reads the specular factor and colour less 1, so that a record of zeros is glTF's default.
+      m.params2 = glm::vec4(in.colour("specular_color") - glm::vec3(1.0f), in.number("specular") - 1.0f);
+      m.specular = in.texture("specular_texture");
+      m.specularColor = in.texture("specular_color_texture");
+      m.volume = in.flag("volume");
+      if (in.given("volume.attenuation_color") || in.given("volume.attenuation_distance"))
+        m.attenuation = -glm::log(glm::max(in.colour("volume.attenuation_color"), glm::vec3(1e-6f))) / in.number("volume.attenuation_distance");
+      m.dispersion = in.number("volume.dispersion");
+      if (in.flag("iridescence"))
+        m.iridescence = glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"), in.number("iridescence.thickness_minimum"),
+                                  in.number("iridescence.thickness_maximum"));
+      m.iridescenceTexture = in.texture("iridescence.factor_texture");
+      m.iridescenceThickness = in.texture("iridescence.thickness_texture");
+      if (in.flag("anisotropy")) {
+        m.anisotropy = in.number("anisotropy.strength");
+        m.anisotropyRotation = in.number("anisotropy.rotation");
+        m.anisotropyTexture = in.texture("anisotropy.texture");
+      }
+    }};
+
+}  // namespace wp::materials

@@ -1,0 +1,21 @@
+// pack_helpers.h — what several kinds' packs share (internal to src/scene/materials).
+#pragma once
+
+#include "scene/materials/material_module.h"
+
+namespace wp::materials {
+
+// GGX's alpha from a perceptual roughness (alpha = roughness^2, as glTF
+// defines it); 0, a smooth delta lobe, below GGX_MIN_ALPHA.
+inline float ggx_alpha(float roughness) { return roughness * roughness >= GGX_MIN_ALPHA ? roughness * roughness : 0.0f; }
+
+// A blend's part or a layer's base (parameter `key`): a surface, so never a
+// light (emission belongs to the surface's own material) nor an interface.
+uint32_t surface_part(const MaterialInputs& in, const std::string& key);
+
+// A layer's base: a surface part that does not emit (the layer carries the
+// surface's emission), within the kernels' limits on lobes, layers and
+// sheens once the layer (a sheen if `sheen`) lies over it.
+uint32_t layer_base(const MaterialInputs& in, bool sheen);
+
+}  // namespace wp::materials
