@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "render/shader_cpp.h"
+#include "shader/types.h"
 #include "scene/scene.h"
 
 namespace wp {

@@ -3,6 +3,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "render/shader_cpp.h"
+
 namespace wp::bench {
 
 // Camera rays through every pixel, then from every hit one cosine-distributed

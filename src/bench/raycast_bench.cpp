@@ -21,6 +21,7 @@
 #include "cpu/reference.h"
 #include "gpu/wavefront.h"
 #include "render/compiled_scene.h"
+#include "render/shader_cpp.h"
 #include "scene/load_scene.h"
 #include "stats/compare.h"
 #include "util/error.h"

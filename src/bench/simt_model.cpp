@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "gpu/wavefront.h"
+#include "render/shader_cpp.h"
 #include "util/error.h"
 
 namespace wp {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "render/compiled_scene.h"
+#include "render/walk_log.h"
 
 namespace wp {
 

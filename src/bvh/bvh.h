@@ -11,8 +11,8 @@
 #include <functional>
 #include <vector>
 
-#include "render/shader_cpp.h"
 #include "scene/scene.h"
+#include "shader/types.h"
 
 namespace wp {
 

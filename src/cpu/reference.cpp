@@ -9,6 +9,7 @@
 #include <chrono>
 
 #include "render/accumulate.h"
+#include "render/shader_cpp.h"
 #include "util/error.h"
 
 namespace wp {

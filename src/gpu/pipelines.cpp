@@ -7,6 +7,7 @@
 
 #include "gpu/specialize.h"
 #include "gpu/wavefront_impl.h"
+#include "render/shader_cpp.h"
 #include "util/error.h"
 #include "util/fault.h"
 

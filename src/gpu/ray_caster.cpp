@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "gpu/wavefront_impl.h"
+#include "render/shader_cpp.h"
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
 #include "raycast.spv.h"

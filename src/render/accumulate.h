@@ -6,7 +6,7 @@
 #include <cstddef>
 
 #include "image/image.h"
-#include "render/shader_cpp.h"
+#include "shader/types.h"
 
 namespace wp {
 

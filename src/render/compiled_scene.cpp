@@ -1,4 +1,5 @@
 #include "render/compiled_scene.h"
+#include "render/shader_cpp.h"
 
 #include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/matrix_inverse.hpp>

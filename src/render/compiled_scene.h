@@ -12,10 +12,16 @@
 #include "bvh/bvh.h"
 #include "bvh/wide_bvh.h"
 #include "render/adaptive.h"
-#include "render/shader_cpp.h"
 #include "scene/scene.h"
+#include "shader/types.h"
 
 namespace wp {
+
+// The integrator's view of a compiled scene (render/shader_cpp.h): only
+// the code that renders or tests with it includes that.
+namespace shader {
+struct SceneView;
+}
 
 // The node layout the kernels and the CPU reference traverse: the 8-wide
 // compressed BVH (the default: fewer, smaller node fetches per ray) or the

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include "render/shader_cpp.h"
 #include "util/error.h"
 
 namespace wp {

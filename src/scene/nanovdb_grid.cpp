@@ -5,8 +5,9 @@
 #include <cstring>
 #include <fstream>
 
-#include "render/shader_cpp.h"
 #include "scene/json_cursor.h"
+#include "shader/pnanovdb.h"
+#include "shader/types.h"
 #include "util/error.h"
 
 namespace wp {

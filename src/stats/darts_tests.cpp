@@ -15,6 +15,7 @@
 #include "bvh/photon_map.h"
 #include "gpu/wavefront.h"
 #include "render/compiled_scene.h"
+#include "render/shader_cpp.h"
 #include "scene/darts_tests.h"
 #include "stats/direction_test.h"
 #include "image/image_file.h"

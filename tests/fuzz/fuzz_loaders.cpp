@@ -9,6 +9,7 @@
 
 #include "render/compiled_scene.h"
 #include "render/partial.h"
+#include "render/shader_cpp.h"
 #include "scene/darts_tests.h"
 #include "scene/importers.h"
 #include "scene/load_scene.h"
