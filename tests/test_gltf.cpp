@@ -637,5 +637,59 @@ TEST(Gltf, DefaultSkyOnlyWhereNoLightIsWorthTheName) {
   }
 }
 
+// One material, written once in glTF's vocabulary (with every extension the
+// metal-rough module reads) and once in darts', packs into the same records:
+// the importers only translate names, and the modules pack.
+TEST(Gltf, AMaterialPacksAsItsDartsTwinDoes) {
+  json doc = one_triangle({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  doc["meshes"][0]["primitives"][0]["material"] = 0;
+  doc["materials"] = json::parse(R"([{"name": "twin",
+    "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.4, 0.3, 1], "metallicFactor": 0.2, "roughnessFactor": 0.6},
+    "emissiveFactor": [1, 0.5, 0.25],
+    "extensions": {
+      "KHR_materials_ior": {"ior": 1.4},
+      "KHR_materials_transmission": {"transmissionFactor": 0.3},
+      "KHR_materials_specular": {"specularFactor": 0.7, "specularColorFactor": [0.9, 0.8, 0.7]},
+      "KHR_materials_volume": {"thicknessFactor": 1, "attenuationColor": [0.5, 0.6, 0.7], "attenuationDistance": 2},
+      "KHR_materials_dispersion": {"dispersion": 0.5},
+      "KHR_materials_iridescence": {"iridescenceFactor": 0.8, "iridescenceIor": 1.5, "iridescenceThicknessMinimum": 120,
+                                    "iridescenceThicknessMaximum": 380},
+      "KHR_materials_anisotropy": {"anisotropyStrength": 0.4, "anisotropyRotation": 0.3},
+      "KHR_materials_sheen": {"sheenColorFactor": [0.2, 0.3, 0.4], "sheenRoughnessFactor": 0.5},
+      "KHR_materials_clearcoat": {"clearcoatFactor": 0.6, "clearcoatRoughnessFactor": 0.2}}}])");
+  const Scene g = load_scene(write_scene("twin.gltf", doc.dump()));
+  const Scene d = load_scene(write_scene("twin.json", R"({"camera": {"resolution": [4, 4]}, "materials": [{"type": "clearcoat", "name": "twin",
+    "factor": 0.6, "roughness": 0.2, "emit": [1, 0.5, 0.25], "base": {"type": "sheen", "color": [0.2, 0.3, 0.4], "roughness": 0.5,
+    "base": {"type": "metal_rough", "base_color": [0.5, 0.4, 0.3], "metallic": 0.2, "roughness": 0.6, "ior": 1.4, "transmission": 0.3,
+      "specular": 0.7, "specular_color": [0.9, 0.8, 0.7],
+      "volume": {"attenuation_color": [0.5, 0.6, 0.7], "attenuation_distance": 2, "dispersion": 0.5},
+      "iridescence": {"factor": 0.8, "ior": 1.5, "thickness_minimum": 120, "thickness_maximum": 380},
+      "anisotropy": {"strength": 0.4, "rotation": 0.3}}}}],
+    "surfaces": [{"type": "sphere", "material": "twin"}]})"));
+  ASSERT_EQ(g.materials.size(), 3u);
+  ASSERT_EQ(d.materials.size(), 3u);
+  auto colour = [](const Scene& s, uint32_t t) { return t == WP_INVALID ? glm::vec3(-1.0f) : s.textures[t].color; };
+  for (size_t i = 0; i < 3; ++i) {
+    const SceneMaterial &a = g.materials[i], &b = d.materials[i];
+    SCOPED_TRACE(kind_list(material_kinds(), KIND_BIT(a.kind)));
+    EXPECT_EQ(a.kind, b.kind);
+    EXPECT_EQ(a.params, b.params);
+    EXPECT_EQ(a.params2, b.params2);
+    EXPECT_EQ(a.volume, b.volume);
+    EXPECT_EQ(a.attenuation, b.attenuation);
+    EXPECT_EQ(a.dispersion, b.dispersion);
+    EXPECT_EQ(a.iridescence, b.iridescence);
+    EXPECT_EQ(a.anisotropy, b.anisotropy);
+    EXPECT_EQ(a.anisotropyRotation, b.anisotropyRotation);
+    EXPECT_EQ(a.a == WP_INVALID, b.a == WP_INVALID);
+    EXPECT_EQ(colour(g, a.albedo), colour(d, b.albedo));
+    EXPECT_EQ(colour(g, a.amount), colour(d, b.amount));
+    EXPECT_EQ(colour(g, a.emission), colour(d, b.emission));
+  }
+  EXPECT_EQ(g.materials[2].kind, MAT_CLEARCOAT);
+  EXPECT_NE(g.materials[2].emission, WP_INVALID) << "the top layer carries the emission";
+  EXPECT_TRUE(g.materials[0].volume);
+}
+
 }  // namespace
 }  // namespace wp::test

@@ -1,0 +1,124 @@
+// Material modules (src/scene/materials/): each kind's schema, the checks
+// add_material makes against it, and its errors at the importer's place.
+#include <set>
+#include <stdexcept>
+
+#include "test_support.h"
+
+namespace wp::test {
+
+namespace {
+
+// A complaint that throws the problem, as an importer's would.
+Complaint thrower(const std::string& where) {
+  return [where](const std::string& problem) { throw InputError(where + ": " + problem); };
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+// One module per row of kinds.glsl, in id order, each schema well formed: a
+// parameter "g.k" has its group g, a number's stand-in texture is declared
+// as a texture, a choice has words, and no name is declared twice.
+TEST(MaterialModules, EveryKindHasOneWellFormedModule) {
+  const auto& modules = material_modules();
+  ASSERT_EQ(modules.size(), material_kinds().size());
+  for (const KindInfo& k : material_kinds()) {
+    const MaterialModule& m = *modules[k.id];
+    SCOPED_TRACE(k.name);
+    EXPECT_EQ(m.kind, k.id);
+    EXPECT_NE(m.pack, nullptr);
+    std::set<std::string> names;
+    for (const ParamSpec& p : m.params) {
+      EXPECT_TRUE(names.insert(p.name).second) << p.name << " declared twice";
+      const size_t dot = p.name.find('.');
+      if (dot != std::string::npos) {
+        const ParamSpec* group = find_param(m, p.name.substr(0, dot));
+        ASSERT_NE(group, nullptr) << p.name;
+        EXPECT_EQ(group->type, ParamType::Group) << p.name;
+      }
+      if (!p.textureName.empty()) {
+        const ParamSpec* t = find_param(m, p.textureName);
+        ASSERT_NE(t, nullptr) << p.textureName;
+        EXPECT_EQ(t->type, ParamType::Texture);
+      }
+      if (p.type == ParamType::Choice) EXPECT_FALSE(p.choices.empty());
+      if (p.type == ParamType::Number && p.presence == Presence::Defaulted && !p.clamp)
+        EXPECT_TRUE(p.range.contains(p.fallback.x)) << p.name << "'s default lies outside its range";
+    }
+  }
+}
+
+// Defaults fill what the importer leaves out (a texture's as a constant
+// texture), and a kind's pack reads them.
+TEST(MaterialModules, DefaultsFillWhatIsNotGiven) {
+  Scene s;
+  const uint32_t m = add_material(s, MaterialParams(MAT_ROUGH_DIELECTRIC, "glass", thrower("glass")));
+  EXPECT_EQ(s.materials[m].params, glm::vec4(1.5f, 0.3f * 0.3f, 0.0f, 0.0f));
+  ASSERT_NE(s.materials[m].albedo, WP_INVALID);
+  EXPECT_EQ(s.textures[s.materials[m].albedo].color, glm::vec3(1.0f));
+  const uint32_t beckmann = add_material(s, MaterialParams(MAT_BECKMANN_CONDUCTOR, "b", thrower("b"))
+                                                .number("alpha", 0.5f)
+                                                .colour("eta", glm::vec3(0.2f))
+                                                .colour("k", glm::vec3(3.0f)));
+  EXPECT_EQ(s.materials[beckmann].params2.w, 0.0f) << "Smith's shadowing is the default";
+}
+
+// Each problem is reported at the place the importer gave for the value, or
+// for the whole material where the value is missing.
+TEST(MaterialModules, ProblemsAreReportedWhereTheValueCameFrom) {
+  Scene s;
+  auto conductor = [&] {
+    return MaterialParams(MAT_ROUGH_CONDUCTOR, "c", thrower("/materials/0")).colour("eta", glm::vec3(1.0f), thrower("/materials/0/eta"));
+  };
+  EXPECT_EQ(error_of([&] { add_material(s, conductor()); }), "/materials/0: needs \"k\"");
+  EXPECT_EQ(error_of([&] { add_material(s, conductor().colour("k", glm::vec3(0.0f, -1.0f, 0.0f), thrower("/materials/0/k"))); }),
+            "/materials/0/k: k must lie in [0, 1000) in every channel");
+  EXPECT_EQ(error_of([&] { add_material(s, conductor().colour("k", glm::vec3(1.0f)).number("roughness", 2.0f, thrower("<roughness>"))); }),
+            "<roughness>: roughness must lie in [0, 1]");
+  EXPECT_EQ(error_of([&] { add_material(s, conductor().colour("k", glm::vec3(1.0f)).colour("roughness", glm::vec3(0.5f), thrower("<r>"))); }),
+            "<r>: roughness: expected a number, not a colour");
+  EXPECT_EQ(error_of([&] {
+              add_material(s, MaterialParams(MAT_BECKMANN_CONDUCTOR, "b", thrower("b"))
+                                  .number("alpha", 0.5f)
+                                  .colour("eta", glm::vec3(1.0f))
+                                  .colour("k", glm::vec3(1.0f))
+                                  .choice("shadowing", "walter", thrower("b/shadowing")));
+            }),
+            "b/shadowing: shadowing must be \"smith\" or \"cs184\"");
+  // A constant texture's colour is checked; a clamped number is clamped.
+  const uint32_t bright = add_texture(s, constant_texture(glm::vec3(1.5f)));
+  EXPECT_EQ(error_of([&] { add_material(s, MaterialParams(MAT_LAMBERTIAN, "l", thrower("l")).texture("albedo", bright, thrower("l/albedo"))); }),
+            "l/albedo: albedo above 1 would create energy");
+  const uint32_t metal = add_material(s, MaterialParams(MAT_METAL, "m", thrower("m")).number("roughness", 3.0f));
+  EXPECT_EQ(s.materials[metal].params.x, 1.0f);
+  // A name the schema lacks is the importer's bug, not the file's.
+  EXPECT_THROW(add_material(s, MaterialParams(MAT_METAL, "m", thrower("m")).number("shininess", 3.0f)), std::logic_error);
+}
+
+// A layer over a light or an emitting base, or past the kernels' limits, is
+// refused at the base or at the material.
+TEST(MaterialModules, PartsAndLayersStayWithinTheKernelsLimits) {
+  Scene s;
+  const uint32_t light = add_material(s, MaterialParams(MAT_LIGHT, "light", thrower("light")).texture("emit", add_texture(s, constant_texture(glm::vec3(1.0f)))));
+  EXPECT_NE(error_of([&] { add_material(s, MaterialParams(MAT_SHEEN, "s", thrower("s")).material("base", light, thrower("s/base"))); })
+                .find("s/base: a blend or a layer cannot contain a diffuse_light"),
+            std::string::npos);
+  uint32_t base = add_lambertian(s, glm::vec3(0.5f));
+  base = add_material(s, MaterialParams(MAT_SHEEN, "s1", thrower("s1")).material("base", base));
+  EXPECT_NE(error_of([&] { add_material(s, MaterialParams(MAT_SHEEN, "s2", thrower("s2")).material("base", base)); }).find("at most one sheen"),
+            std::string::npos);
+  base = add_material(s, MaterialParams(MAT_CLEARCOAT, "c1", thrower("c1")).material("base", base));
+  EXPECT_EQ(material_layers(s, base), 2);
+  EXPECT_NE(error_of([&] { add_material(s, MaterialParams(MAT_CLEARCOAT, "c2", thrower("c2")).material("base", base)); }).find("at most 2 deep"),
+            std::string::npos);
+}
+}  // namespace wp::test
