@@ -1,5 +1,5 @@
 // Instancing (scene.h's instanced meshes, the two-level BVH of
-// compiled_scene.cpp and traverse_*.glsl): glTF meshes that several nodes
+// compile_geometry.cpp and traverse_*.glsl): glTF meshes that several nodes
 // place are kept once; the walks through their instances find the hits the
 // flattened scene has, with the same surfaces; emitters placed by instances
 // light the scene with their world-space size.

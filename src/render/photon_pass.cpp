@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <string>
 
+#include "render/compile_parts.h"
 #include "render/shader_cpp.h"
 #include "util/error.h"
 
@@ -58,6 +61,38 @@ std::vector<shader::Photon> pack_photon_map(const PhotonMap& map) {
     out[i] = shader::Photon{p.position, map.axis(i), p.power, p.from};
   }
   return out;
+}
+
+// What the photon mapper refuses: light no photon carries (the background,
+// an environment map, lights at infinity, CS184's point lights that do not
+// fall off) and media, which its photons do not cross yet.
+static void check_photon_mapper_scene(const Scene& scene, bool media) {
+  const std::string at = scene.sourcePath + ": the photon mapper ";
+  if (media) throw InputError(at + "does not trace photons through participating media; use a path tracer");
+  if (scene.environment != WP_INVALID || scene.background != glm::vec3(0.0f))
+    throw InputError(at + "carries light from emitters only, and this scene's background or environment lights it too: "
+                          "make the background black (\"background\": 0) or use a path tracer");
+  for (const ScenePointLight& l : scene.pointLights) {
+    if (l.kind == ScenePointLight::Kind::Directional || l.kind == ScenePointLight::Kind::Hemisphere)
+      throw InputError(at + "emits photons from area, sphere, point and spot lights; this scene has a light at infinity");
+    if (!l.falloff) throw InputError(at + "needs point lights that fall off with distance (CS184's do not)");
+  }
+}
+
+void compile_photons(const Scene& scene, const RenderOptions& options, CompiledScene& out) {
+  check_photon_mapper_scene(scene, scene_has_media(scene));
+  shader::SceneParams& p = out.params;
+  const IntegratorSettings& s = scene.integrator;
+  p.photons = glm::uvec4(0u, s.searchCount, glm::floatBitsToUint(s.searchRadius * s.searchRadius), 0u);
+  out.photonCount = s.photons;
+  out.photonSeed = s.photonSeed;
+  out.photonMapLeftToDevice = !options.photonsOnHost;
+  if (options.photonsOnHost) {
+    const auto start = std::chrono::steady_clock::now();
+    out.photons = balance_photons(trace_photons(out));
+    p.photons.x = uint32_t(out.photons.size());
+    out.photonPassSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
 }
 
 }  // namespace wp
