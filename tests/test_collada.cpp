@@ -89,15 +89,15 @@ TEST(Collada, CornellSceneReadsEveryElement) {
   const SceneMaterial& mirror = s.materials[s.spheres[0].material];
   const SceneMaterial& glass = s.materials[s.spheres[1].material];
   EXPECT_EQ(mirror.kind, uint32_t(MAT_METAL));
-  EXPECT_EQ(mirror.params.x, 0.0f);  // roughness 0: a mirror
-  EXPECT_EQ(s.textures[mirror.albedo].color, glm::vec3(0.9f, 0.9f, 0.85f));
+  EXPECT_EQ(mirror.record.params.x, 0.0f);  // roughness 0: a mirror
+  EXPECT_EQ(s.textures[mirror.albedo()].color, glm::vec3(0.9f, 0.9f, 0.85f));
   EXPECT_EQ(glass.kind, uint32_t(MAT_CS184_GLASS));
-  EXPECT_EQ(glass.params, glm::vec4(1.5f, 0.0f, 0.0f, 0.0f));
+  EXPECT_EQ(glass.record.params, glm::vec4(1.5f, 0.0f, 0.0f, 0.0f));
   // Diffuse colours from phong, lambert and blinn; the lamp's CGL emission.
   std::map<std::string, const SceneMaterial*> byName;
   for (const SceneMaterial& m : s.materials) byName[m.name] = &m;
-  EXPECT_EQ(s.textures[byName.at("red")->albedo].color, glm::vec3(0.6f, 0.1f, 0.1f));
-  EXPECT_EQ(s.textures[byName.at("green")->albedo].color, glm::vec3(0.1f, 0.5f, 0.15f));
+  EXPECT_EQ(s.textures[byName.at("red")->albedo()].color, glm::vec3(0.6f, 0.1f, 0.1f));
+  EXPECT_EQ(s.textures[byName.at("green")->albedo()].color, glm::vec3(0.1f, 0.5f, 0.15f));
   EXPECT_EQ(byName.at("lamp")->kind, uint32_t(MAT_LIGHT));
   EXPECT_EQ(s.textures[byName.at("lamp")->emission].color, glm::vec3(6.0f));
   // The CGL area light wins over the point light of technique_common: a
@@ -343,12 +343,12 @@ TEST(Collada, NodeTreeTransformsLightsAndPrimitives) {
   EXPECT_FALSE(s.triangleShading.at(s.triangles[2].shading).hasUvs);
   const SceneMaterial& gold = s.materials[s.triangles[2].material];
   EXPECT_EQ(gold.kind, uint32_t(MAT_BECKMANN_CONDUCTOR));
-  EXPECT_EQ(gold.params, glm::vec4(0.25f, 0.143119f, 0.374957f, 1.44248f));
-  EXPECT_EQ(gold.params2.w, 1.0f);  // the 3-2 skeleton's shadowing term
+  EXPECT_EQ(gold.record.params, glm::vec4(0.25f, 0.143119f, 0.374957f, 1.44248f));
+  EXPECT_EQ(gold.record.params2.w, 1.0f);  // the 3-2 skeleton's shadowing term
   ASSERT_EQ(s.spheres.size(), 1u);
   const SceneMaterial& water = s.materials[s.spheres[0].material];
   EXPECT_EQ(water.kind, uint32_t(MAT_CS184_GLASS));
-  EXPECT_EQ(water.params.y, 1.0f);  // refraction only
+  EXPECT_EQ(water.record.params.y, 1.0f);  // refraction only
   // The point light (no falloff), the directional light from the rotated
   // (0, 0, -1), the ambient light from above; the spot light gives nothing.
   ASSERT_EQ(s.pointLights.size(), 3u);

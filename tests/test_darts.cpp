@@ -53,9 +53,9 @@ TEST(DartsKeys, MetalRoughnessIsClampedAsDartsClampsIt) {
   Scene s = load_text("metal.json", R"({"camera": {}, "materials": [{"type": "metal", "name": "a", "roughness": -0.1},
     {"type": "metal", "name": "b", "roughness": 1.5}, {"type": "metal", "name": "c", "roughness": 0.25}]})");
   ASSERT_EQ(s.materials.size(), 3u);
-  EXPECT_EQ(s.materials[0].params.x, 0.0f);
-  EXPECT_EQ(s.materials[1].params.x, 1.0f);
-  EXPECT_EQ(s.materials[2].params.x, 0.25f);
+  EXPECT_EQ(s.materials[0].record.params.x, 0.0f);
+  EXPECT_EQ(s.materials[1].record.params.x, 1.0f);
+  EXPECT_EQ(s.materials[2].record.params.x, 0.25f);
 }
 
 // wavepath's GGX materials in darts files: alpha = roughness^2, 0 below
@@ -71,15 +71,15 @@ TEST(DartsKeys, MicrofacetMaterialsReadTheirParameters) {
      "metallic_roughness": {"type": "checker", "even": 1, "odd": 0.5}}]})");
   ASSERT_EQ(s.materials.size(), 5u);
   EXPECT_EQ(s.materials[0].kind, MAT_ROUGH_CONDUCTOR);
-  EXPECT_EQ(s.materials[0].params, glm::vec4(0.25f, 0.14f, 0.37f, 1.44f));
-  EXPECT_EQ(s.materials[0].params2, glm::vec4(3.98f, 2.38f, 1.6f, 0.0f));
-  EXPECT_EQ(s.materials[1].params.x, 0.0f) << "alpha 1e-4 is below GGX_MIN_ALPHA: a mirror";
+  EXPECT_EQ(s.materials[0].record.params, glm::vec4(0.25f, 0.14f, 0.37f, 1.44f));
+  EXPECT_EQ(s.materials[0].record.params2, glm::vec4(3.98f, 2.38f, 1.6f, 0.0f));
+  EXPECT_EQ(s.materials[1].record.params.x, 0.0f) << "alpha 1e-4 is below GGX_MIN_ALPHA: a mirror";
   EXPECT_EQ(s.materials[2].kind, MAT_ROUGH_DIELECTRIC);
-  EXPECT_EQ(s.materials[2].params, glm::vec4(1.33f, 0.2f * 0.2f, 0.0f, 0.0f));
-  EXPECT_EQ(s.materials[3].params, glm::vec4(1.0f, 1.0f, 1.5f, 0.0f)) << "glTF's defaults: roughness 1, metallic 1";
-  EXPECT_EQ(s.materials[3].amount, WP_INVALID);
-  EXPECT_EQ(s.materials[4].params, glm::vec4(0.6f, 0.0f, 1.4f, 0.0f));
-  EXPECT_NE(s.materials[4].amount, WP_INVALID);
+  EXPECT_EQ(s.materials[2].record.params, glm::vec4(1.33f, 0.2f * 0.2f, 0.0f, 0.0f));
+  EXPECT_EQ(s.materials[3].record.params, glm::vec4(1.0f, 1.0f, 1.5f, 0.0f)) << "glTF's defaults: roughness 1, metallic 1";
+  EXPECT_EQ(s.materials[3].amount(), WP_INVALID);
+  EXPECT_EQ(s.materials[4].record.params, glm::vec4(0.6f, 0.0f, 1.4f, 0.0f));
+  EXPECT_NE(s.materials[4].amount(), WP_INVALID);
   const char* conductor = R"({"materials": [{"type": "rough_conductor", "name": "m", )";
   expect_error(std::string(conductor) + R"("k": 1}]})", {"/materials/0", "eta"});
   expect_error(std::string(conductor) + R"("eta": [1, -1, 1], "k": 1}]})", {"/materials/0/eta", "eta must lie in (0, 1000) in every channel"});
@@ -100,9 +100,9 @@ TEST(DartsKeys, BeckmannConductorReadsItsParameters) {
     {"type": "beckmann_conductor", "name": "course", "alpha": 0.05, "eta": 1, "k": 2, "shadowing": "cs184"}]})");
   ASSERT_EQ(s.materials.size(), 2u);
   EXPECT_EQ(s.materials[0].kind, MAT_BECKMANN_CONDUCTOR);
-  EXPECT_EQ(s.materials[0].params, glm::vec4(0.3f, 0.2f, 0.9f, 1.1f));
-  EXPECT_EQ(s.materials[0].params2, glm::vec4(3.9f, 2.4f, 2.1f, 0.0f));
-  EXPECT_EQ(s.materials[1].params2, glm::vec4(2.0f, 2.0f, 2.0f, 1.0f));
+  EXPECT_EQ(s.materials[0].record.params, glm::vec4(0.3f, 0.2f, 0.9f, 1.1f));
+  EXPECT_EQ(s.materials[0].record.params2, glm::vec4(3.9f, 2.4f, 2.1f, 0.0f));
+  EXPECT_EQ(s.materials[1].record.params2, glm::vec4(2.0f, 2.0f, 2.0f, 1.0f));
   const char* m = R"({"materials": [{"type": "beckmann_conductor", "name": "m", )";
   expect_error(std::string(m) + R"("eta": 1, "k": 1}]})", {"/materials/0", "alpha"});
   expect_error(std::string(m) + R"("alpha": 0, "eta": 1, "k": 1}]})", {"/materials/0/alpha"});
@@ -118,11 +118,11 @@ TEST(DartsKeys, Cs184GlassReadsItsParameters) {
     {"type": "cs184_glass", "name": "refraction", "refraction_only": true}]})");
   ASSERT_EQ(s.materials.size(), 2u);
   EXPECT_EQ(s.materials[0].kind, MAT_CS184_GLASS);
-  EXPECT_EQ(s.materials[0].params, glm::vec4(1.4f, 0.0f, 0.0f, 0.0f));
-  EXPECT_EQ(s.materials[0].params2, glm::vec4(0.5f, 0.5f, 0.5f, 0.0f));
-  EXPECT_EQ(s.textures[s.materials[0].albedo].color, glm::vec3(0.9f, 0.8f, 0.7f));
-  EXPECT_EQ(s.materials[1].params, glm::vec4(1.5f, 1.0f, 0.0f, 0.0f));
-  EXPECT_EQ(s.materials[1].params2, glm::vec4(1.0f, 1.0f, 1.0f, 0.0f));
+  EXPECT_EQ(s.materials[0].record.params, glm::vec4(1.4f, 0.0f, 0.0f, 0.0f));
+  EXPECT_EQ(s.materials[0].record.params2, glm::vec4(0.5f, 0.5f, 0.5f, 0.0f));
+  EXPECT_EQ(s.textures[s.materials[0].albedo()].color, glm::vec3(0.9f, 0.8f, 0.7f));
+  EXPECT_EQ(s.materials[1].record.params, glm::vec4(1.5f, 1.0f, 0.0f, 0.0f));
+  EXPECT_EQ(s.materials[1].record.params2, glm::vec4(1.0f, 1.0f, 1.0f, 0.0f));
   const char* m = R"({"materials": [{"type": "cs184_glass", "name": "m", )";
   expect_error(std::string(m) + R"("reflectance": 2}]})", {"/materials/0/reflectance", "[0, 1]"});
   expect_error(std::string(m) + R"("refraction_only": 1}]})", {"/materials/0/refraction_only", "true or false"});

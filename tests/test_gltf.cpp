@@ -46,8 +46,8 @@ TEST(Gltf, NodeTreePlacesMeshesAsTheDartsTwinDoes) {
   // Materials, emission, the light in W/sr (candela / 683) and the camera.
   ASSERT_EQ(g.materials.size(), 4u);
   EXPECT_EQ(g.materials[1].kind, MAT_METAL_ROUGH);
-  EXPECT_EQ(g.materials[1].params, glm::vec4(0.35f, 1.0f, 1.5f, 0.0f));
-  EXPECT_FLOAT_EQ(g.materials[2].params.z, 1.45f);  // KHR_materials_ior
+  EXPECT_EQ(g.materials[1].record.params, glm::vec4(0.35f, 1.0f, 1.5f, 0.0f));
+  EXPECT_FLOAT_EQ(g.materials[2].record.params.z, 1.45f);  // KHR_materials_ior
   ASSERT_NE(g.materials[3].emission, WP_INVALID);
   const glm::vec3 emit = g.textures[g.materials[3].emission].color;
   EXPECT_NEAR(emit.y, 0.9f * 8.0f, 1e-5f);  // KHR_materials_emissive_strength
@@ -115,14 +115,14 @@ TEST(Gltf, BinaryModelWithTexturesSparseAndNormalizedAccessors) {
   // Base colour decoded as sRGB, the metallic-roughness map as linear data:
   // its first column's green is 51 / 255 = 0.2 exactly.
   ASSERT_EQ(s.images.size(), 2u);
-  const LinearImage& rough = s.images[s.textures[s.materials[1].amount].image];
+  const LinearImage& rough = s.images[s.textures[s.materials[1].amount()].image];
   EXPECT_NEAR(rough.pixels[0].y, 0.2f, 1e-6f);
   EXPECT_NEAR(s.images[0].pixels[0].x, srgb_to_linear(230.0f / 255.0f), 1e-6f);
   // KHR_texture_transform (offset 0.5, 0.25; rotation pi / 2; scale 2, 3) on
   // the floor: glTF's (0.3, 0.2) scales to (0.6, 0.6), turns to (0.6, -0.6)
   // (u' = cos u + sin v, v' = -sin u + cos v) and moves to (1.1, -0.35); in
   // wavepath's UVs (v flipped) (0.3, 0.8) maps to (1.1, 1.35).
-  const glm::mat4& mapping = s.textures[s.materials[0].albedo].mapping;
+  const glm::mat4& mapping = s.textures[s.materials[0].albedo()].mapping;
   const glm::vec4 mapped = mapping * glm::vec4(0.3f, 0.8f, 0.0f, 1.0f);
   EXPECT_NEAR(mapped.x, 1.1f, 1e-5f);
   EXPECT_NEAR(mapped.y, 1.35f, 1e-5f);
@@ -199,15 +199,15 @@ TEST(Gltf, SurfaceDetailsNormalMapsVertexDataAlphaAndSides) {
   EXPECT_TRUE(fence.doubleSided);
   EXPECT_LT(pane.alphaCutoff, 0.0f);  // BLEND: stochastic
   EXPECT_FALSE(pane.doubleSided || wall.doubleSided);
-  EXPECT_EQ(glass.params.w, 0.9f);  // KHR_materials_transmission, scaled by its texture
-  ASSERT_NE(glass.transmission, WP_INVALID);
-  EXPECT_EQ(s.textures[glass.transmission].kind, TEX_IMAGE);
-  const SceneTexture& gradient = s.textures[pane.albedo];
+  EXPECT_EQ(glass.record.params.w, 0.9f);  // KHR_materials_transmission, scaled by its texture
+  ASSERT_NE(glass.record.children.y, WP_INVALID);
+  EXPECT_EQ(s.textures[glass.record.children.y].kind, TEX_IMAGE);
+  const SceneTexture& gradient = s.textures[pane.albedo()];
   EXPECT_TRUE(gradient.secondUvSet);
   EXPECT_EQ(gradient.wrapU, TEX_WRAP_CLAMP);
   EXPECT_EQ(gradient.wrapV, TEX_WRAP_MIRROR);
   EXPECT_FLOAT_EQ(gradient.alpha, 0.4f);
-  EXPECT_EQ(s.images[s.textures[fence.albedo].image].alpha.size(), 256u);  // the RGBA PNG's alpha
+  EXPECT_EQ(s.images[s.textures[fence.albedo()].image].alpha.size(), 256u);  // the RGBA PNG's alpha
   // The floor's vertex colours (normalized bytes) and given tangents.
   int floorTriangles = 0;
   for (const SceneTriangle& t : s.triangles) {
@@ -256,12 +256,12 @@ TEST(Gltf, SurfaceDetailsNormalMapsVertexDataAlphaAndSides) {
   EXPECT_NEAR(double(passed) / rays, 0.6, 4.0 * std::sqrt(0.24 / rays));
   // The pane's gradient on the second UV set: clamped beyond u = 1, mirrored beyond v = 1.
   const glm::vec3 p(0.0f);
-  auto at = [&](float u, float vv) { return view.texture_eval(s.materials[3].albedo, glm::vec4(0.0f, 0.0f, u, vv), p); };
+  auto at = [&](float u, float vv) { return view.texture_eval(s.materials[3].albedo(), glm::vec4(0.0f, 0.0f, u, vv), p); };
   EXPECT_EQ(at(1.3f, 0.4f), at(1.0f, 0.4f));
   EXPECT_EQ(at(-0.2f, 0.4f), at(0.0f, 0.4f));
   EXPECT_NEAR(glm::distance(at(0.5f, 1.25f), at(0.5f, 0.75f)), 0.0f, 1e-6f);
   EXPECT_NE(at(0.5f, 1.25f), at(0.5f, 0.25f));
-  EXPECT_FLOAT_EQ(view.texture_alpha(s.materials[3].albedo, glm::vec4(0.5f), p), 0.4f);
+  EXPECT_FLOAT_EQ(view.texture_alpha(s.materials[3].albedo(), glm::vec4(0.5f), p), 0.4f);
   // The floor's ripple map, at the centre of texel column 0: the shading
   // normal is the decoded texel in the frame (tangent +x, bitangent
   // cross(n, t) = -z, normal +y).
@@ -299,38 +299,37 @@ TEST(Gltf, PbrExtensionsBecomeLayersReadingTheirChannels) {
   const SceneMaterial coat = named("lacquer (clear coat)"), sheen = named("velvet (sheen)"), tinted = named("tinted");
   ASSERT_EQ(coat.kind, MAT_CLEARCOAT);
   ASSERT_EQ(sheen.kind, MAT_SHEEN);
-  EXPECT_EQ(s.materials.at(coat.a).kind, MAT_METAL_ROUGH);
-  EXPECT_EQ(s.materials.at(coat.a).normalMap, WP_INVALID);  // the coat's normal map is not the base's
+  EXPECT_EQ(s.materials.at(coat.part(0)).kind, MAT_METAL_ROUGH);
+  EXPECT_EQ(s.materials.at(coat.part(0)).normalMap, WP_INVALID);  // the coat's normal map is not the base's
   ASSERT_NE(coat.normalMap, WP_INVALID);
   EXPECT_EQ(s.textures[coat.normalMap].color, glm::vec3(0.7f, 0.7f, 1.0f));
-  EXPECT_EQ(coat.params.x, 1.5f);
+  EXPECT_EQ(coat.record.params.x, 1.5f);
   EXPECT_EQ(tinted.kind, MAT_METAL_ROUGH);
-  EXPECT_NEAR(glm::distance(tinted.params2, glm::vec4(1.0f, 0.5f, 0.0f, -0.2f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::distance(tinted.record.params2, glm::vec4(1.0f, 0.5f, 0.0f, -0.2f)), 0.0f, 1e-6f);
   const CompiledScene cs = compile_scene(s, RenderOptions{});
   EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(FEATURE_SPECULAR_TINT));
   shader::SceneView view = cs.view();
   const glm::vec3 p(0.0f);
   auto at = [&](uint32_t tex, float u) { return view.texture_eval(tex, glm::vec4(u, 0.5f, 0.0f, 0.0f), p); };
   const float left = 1.0f / 16.0f, right = 9.0f / 16.0f, quarter = 64.0f / 255.0f;
-  EXPECT_NEAR(at(coat.albedo, left).x, 0.9f, 1e-3f);  // clearcoatTexture: red
-  EXPECT_NEAR(at(coat.albedo, right).x, 0.0f, 1e-3f);
-  EXPECT_NEAR(at(coat.amount, left).y, 0.5f * quarter, 2e-3f);  // clearcoatRoughnessTexture: green
-  EXPECT_NEAR(at(sheen.amount, left).y, 0.8f, 1e-3f);  // sheenRoughnessTexture: alpha
-  EXPECT_NEAR(at(sheen.amount, right).y, 0.8f * quarter, 2e-3f);
-  EXPECT_NEAR(at(tinted.specular, right).x, quarter, 2e-3f);  // specularTexture: alpha
-  EXPECT_NE(tinted.specularColor, WP_INVALID);
+  EXPECT_NEAR(at(coat.albedo(), left).x, 0.9f, 1e-3f);  // clearcoatTexture: red
+  EXPECT_NEAR(at(coat.albedo(), right).x, 0.0f, 1e-3f);
+  EXPECT_NEAR(at(coat.amount(), left).y, 0.5f * quarter, 2e-3f);  // clearcoatRoughnessTexture: green
+  EXPECT_NEAR(at(sheen.amount(), left).y, 0.8f, 1e-3f);  // sheenRoughnessTexture: alpha
+  EXPECT_NEAR(at(sheen.amount(), right).y, 0.8f * quarter, 2e-3f);
+  EXPECT_NEAR(at(tinted.record.moreTextures.x, right).x, quarter, 2e-3f);  // specularTexture: alpha
+  EXPECT_NE(tinted.record.moreTextures.y, WP_INVALID);
   // KHR_materials_iridescence, _anisotropy and _volume on the lower row.
   const SceneMaterial film = named("film"), brushed = named("brushed"), glass = named("glass");
-  EXPECT_EQ(film.iridescence, glm::vec4(1.0f, 1.4f, 200.0f, 500.0f));
-  EXPECT_NE(film.iridescenceTexture, WP_INVALID);
-  EXPECT_NE(film.iridescenceThickness, WP_INVALID);
-  EXPECT_FLOAT_EQ(brushed.anisotropy, 0.9f);
-  EXPECT_FLOAT_EQ(brushed.anisotropyRotation, 0.4f);
-  EXPECT_NE(brushed.anisotropyTexture, WP_INVALID);
-  EXPECT_TRUE(glass.volume);
-  EXPECT_FLOAT_EQ(glass.dispersion, 0.6f);
+  EXPECT_EQ(film.record.iridescence, glm::vec4(1.0f, 1.4f, 200.0f, 500.0f));
+  EXPECT_NE(film.record.moreTextures.z, WP_INVALID);
+  EXPECT_NE(film.record.moreTextures.w, WP_INVALID);
+  EXPECT_FLOAT_EQ(brushed.record.anisotropy.x, 0.9f);
+  EXPECT_FLOAT_EQ(brushed.record.anisotropy.y, std::cos(0.4f));
+  EXPECT_NE(glm::floatBitsToUint(brushed.record.anisotropy.w), WP_INVALID);
+  EXPECT_FLOAT_EQ(glass.record.volume.w, 1.6f);  // 1 + the dispersion
   EXPECT_TRUE(glass.doubleSided);  // a volume's boundary is there from inside
-  EXPECT_NEAR(glm::distance(glass.attenuation, -glm::log(glm::vec3(0.9f, 0.4f, 0.2f)) / 0.8f), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::distance(glm::vec3(glass.record.volume), -glm::log(glm::vec3(0.9f, 0.4f, 0.2f)) / 0.8f), 0.0f, 1e-5f);
   for (uint32_t f : {FEATURE_IRIDESCENCE, FEATURE_ANISOTROPY, FEATURE_VOLUME}) EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(f)) << f;
 }
 
@@ -510,7 +509,7 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
                                                : R"({"extensions": {"KHR_materials_dispersion": {"dispersion": 0.5}}})"));
     const Scene s = load_scene(write_scene(thick ? "dispersive.gltf" : "thin-dispersive.gltf", doc.dump()));
     ASSERT_FALSE(s.materials.empty());
-    EXPECT_EQ(s.materials[0].dispersion, thick ? 0.5f : 0.0f);
+    EXPECT_EQ(s.materials[0].record.volume.w, thick ? 1.5f : 0.0f);  // 1 + the dispersion, 0 thin-walled
     const bool compiled = (compile_scene(s, RenderOptions{}).params.kinds.w & KIND_BIT(FEATURE_DISPERSION)) != 0u;
     EXPECT_EQ(compiled, thick);
   }
@@ -673,22 +672,20 @@ TEST(Gltf, AMaterialPacksAsItsDartsTwinDoes) {
     const SceneMaterial &a = g.materials[i], &b = d.materials[i];
     SCOPED_TRACE(kind_list(material_kinds(), KIND_BIT(a.kind)));
     EXPECT_EQ(a.kind, b.kind);
-    EXPECT_EQ(a.params, b.params);
-    EXPECT_EQ(a.params2, b.params2);
-    EXPECT_EQ(a.volume, b.volume);
-    EXPECT_EQ(a.attenuation, b.attenuation);
-    EXPECT_EQ(a.dispersion, b.dispersion);
-    EXPECT_EQ(a.iridescence, b.iridescence);
-    EXPECT_EQ(a.anisotropy, b.anisotropy);
-    EXPECT_EQ(a.anisotropyRotation, b.anisotropyRotation);
-    EXPECT_EQ(a.a == WP_INVALID, b.a == WP_INVALID);
-    EXPECT_EQ(colour(g, a.albedo), colour(d, b.albedo));
-    EXPECT_EQ(colour(g, a.amount), colour(d, b.amount));
+    // The record less its texture and part indices, which differ with the order the importers add them.
+    EXPECT_EQ(a.record.params, b.record.params);
+    EXPECT_EQ(a.record.params2, b.record.params2);
+    EXPECT_EQ(a.record.volume, b.record.volume);
+    EXPECT_EQ(a.record.iridescence, b.record.iridescence);
+    EXPECT_EQ(glm::vec3(a.record.anisotropy), glm::vec3(b.record.anisotropy));
+    EXPECT_EQ(a.part(0) == WP_INVALID, b.part(0) == WP_INVALID);
+    EXPECT_EQ(colour(g, a.albedo()), colour(d, b.albedo()));
+    EXPECT_EQ(colour(g, a.amount()), colour(d, b.amount()));
     EXPECT_EQ(colour(g, a.emission), colour(d, b.emission));
   }
   EXPECT_EQ(g.materials[2].kind, MAT_CLEARCOAT);
   EXPECT_NE(g.materials[2].emission, WP_INVALID) << "the top layer carries the emission";
-  EXPECT_TRUE(g.materials[0].volume);
+  EXPECT_GT(g.materials[0].record.volume.w, 0.0f) << "a volume";
 }
 
 }  // namespace

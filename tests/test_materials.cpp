@@ -62,14 +62,14 @@ TEST(MaterialModules, EveryKindHasOneWellFormedModule) {
 TEST(MaterialModules, DefaultsFillWhatIsNotGiven) {
   Scene s;
   const uint32_t m = add_material(s, MaterialParams(MAT_ROUGH_DIELECTRIC, "glass", thrower("glass")));
-  EXPECT_EQ(s.materials[m].params, glm::vec4(1.5f, 0.3f * 0.3f, 0.0f, 0.0f));
-  ASSERT_NE(s.materials[m].albedo, WP_INVALID);
-  EXPECT_EQ(s.textures[s.materials[m].albedo].color, glm::vec3(1.0f));
+  EXPECT_EQ(s.materials[m].record.params, glm::vec4(1.5f, 0.3f * 0.3f, 0.0f, 0.0f));
+  ASSERT_NE(s.materials[m].albedo(), WP_INVALID);
+  EXPECT_EQ(s.textures[s.materials[m].albedo()].color, glm::vec3(1.0f));
   const uint32_t beckmann = add_material(s, MaterialParams(MAT_BECKMANN_CONDUCTOR, "b", thrower("b"))
                                                 .number("alpha", 0.5f)
                                                 .colour("eta", glm::vec3(0.2f))
                                                 .colour("k", glm::vec3(3.0f)));
-  EXPECT_EQ(s.materials[beckmann].params2.w, 0.0f) << "Smith's shadowing is the default";
+  EXPECT_EQ(s.materials[beckmann].record.params2.w, 0.0f) << "Smith's shadowing is the default";
 }
 
 // Each problem is reported at the place the importer gave for the value, or
@@ -99,7 +99,7 @@ TEST(MaterialModules, ProblemsAreReportedWhereTheValueCameFrom) {
   EXPECT_EQ(error_of([&] { add_material(s, MaterialParams(MAT_LAMBERTIAN, "l", thrower("l")).texture("albedo", bright, thrower("l/albedo"))); }),
             "l/albedo: albedo above 1 would create energy");
   const uint32_t metal = add_material(s, MaterialParams(MAT_METAL, "m", thrower("m")).number("roughness", 3.0f));
-  EXPECT_EQ(s.materials[metal].params.x, 1.0f);
+  EXPECT_EQ(s.materials[metal].record.params.x, 1.0f);
   // A name the schema lacks is the importer's bug, not the file's.
   EXPECT_THROW(add_material(s, MaterialParams(MAT_METAL, "m", thrower("m")).number("shininess", 3.0f)), std::logic_error);
 }

@@ -227,8 +227,8 @@ TEST(Scene, ShadeClassesHoldTheKindsOfTheirMaterials) {
     for (uint32_t albedo : {plain, checkered, marbled, both}) {
       SceneMaterial m;
       m.kind = type;
-      m.albedo = albedo;
-      m.params.x = type == MAT_DIELECTRIC ? 1.5f : 10.0f;
+      m.record.info.y = albedo;  // packed by hand: every kind with every albedo, dielectrics too
+      m.record.params.x = type == MAT_DIELECTRIC ? 1.5f : 10.0f;
       scene.materials.push_back(m);
       SceneSphere sp;
       sp.toWorld = glm::translate(glm::mat4(1.0f), glm::vec3(float(scene.spheres.size()) * 3.0f, 0.0f, 0.0f));

@@ -8,6 +8,7 @@
 
 #include "render/compile_parts.h"
 #include "scene/kinds.h"
+#include "scene/materials/material_module.h"
 
 namespace wp {
 
@@ -25,13 +26,8 @@ glm::uvec4 scene_kinds(const CompiledScene& cs, bool spheres, bool environment) 
     k.x |= KIND_BIT(m.info.x);
     if (m.children.z != WP_INVALID) k.w |= KIND_BIT(FEATURE_NORMAL_MAPS);
     if (m.info.z != WP_INVALID && (cs.textures[m.info.z].info.x & TEX_TYPE_MASK) != TEX_CONSTANT) k.w |= KIND_BIT(FEATURE_EMISSION_TEXTURES);
-    if (m.info.x == MAT_LIGHT && m.params.x != 0.0f) k.w |= KIND_BIT(FEATURE_COSINE_EMISSION);
-    if (m.info.x == MAT_METAL_ROUGH && (m.params2 != glm::vec4(0.0f) || m.moreTextures.x != WP_INVALID || m.moreTextures.y != WP_INVALID))
-      k.w |= KIND_BIT(FEATURE_SPECULAR_TINT);
-    if (m.info.x == MAT_METAL_ROUGH && m.iridescence.x > 0.0f) k.w |= KIND_BIT(FEATURE_IRIDESCENCE);
-    if (m.info.x == MAT_METAL_ROUGH && m.anisotropy.x > 0.0f) k.w |= KIND_BIT(FEATURE_ANISOTROPY);
-    if (m.info.x == MAT_METAL_ROUGH && m.volume.w > 0.0f) k.w |= KIND_BIT(FEATURE_VOLUME);
-    if (m.info.x == MAT_METAL_ROUGH && m.volume.w > 1.0f) k.w |= KIND_BIT(FEATURE_DISPERSION);
+    const MaterialModule& module = material_module(m.info.x);
+    if (module.features) k.w |= module.features(m);
   }
   for (const shader::Texture& t : cs.textures) k.y |= KIND_BIT(t.info.x & TEX_TYPE_MASK);
   for (const shader::Emitter& e : cs.emitters) {
@@ -71,10 +67,9 @@ glm::uvec2 bsdf_kinds(const CompiledScene& cs, uint32_t m, int depth = 0) {
   const shader::Material& mat = cs.materials[m];
   glm::uvec2 k(KIND_BIT(mat.info.x),
                lookup_kinds(cs.textures, mat.info.y) | lookup_kinds(cs.textures, mat.info.w) | lookup_kinds(cs.textures, mat.children.z));
-  if (mat.info.x == MAT_METAL_ROUGH)  // its transmission and specular textures
-    k.y |= lookup_kinds(cs.textures, mat.children.y) | lookup_kinds(cs.textures, mat.moreTextures.x) | lookup_kinds(cs.textures, mat.moreTextures.y) |
-           lookup_kinds(cs.textures, mat.moreTextures.z) | lookup_kinds(cs.textures, mat.moreTextures.w) |
-           lookup_kinds(cs.textures, glm::floatBitsToUint(mat.anisotropy.w));
+  const MaterialModule& module = material_module(mat.info.x);
+  if (module.lookups)
+    for (uint32_t t : module.lookups(mat)) k.y |= lookup_kinds(cs.textures, t);
   // The loader bounds a blend's lobes (BSDF_MAX_LOBES), and so its depth.
   if (mat.info.x == MAT_BLEND && depth < int(BSDF_MAX_LOBES))
     k |= bsdf_kinds(cs, mat.children.x, depth + 1) | bsdf_kinds(cs, mat.children.y, depth + 1);

@@ -77,19 +77,14 @@ PackedTextures pack_textures(const Scene& scene) {
   return out;
 }
 
+// The module's record (scene/materials/) with the surface's properties.
 static shader::Material pack_material(const SceneMaterial& in) {
-  shader::Material m{};
-  m.info = glm::uvec4(in.kind, in.albedo, in.emission, in.amount);
-  m.children = glm::uvec4(in.a, in.b, in.normalMap, WP_INVALID);  // w: the sort key (shade_classes)
+  shader::Material m = in.record;
+  m.info.x = in.kind;
+  m.info.z = in.emission;
+  m.children.z = in.normalMap;
+  m.children.w = WP_INVALID;  // the sort key (shade_classes)
   if (in.kind != MAT_BLEND && !is_layer(in.kind)) m.children.x = glm::floatBitsToUint(in.alphaCutoff);
-  if (in.kind == MAT_METAL_ROUGH) m.children.y = in.transmission;
-  m.moreTextures = glm::uvec4(in.specular, in.specularColor, in.iridescenceTexture, in.iridescenceThickness);
-  m.volume = glm::vec4(in.attenuation, in.volume ? 1.0f + in.dispersion : 0.0f);
-  m.iridescence = in.iridescence;
-  m.anisotropy = glm::vec4(in.anisotropy, std::cos(in.anisotropyRotation), std::sin(in.anisotropyRotation),
-                           glm::uintBitsToFloat(in.anisotropyTexture));
-  m.params = in.params;
-  m.params2 = in.params2;
   // Media: index 0 is the vacuum, the scene's follow (compile_media).
   auto medium = [](uint32_t i) { return i == WP_INVALID ? 0u : i + 1u; };
   m.media = in.boundsMedia ? glm::uvec4(medium(in.interior), medium(in.exterior), 0u, 0u) : glm::uvec4(WP_INVALID, WP_INVALID, 0u, 0u);

@@ -7,6 +7,8 @@
 #include <map>
 
 #include "scene/importers.h"
+#include "scene/materials/material_module.h"
+#include "util/error.h"
 
 namespace wp {
 
@@ -106,12 +108,12 @@ void use_cs184_3_2_skeleton(Scene& scene) {
   // with EmissionBSDF(radiance / area, direction).
   std::map<uint32_t, uint32_t> quadMaterial;
   for (const auto& [material, light] : lights) {
-    SceneMaterial quad = scene.materials[material];
-    const glm::vec3 radiance = scene.textures[quad.emission].color;
-    quad.emission = add_texture(scene, constant_texture(radiance / float(light.area)));
-    quad.params.x = 1.0f;  // emission times the cosine (FEATURE_COSINE_EMISSION)
-    scene.materials.push_back(quad);
-    quadMaterial[material] = uint32_t(scene.materials.size() - 1);
+    const std::string name = scene.materials[material].name;
+    const glm::vec3 radiance = scene.textures[scene.materials[material].emission].color;
+    MaterialParams quad(MAT_LIGHT, name, [name](const std::string& problem) { throw InputError("the light quad of " + name + ": " + problem); });
+    quad.texture("emit", add_texture(scene, constant_texture(radiance / float(light.area))));
+    quad.flag("cosine", true);  // emission times the cosine (FEATURE_COSINE_EMISSION)
+    quadMaterial[material] = add_material(scene, quad);
   }
   // The quad lies in its light's plane, and so, in floats, does a lamp mesh
   // placed within 5e-8 of it, as in the course's Cornell files: which of the

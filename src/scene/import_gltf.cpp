@@ -551,9 +551,12 @@ class GltfImporter {
     for (int depth = 0; depth <= LAYERS_MAX; ++depth) {
       const SceneMaterial& mat = scene_.materials[m];
       if (mat.normalMap != WP_INVALID) return scene_.textures[mat.normalMap].secondUvSet ? 1 : 0;
-      if (mat.anisotropy > 0.0f) return mat.anisotropyTexture != WP_INVALID && scene_.textures[mat.anisotropyTexture].secondUvSet ? 1 : 0;
+      if (mat.kind == MAT_METAL_ROUGH && mat.record.anisotropy.x > 0.0f) {
+        const uint32_t t = glm::floatBitsToUint(mat.record.anisotropy.w);  // metal_rough.cpp's record
+        return t != WP_INVALID && scene_.textures[t].secondUvSet ? 1 : 0;
+      }
       if (!is_layer(mat.kind)) break;
-      m = mat.a;
+      m = mat.part(0);
     }
     return -1;
   }

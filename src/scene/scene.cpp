@@ -51,6 +51,19 @@ SceneTexture constant_texture(glm::vec3 color) {
   return t;
 }
 
+shader::Material SceneMaterial::blank_material_record() {
+  // No textures, no parts; a thin film's defaults (factor 0: none), an
+  // anisotropy of strength 0 along the tangent.
+  shader::Material m{};
+  m.info = glm::uvec4(MAT_LAMBERTIAN, WP_INVALID, WP_INVALID, WP_INVALID);
+  m.children = glm::uvec4(WP_INVALID);
+  m.moreTextures = glm::uvec4(WP_INVALID);
+  m.iridescence = glm::vec4(0.0f, 1.3f, 100.0f, 400.0f);
+  m.anisotropy = glm::vec4(0.0f, 1.0f, 0.0f, glm::uintBitsToFloat(WP_INVALID));
+  m.media = glm::uvec4(WP_INVALID, WP_INVALID, 0u, 0u);
+  return m;
+}
+
 uint32_t add_texture(Scene& scene, const SceneTexture& texture) {
   scene.textures.push_back(texture);
   return uint32_t(scene.textures.size() - 1);

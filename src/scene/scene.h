@@ -22,6 +22,7 @@
 #include "scene/kinds.h"
 #include "scene/nanovdb_grid.h"
 #include "scene/texture_image.h"
+#include "shader/types.h"
 
 namespace wp {
 
@@ -148,8 +149,12 @@ struct SceneTexture {
 // Scene::textures), so any colour may vary over the surface.
 struct SceneMaterial {
   uint32_t kind = MAT_LAMBERTIAN;
-  std::string name;                // for messages
-  uint32_t albedo = WP_INVALID;    // lambertian, metal, phong, blinn-phong
+  std::string name;  // for messages
+  // What the kind's module packed (scene/materials/NAME.cpp): the kernels'
+  // record (types.glsl's Material) holding the kind's textures, parts and
+  // parameters. compile_scene adds the kind, the surface's properties below,
+  // its sort key and its media.
+  shader::Material record = blank_material_record();
   uint32_t emission = WP_INVALID;  // emitted radiance (any kind may emit; diffuse_light only emits)
   uint32_t normalMap = WP_INVALID; // an image texture of tangent-space normals, its factor (scale, scale, 1)
   // glTF's alphaMode: 0 opaque; > 0 a cut-out where the albedo texture's
@@ -157,39 +162,6 @@ struct SceneMaterial {
   // transparency, the alpha the chance of being there (BLEND). Not for blends.
   float alphaCutoff = 0.0f;
   bool doubleSided = true;         // false: triangles are not there from behind (glTF's doubleSided)
-  glm::vec4 params{0.0f};          // the kind's parameters, as kinds.glsl lists them (Material.params)
-  glm::vec4 params2{0.0f};
-  uint32_t amount = WP_INVALID;    // blend: the weight of b (a texture's mean, or a fresnel texture);
-                                   // metal-rough: its metallic-roughness texture (WP_INVALID: none);
-                                   // clearcoat, sheen: their roughness (green)
-  uint32_t a = WP_INVALID;         // blend: its two materials; clearcoat, sheen: a, the base they cover
-  uint32_t b = WP_INVALID;
-  uint32_t transmission = WP_INVALID;  // metal-rough: a texture whose red channel scales its transmission (params.w)
-  // metal-rough (KHR_materials_specular): textures scaling its specular factor
-  // (red) and colour, which params2 holds less 1 (metal_rough.glsl)
-  uint32_t specular = WP_INVALID;
-  uint32_t specularColor = WP_INVALID;
-  // metal-rough (KHR_materials_volume): its transmission refracts into a
-  // volume (else thin-walled) that absorbs sigma per unit length
-  bool volume = false;
-  glm::vec3 attenuation{0.0f};
-  // its dispersion (KHR_materials_dispersion): 20 / Abbe number, 0 none;
-  // only a volume disperses
-  float dispersion = 0.0f;
-  // metal-rough (KHR_materials_iridescence): a thin film's factor, ior and
-  // thickness (nm) where its thickness texture is 0 and 1 (factor 0: none),
-  // and textures scaling the factor (red) and placing the thickness (green)
-  glm::vec4 iridescence{0.0f, 1.3f, 100.0f, 400.0f};
-  uint32_t iridescenceTexture = WP_INVALID;
-  uint32_t iridescenceThickness = WP_INVALID;
-  // metal-rough (KHR_materials_anisotropy): strength (0: isotropic), the
-  // direction's rotation from the tangent (radians), and a texture of
-  // directions (red, green) and strengths (blue)
-  float anisotropy = 0.0f;
-  float anisotropyRotation = 0.0f;
-  uint32_t anisotropyTexture = WP_INVALID;
-  // For a clearcoat or sheen, `albedo` is the coat's factor (red) or the
-  // sheen's colour, `normalMap` the coat's own, params.x the coat's ior.
   // Participating media: where `boundsMedia`, the surface separates the
   // medium behind it (against its geometric normal) from the one in front
   // (Scene::media indices, WP_INVALID the vacuum); otherwise a ray crossing
@@ -197,6 +169,15 @@ struct SceneMaterial {
   bool boundsMedia = false;
   uint32_t interior = WP_INVALID;
   uint32_t exterior = WP_INVALID;
+
+  // What every kind keeps in the same place of its record: its colour
+  // texture (a layer's factor or colour), its second texture (a blend's
+  // amount, metal-rough's metallic-roughness, a layer's roughness), and a
+  // blend's parts or a layer's base (part 0).
+  uint32_t albedo() const { return record.info.y; }
+  uint32_t amount() const { return record.info.w; }
+  uint32_t part(int i) const { return i == 0 ? record.children.x : record.children.y; }
+  static shader::Material blank_material_record();
 };
 
 // A participating medium (darts' "media"; media.glsl): coefficients per unit

@@ -11,9 +11,9 @@ extern const MaterialModule beckmann_conductor{
      ParamSpec::required_number("alpha", closed_range(1e-3f, 10.0f)), ParamSpec::required_colour("eta", Range{0.0f, 1e3f, true, true}),
      ParamSpec::required_colour("k", Range{0.0f, 1e3f, false, true}), ParamSpec::choice("shadowing", "smith|cs184")},
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("albedo");
-      m.params = glm::vec4(in.number("alpha"), in.colour("eta"));
-      m.params2 = glm::vec4(in.colour("k"), in.choice("shadowing") == "cs184" ? 1.0f : 0.0f);
+      m.record.info.y = in.texture("albedo");
+      m.record.params = glm::vec4(in.number("alpha"), in.colour("eta"));
+      m.record.params2 = glm::vec4(in.colour("k"), in.choice("shadowing") == "cs184" ? 1.0f : 0.0f);
     }};
 
 }  // namespace wp::materials

@@ -9,13 +9,14 @@ extern const MaterialModule blend{
     {ParamSpec::texture("amount", glm::vec3(0.5f), unit_range()).allowing_fresnel().with_problem("blend amount must lie in [0, 1]"),
      ParamSpec::material("a"), ParamSpec::material("b")},
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.amount = in.texture("amount");
-      m.a = surface_part(in, "a");
-      m.b = surface_part(in, "b");
+      m.record.info.w = in.texture("amount");
+      const uint32_t a = surface_part(in, "a"), b = surface_part(in, "b");
+      m.record.children.x = a;
+      m.record.children.y = b;
       const Scene& s = in.scene();
-      if (material_lobes(s, m.a) + material_lobes(s, m.b) > int(BSDF_MAX_LOBES))
+      if (material_lobes(s, a) + material_lobes(s, b) > int(BSDF_MAX_LOBES))
         in.fail("a blend may combine at most " + std::to_string(BSDF_MAX_LOBES) + " materials in all");
-      if (material_sheens(s, m.a) + material_sheens(s, m.b) > 1) in.fail("a material may hold at most one sheen");
+      if (material_sheens(s, a) + material_sheens(s, b) > 1) in.fail("a material may hold at most one sheen");
     }};
 
 }  // namespace wp::materials

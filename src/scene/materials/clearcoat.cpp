@@ -13,10 +13,10 @@ extern const MaterialModule clearcoat{
      ParamSpec::optional_texture("emit")},
     [](const MaterialInputs& in, SceneMaterial& m) {
       m.emission = in.texture("emit");
-      m.a = layer_base(in, false);
-      m.albedo = in.texture("factor");
-      m.amount = in.texture("roughness");
-      m.params.x = in.number("ior");
+      m.record.children.x = layer_base(in, false);
+      m.record.info.y = in.texture("factor");
+      m.record.info.w = in.texture("roughness");
+      m.record.params.x = in.number("ior");
     }};
 
 }  // namespace wp::materials

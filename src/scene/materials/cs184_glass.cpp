@@ -11,9 +11,9 @@ extern const MaterialModule cs184_glass{
      ParamSpec::colour("reflectance", glm::vec3(1.0f), unit_range()), ParamSpec::number("ior", 1.5f, positive_range()),
      ParamSpec::flag("refraction_only")},
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("transmittance");
-      m.params = glm::vec4(in.number("ior"), in.flag("refraction_only") ? 1.0f : 0.0f, 0.0f, 0.0f);
-      m.params2 = glm::vec4(in.colour("reflectance"), 0.0f);
+      m.record.info.y = in.texture("transmittance");
+      m.record.params = glm::vec4(in.number("ior"), in.flag("refraction_only") ? 1.0f : 0.0f, 0.0f, 0.0f);
+      m.record.params2 = glm::vec4(in.colour("reflectance"), 0.0f);
     }};
 
 }  // namespace wp::materials

@@ -5,6 +5,6 @@ namespace wp::materials {
 
 extern const MaterialModule dielectric{MAT_DIELECTRIC,
                                        {ParamSpec::number("ior", 1.5f, positive_range())},
-                                       [](const MaterialInputs& in, SceneMaterial& m) { m.params.x = in.number("ior"); }};
+                                       [](const MaterialInputs& in, SceneMaterial& m) { m.record.params.x = in.number("ior"); }};
 
 }  // namespace wp::materials

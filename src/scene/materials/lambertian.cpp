@@ -8,7 +8,7 @@ extern const MaterialModule lambertian{
     {ParamSpec::texture("albedo", glm::vec3(0.8f), unit_range()).with_problem("albedo above 1 would create energy"),
      ParamSpec::optional_texture("emit")},  // an OBJ's Ke
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("albedo");
+      m.record.info.y = in.texture("albedo");
       m.emission = in.texture("emit");
     }};
 

@@ -286,6 +286,7 @@ uint32_t add_material(Scene& scene, const MaterialParams& params) {
   }
   SceneMaterial m;
   m.kind = module.kind;
+  m.record.info.x = module.kind;
   m.name = params.name();
   module.pack(in, m);
   scene.materials.push_back(std::move(m));
@@ -300,20 +301,20 @@ uint32_t add_lambertian(Scene& scene, glm::vec3 albedo, const std::string& name)
 
 int material_lobes(const Scene& scene, uint32_t m) {
   const SceneMaterial& mat = scene.materials.at(m);
-  if (mat.kind == MAT_BLEND) return material_lobes(scene, mat.a) + material_lobes(scene, mat.b);
-  if (is_layer(mat.kind)) return material_lobes(scene, mat.a) + 1;
+  if (mat.kind == MAT_BLEND) return material_lobes(scene, mat.part(0)) + material_lobes(scene, mat.part(1));
+  if (is_layer(mat.kind)) return material_lobes(scene, mat.part(0)) + 1;
   return 1;
 }
 
 int material_layers(const Scene& scene, uint32_t m) {
   const SceneMaterial& mat = scene.materials.at(m);
-  return is_layer(mat.kind) ? material_layers(scene, mat.a) + 1 : 0;
+  return is_layer(mat.kind) ? material_layers(scene, mat.part(0)) + 1 : 0;
 }
 
 int material_sheens(const Scene& scene, uint32_t m) {
   const SceneMaterial& mat = scene.materials.at(m);
-  if (mat.kind == MAT_BLEND) return material_sheens(scene, mat.a) + material_sheens(scene, mat.b);
-  if (is_layer(mat.kind)) return material_sheens(scene, mat.a) + (mat.kind == MAT_SHEEN ? 1 : 0);
+  if (mat.kind == MAT_BLEND) return material_sheens(scene, mat.part(0)) + material_sheens(scene, mat.part(1));
+  if (is_layer(mat.kind)) return material_sheens(scene, mat.part(0)) + (mat.kind == MAT_SHEEN ? 1 : 0);
   return 0;
 }
 

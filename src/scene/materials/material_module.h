@@ -145,6 +145,13 @@ struct MaterialModule {
   std::vector<ParamSpec> params;
   // Fills the kind's share of the record (kind and name are set).
   void (*pack)(const MaterialInputs& in, SceneMaterial& out);
+  // The FEATURE_* bits a packed record needs compiled into the kernels
+  // (none if null).
+  uint32_t (*features)(const shader::Material& record) = nullptr;
+  // The textures its lobes read at a hit besides the record's albedo and
+  // amount (info.y, info.w) and normal map, whose kinds the shade kernels
+  // compile in (none if null; WP_INVALID entries are skipped).
+  std::vector<uint32_t> (*lookups)(const shader::Material& record) = nullptr;
 };
 
 // Every kind's module, in id order (one per row of WP_MATERIAL_KINDS; tested).

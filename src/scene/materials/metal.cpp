@@ -9,8 +9,8 @@ extern const MaterialModule metal{
     {ParamSpec::texture("albedo", glm::vec3(0.8f), unit_range()).with_problem("albedo above 1 would create energy"),
      ParamSpec::number("roughness", 0.0f, unit_range()).clamped()},  // clamped, as darts' metal.cpp clamps it
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("albedo");
-      m.params.x = in.number("roughness");
+      m.record.info.y = in.texture("albedo");
+      m.record.params.x = in.number("roughness");
     }};
 
 }  // namespace wp::materials

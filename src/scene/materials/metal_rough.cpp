@@ -2,6 +2,8 @@
 // (shaders/shared/materials/metal_rough.glsl). The names are darts-style;
 // import_gltf.cpp translates glTF's, and gives glTF's own defaults where
 // they differ (an extension's factors).
+#include <cmath>
+
 #include "scene/materials/material_module.h"
 
 namespace wp::materials {
@@ -50,29 +52,44 @@ extern const MaterialModule metal_rough{
         ParamSpec::optional_texture("anisotropy.texture"),
     },
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("base_color");
-      m.amount = in.texture("metallic_roughness");
-      m.transmission = in.texture("transmission_texture");
+      shader::Material& r = m.record;
+      r.info.y = in.texture("base_color");
+      r.info.w = in.texture("metallic_roughness");
+      r.children.y = in.texture("transmission_texture");
       m.emission = in.texture("emit");
-      m.params = glm::vec4(in.number("roughness"), in.number("metallic"), in.number("ior"), in.number("transmission"));
+      r.params = glm::vec4(in.number("roughness"), in.number("metallic"), in.number("ior"), in.number("transmission"));
       // metal_rough.glsl reads the specular factor and colour less 1, so that a record of zeros is glTF's default.
-      m.params2 = glm::vec4(in.colour("specular_color") - glm::vec3(1.0f), in.number("specular") - 1.0f);
-      m.specular = in.texture("specular_texture");
-      m.specularColor = in.texture("specular_color_texture");
-      m.volume = in.flag("volume");
+      r.params2 = glm::vec4(in.colour("specular_color") - glm::vec3(1.0f), in.number("specular") - 1.0f);
+      r.moreTextures = glm::uvec4(in.texture("specular_texture"), in.texture("specular_color_texture"), in.texture("iridescence.factor_texture"),
+                                  in.texture("iridescence.thickness_texture"));
+      // xyz the absorption coefficient inside; w 0 where thin-walled, else 1 + the dispersion.
+      glm::vec3 attenuation(0.0f);
       if (in.given("volume.attenuation_color") || in.given("volume.attenuation_distance"))
-        m.attenuation = -glm::log(glm::max(in.colour("volume.attenuation_color"), glm::vec3(1e-6f))) / in.number("volume.attenuation_distance");
-      m.dispersion = in.number("volume.dispersion");
+        attenuation = -glm::log(glm::max(in.colour("volume.attenuation_color"), glm::vec3(1e-6f))) / in.number("volume.attenuation_distance");
+      r.volume = glm::vec4(attenuation, in.flag("volume") ? 1.0f + in.number("volume.dispersion") : 0.0f);
       if (in.flag("iridescence"))
-        m.iridescence = glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"), in.number("iridescence.thickness_minimum"),
+        r.iridescence = glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"), in.number("iridescence.thickness_minimum"),
                                   in.number("iridescence.thickness_maximum"));
-      m.iridescenceTexture = in.texture("iridescence.factor_texture");
-      m.iridescenceThickness = in.texture("iridescence.thickness_texture");
       if (in.flag("anisotropy")) {
-        m.anisotropy = in.number("anisotropy.strength");
-        m.anisotropyRotation = in.number("anisotropy.rotation");
-        m.anisotropyTexture = in.texture("anisotropy.texture");
+        const float rotation = in.number("anisotropy.rotation");
+        r.anisotropy = glm::vec4(in.number("anisotropy.strength"), std::cos(rotation), std::sin(rotation),
+                                 glm::uintBitsToFloat(in.texture("anisotropy.texture")));
       }
+    },
+    // The features the kernels compile in for it.
+    [](const shader::Material& r) {
+      uint32_t f = 0u;
+      if (r.params2 != glm::vec4(0.0f) || r.moreTextures.x != WP_INVALID || r.moreTextures.y != WP_INVALID) f |= KIND_BIT(FEATURE_SPECULAR_TINT);
+      if (r.iridescence.x > 0.0f) f |= KIND_BIT(FEATURE_IRIDESCENCE);
+      if (r.anisotropy.x > 0.0f) f |= KIND_BIT(FEATURE_ANISOTROPY);
+      if (r.volume.w > 0.0f) f |= KIND_BIT(FEATURE_VOLUME);
+      if (r.volume.w > 1.0f) f |= KIND_BIT(FEATURE_DISPERSION);
+      return f;
+    },
+    // The textures its lobe reads besides the base colour and metallic-roughness.
+    [](const shader::Material& r) {
+      return std::vector<uint32_t>{r.children.y, r.moreTextures.x, r.moreTextures.y, r.moreTextures.z, r.moreTextures.w,
+                                   glm::floatBitsToUint(r.anisotropy.w)};
     }};
 
 }  // namespace wp::materials

@@ -8,8 +8,8 @@ extern const MaterialModule phong{
     {ParamSpec::texture("albedo", glm::vec3(0.8f), unit_range()).with_problem("albedo above 1 would create energy"),
      ParamSpec::number("exponent", 20.0f, closed_range(0.0f, 1e6f))},
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("albedo");
-      m.params.x = in.number("exponent");
+      m.record.info.y = in.texture("albedo");
+      m.record.params.x = in.number("exponent");
     }};
 
 }  // namespace wp::materials

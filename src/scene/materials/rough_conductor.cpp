@@ -10,9 +10,9 @@ extern const MaterialModule rough_conductor{
      ParamSpec::required_colour("eta", Range{0.0f, 1e3f, true, true}), ParamSpec::required_colour("k", Range{0.0f, 1e3f, false, true}),
      ParamSpec::number("roughness", 0.3f, unit_range())},
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("albedo");
-      m.params = glm::vec4(ggx_alpha(in.number("roughness")), in.colour("eta"));
-      m.params2 = glm::vec4(in.colour("k"), 0.0f);
+      m.record.info.y = in.texture("albedo");
+      m.record.params = glm::vec4(ggx_alpha(in.number("roughness")), in.colour("eta"));
+      m.record.params2 = glm::vec4(in.colour("k"), 0.0f);
     }};
 
 }  // namespace wp::materials

@@ -9,8 +9,8 @@ extern const MaterialModule rough_dielectric{
     {ParamSpec::texture("albedo", glm::vec3(1.0f), unit_range()).with_problem("albedo above 1 would create energy"),
      ParamSpec::number("ior", 1.5f, positive_range()), ParamSpec::number("roughness", 0.3f, unit_range())},
     [](const MaterialInputs& in, SceneMaterial& m) {
-      m.albedo = in.texture("albedo");
-      m.params = glm::vec4(in.number("ior"), ggx_alpha(in.number("roughness")), 0.0f, 0.0f);
+      m.record.info.y = in.texture("albedo");
+      m.record.params = glm::vec4(in.number("ior"), ggx_alpha(in.number("roughness")), 0.0f, 0.0f);
     }};
 
 }  // namespace wp::materials

@@ -11,9 +11,9 @@ extern const MaterialModule sheen{
      ParamSpec::texture("roughness", glm::vec3(0.5f), unit_range()), ParamSpec::optional_texture("emit")},
     [](const MaterialInputs& in, SceneMaterial& m) {
       m.emission = in.texture("emit");
-      m.a = layer_base(in, true);
-      m.albedo = in.texture("color");
-      m.amount = in.texture("roughness");
+      m.record.children.x = layer_base(in, true);
+      m.record.info.y = in.texture("color");
+      m.record.info.w = in.texture("roughness");
     }};
 
 }  // namespace wp::materials
