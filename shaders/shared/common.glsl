@@ -39,6 +39,10 @@ using uint = std::uint32_t;
 
 #define WP_PI 3.14159265358979323846f
 #define WP_INV_PI 0.31830988618379067154f
+// Rec. 709 luminance weights (sampling.glsl's illuminance; the host's default-sky rule).
+#define LUMINANCE_R 0.2126f
+#define LUMINANCE_G 0.7152f
+#define LUMINANCE_B 0.0722f
 #define WP_INF 3.402823466e+38f
 #define WP_INVALID 0xffffffffu
 

@@ -150,7 +150,7 @@ float mixture_pdf(float pdfA, float pdfB, float probA) {
 // Luminance (Rec. 709): weighs emitters and environment texels for sampling,
 // and is the "illuminance" of CS184's adaptive sampling.
 float illuminance(vec3 l) {
-  return 0.2126f * l.x + 0.7152f * l.y + 0.0722f * l.z;
+  return LUMINANCE_R * l.x + LUMINANCE_G * l.y + LUMINANCE_B * l.z;
 }
 
 // Veach's power heuristic: the weight of strategy A, pdfA^beta / (pdfA^beta

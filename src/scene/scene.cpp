@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "render/shader_cpp.h"
 #include "scene/texture_image.h"
 #include "scene/transform.h"
 #include "util/error.h"
@@ -352,7 +351,6 @@ bool material_emits(const Scene& scene, uint32_t material) {
 bool default_sky_wanted(const Scene& scene) {
   // Each emitting material's brightest channel anywhere and mean
   // illuminance (a texture's factor times its texels' brightest and mean).
-  shader::ShaderMath math;
   std::vector<double> peak(scene.materials.size(), 0.0), mean(scene.materials.size(), 0.0);
   for (uint32_t m = 0; m < scene.materials.size(); ++m) {
     if (!material_emits(scene, m)) continue;
@@ -366,7 +364,8 @@ bool default_sky_wanted(const Scene& scene) {
       sum *= texelSum / double(image.pixels.size());
     }
     peak[m] = std::max({hi.x, hi.y, hi.z});
-    mean[m] = double(math.illuminance(glm::vec3(sum)));
+    const glm::vec3 s(sum);
+    mean[m] = double(LUMINANCE_R * s.x + LUMINANCE_G * s.y + LUMINANCE_B * s.z);  // sampling.glsl's illuminance
   }
   // What those brighter than the sky emit (a side's radiance times its area,
   // over pi), against what the sky of radiance 1 pours onto the box.
