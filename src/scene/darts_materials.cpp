@@ -107,25 +107,39 @@ uint32_t DartsImporter::add_material(const JsonCursor& j, const std::string& nam
     j["type"].fail("unknown material type \"" + type + "\"" + (hint.empty() ? " (expected " + kind_list(material_kinds()) + ")" : hint));
   }
   const MaterialModule& module = material_module(*kind);
-  std::vector<std::string> keys = {"type", "name"};
-  std::map<std::string, std::vector<std::string>> groups;
-  for (const ParamSpec& p : module.params) {
-    const size_t dot = p.name.find('.');
-    if (dot == std::string::npos) keys.push_back(p.name);
-    else groups[p.name.substr(0, dot)].push_back(p.name.substr(dot + 1));
-  }
-  j.allow_only(keys);
+  // Each kind's keys, worked out from its schema once: its top-level names,
+  // each group's keys, and where each parameter sits.
+  struct Keys {
+    std::vector<std::string> top = {"type", "name"};
+    std::map<std::string, std::vector<std::string>> groups;
+    std::vector<std::pair<std::string, std::string>> place;  // per parameter: (group or "", key)
+  };
+  static const std::vector<Keys> kindKeys = [] {
+    std::vector<Keys> all;
+    for (const MaterialModule* m : material_modules()) {
+      Keys k;
+      for (const ParamSpec& p : m->params) {
+        const size_t dot = p.name.find('.');
+        if (dot == std::string::npos) k.top.push_back(p.name);
+        else k.groups[p.name.substr(0, dot)].push_back(p.name.substr(dot + 1));
+        k.place.emplace_back(dot == std::string::npos ? "" : p.name.substr(0, dot), dot == std::string::npos ? p.name : p.name.substr(dot + 1));
+      }
+      all.push_back(std::move(k));
+    }
+    return all;
+  }();
+  const Keys& keys = kindKeys[*kind];
+  j.allow_only(keys.top);
   MaterialParams params(*kind, name, complaint_at(j));
-  for (const ParamSpec& p : module.params) {
-    const size_t dot = p.name.find('.');
+  for (size_t i = 0; i < module.params.size(); ++i) {
+    const ParamSpec& p = module.params[i];
+    const auto& [group, key] = keys.place[i];
     if (p.type == ParamType::Group) {
-      if (!j.has(p.name.c_str())) continue;
-      j[p.name.c_str()].expect_object().allow_only(groups[p.name]);
-      params.flag(p.name, true, complaint_at(j[p.name.c_str()]));
+      if (!j.has(key.c_str())) continue;
+      j[key.c_str()].expect_object().allow_only(keys.groups.at(key));
+      params.flag(p.name, true, complaint_at(j[key.c_str()]));
       continue;
     }
-    const std::string group = dot == std::string::npos ? "" : p.name.substr(0, dot);
-    const std::string key = dot == std::string::npos ? p.name : p.name.substr(dot + 1);
     if (!group.empty() && !j.has(group.c_str())) continue;
     const JsonCursor parent = group.empty() ? j : j[group.c_str()];
     if (!parent.has(key.c_str())) continue;

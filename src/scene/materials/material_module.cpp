@@ -186,40 +186,39 @@ MaterialParams& MaterialParams::flag(const std::string& key, bool v, Complaint a
   return set(key, Value{ParamType::Flag, glm::vec3(v ? 1.0f : 0.0f), WP_INVALID, {}, std::move(at)});
 }
 
-const MaterialParams::Value& MaterialInputs::value(const std::string& key, ParamType type) const {
-  auto it = values_.find(key);
+const MaterialInputs::Slot& MaterialInputs::slot(const std::string& key, ParamType type) const {
+  const auto& specs = module_->params;
+  for (size_t i = 0; i < specs.size(); ++i) {
+    if (specs[i].name != key) continue;
+    const ParamType declared = specs[i].type == ParamType::Group ? ParamType::Flag : specs[i].type;
+    if (declared != type) break;
+    return slots_[i];
+  }
   // A pack reading a name its schema lacks, or as another type, is a bug here, not in the file.
-  if (it == values_.end() || it->second.type != type) throw std::logic_error("material pack reads undeclared parameter \"" + key + "\"");
-  return it->second;
+  throw std::logic_error("material pack reads undeclared parameter \"" + key + "\"");
 }
 
-float MaterialInputs::number(const std::string& key) const { return value(key, ParamType::Number).v.x; }
-glm::vec3 MaterialInputs::colour(const std::string& key) const { return value(key, ParamType::Colour).v; }
-uint32_t MaterialInputs::texture(const std::string& key) const { return value(key, ParamType::Texture).index; }
-uint32_t MaterialInputs::material(const std::string& key) const {
-  auto it = values_.find(key);
-  return it == values_.end() ? WP_INVALID : value(key, ParamType::Material).index;
-}
-const std::string& MaterialInputs::choice(const std::string& key) const { return value(key, ParamType::Choice).word; }
-bool MaterialInputs::flag(const std::string& key) const {
-  auto it = values_.find(key);
-  if (it == values_.end()) throw std::logic_error("material pack reads undeclared parameter \"" + key + "\"");
-  return it->second.v.x != 0.0f;
-}
+float MaterialInputs::number(const std::string& key) const { return slot(key, ParamType::Number).v.x; }
+glm::vec3 MaterialInputs::colour(const std::string& key) const { return slot(key, ParamType::Colour).v; }
+uint32_t MaterialInputs::texture(const std::string& key) const { return slot(key, ParamType::Texture).index; }
+uint32_t MaterialInputs::material(const std::string& key) const { return slot(key, ParamType::Material).index; }
+const std::string& MaterialInputs::choice(const std::string& key) const { return slot(key, ParamType::Choice).word; }
+bool MaterialInputs::flag(const std::string& key) const { return slot(key, ParamType::Flag).v.x != 0.0f; }
 bool MaterialInputs::given(const std::string& key) const {
-  auto it = given_.find(key);
-  return it != given_.end() && it->second;
+  for (size_t i = 0; i < module_->params.size(); ++i)
+    if (module_->params[i].name == key) return slots_[i].given != nullptr;
+  throw std::logic_error("material pack asks after undeclared parameter \"" + key + "\"");
 }
 
 void MaterialInputs::fail(const std::string& key, const std::string& problem) const {
-  auto it = values_.find(key);
-  const Complaint& at = it != values_.end() && it->second.at ? it->second.at : whole_;
+  auto it = params_->values().find(key);
+  const Complaint& at = it != params_->values().end() && it->second.at ? it->second.at : params_->whole();
   at(problem);
   throw std::logic_error("a complaint returned: " + problem);  // complaints throw
 }
 
 void MaterialInputs::fail(const std::string& problem) const {
-  whole_(problem);
+  params_->whole()(problem);
   throw std::logic_error("a complaint returned: " + problem);
 }
 
@@ -238,8 +237,9 @@ const MaterialModule& material_module(uint32_t kind) {
 uint32_t add_material(Scene& scene, const MaterialParams& params) {
   const MaterialModule& module = material_module(params.kind());
   MaterialInputs in;
+  in.module_ = &module;
+  in.params_ = &params;
   in.scene_ = &scene;
-  in.whole_ = params.whole();
   auto complain = [](const Complaint& at, const std::string& problem) {
     at(problem);
     throw std::logic_error("a complaint returned: " + problem);
@@ -250,39 +250,41 @@ uint32_t add_material(Scene& scene, const MaterialParams& params) {
     const ParamType expected = spec->type == ParamType::Group ? ParamType::Flag : spec->type;
     if (v.type != expected) complain(v.at, key + ": expected " + std::string(type_name(expected)) + ", not " + type_name(v.type));
   }
-  for (const ParamSpec& spec : module.params) {
+  in.slots_.resize(module.params.size());
+  for (size_t i = 0; i < module.params.size(); ++i) {
+    const ParamSpec& spec = module.params[i];
+    MaterialInputs::Slot& slot = in.slots_[i];
     auto found = params.values().find(spec.name);
-    const bool given = found != params.values().end();
-    MaterialParams::Value v = given ? found->second : MaterialParams::Value{spec.type, spec.fallback, WP_INVALID, {}, params.whole()};
-    if (spec.type == ParamType::Group) v.type = ParamType::Flag;
-    if (!given) {
+    if (found == params.values().end()) {
       if (spec.presence == Presence::Required) complain(params.whole(), "needs \"" + spec.name + "\"");
-      if (spec.type == ParamType::Choice) v.word = first_choice(spec.choices);
-      if (spec.type == ParamType::Texture && spec.presence == Presence::Defaulted)
-        v.index = add_texture(scene, constant_texture(spec.fallback));
-    } else {
-      const std::string problem = spec.problem.empty() ? spec.name + " " + spec.range.describe() : spec.problem;
-      const bool colour = spec.type == ParamType::Colour;
-      if (spec.type == ParamType::Number || colour) {
-        for (int c = 0; c < (colour ? 3 : 1); ++c) {
-          if (spec.range.contains(v.v[c])) continue;
-          if (spec.clamp && !std::isnan(v.v[c])) v.v[c] = std::clamp(v.v[c], spec.range.lo, spec.range.hi);
-          else complain(v.at, colour ? problem + " in every channel" : problem);
-        }
-      } else if (spec.type == ParamType::Texture) {
-        const SceneTexture& t = scene.textures.at(v.index);
-        if (t.kind == TEX_FRESNEL && !spec.fresnelAllowed) complain(v.at, "a \"fresnel\" texture is only meaningful as a blend's amount");
-        if (t.kind == TEX_CONSTANT && !(spec.range.contains(t.color.x) && spec.range.contains(t.color.y) && spec.range.contains(t.color.z)))
-          complain(v.at, problem);
-      } else if (spec.type == ParamType::Choice) {
-        if (!is_choice(spec.choices, v.word)) complain(v.at, spec.name + " must be " + choice_list(spec.choices));
-      } else if (spec.type == ParamType::Material) {
-        if (v.index >= scene.materials.size()) throw std::logic_error("material parameter \"" + spec.name + "\" names no material");
-      }
+      slot.v = spec.fallback;
+      if (spec.type == ParamType::Choice) slot.word = first_choice(spec.choices);
+      if (spec.type == ParamType::Texture && spec.presence == Presence::Defaulted) slot.index = add_texture(scene, constant_texture(spec.fallback));
+      continue;
     }
-    if (spec.type == ParamType::Material && !given) continue;  // optional parts stay absent
-    in.given_[spec.name] = given;
-    in.values_[spec.name] = std::move(v);
+    const MaterialParams::Value& v = found->second;
+    slot.given = &v;
+    slot.v = v.v;
+    slot.index = v.index;
+    slot.word = v.word;
+    auto problem = [&spec] { return spec.problem.empty() ? spec.name + " " + spec.range.describe() : spec.problem; };
+    const bool colour = spec.type == ParamType::Colour;
+    if (spec.type == ParamType::Number || colour) {
+      for (int c = 0; c < (colour ? 3 : 1); ++c) {
+        if (spec.range.contains(slot.v[c])) continue;
+        if (spec.clamp && !std::isnan(slot.v[c])) slot.v[c] = std::clamp(slot.v[c], spec.range.lo, spec.range.hi);
+        else complain(v.at, colour ? problem() + " in every channel" : problem());
+      }
+    } else if (spec.type == ParamType::Texture) {
+      const SceneTexture& t = scene.textures.at(v.index);
+      if (t.kind == TEX_FRESNEL && !spec.fresnelAllowed) complain(v.at, "a \"fresnel\" texture is only meaningful as a blend's amount");
+      if (t.kind == TEX_CONSTANT && !(spec.range.contains(t.color.x) && spec.range.contains(t.color.y) && spec.range.contains(t.color.z)))
+        complain(v.at, problem());
+    } else if (spec.type == ParamType::Choice) {
+      if (!is_choice(spec.choices, v.word)) complain(v.at, spec.name + " must be " + choice_list(spec.choices));
+    } else if (spec.type == ParamType::Material) {
+      if (v.index >= scene.materials.size()) throw std::logic_error("material parameter \"" + spec.name + "\" names no material");
+    }
   }
   SceneMaterial m;
   m.kind = module.kind;

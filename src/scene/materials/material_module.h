@@ -25,6 +25,8 @@
 
 namespace wp {
 
+struct MaterialModule;
+
 // Throws the importer's error for the place a value came from (a JSON
 // pointer, an XML element, a glTF path); never returns.
 using Complaint = std::function<void(const std::string& problem)>;
@@ -133,11 +135,19 @@ class MaterialInputs {
 
  private:
   friend uint32_t add_material(Scene&, const MaterialParams&);
-  const MaterialParams::Value& value(const std::string& key, ParamType type) const;
+  // One per schema entry, in the schema's order: the value given (or null)
+  // and the default's where none was.
+  struct Slot {
+    const MaterialParams::Value* given = nullptr;
+    glm::vec3 v{0.0f};
+    uint32_t index = WP_INVALID;
+    std::string word;  // a choice's
+  };
+  const Slot& slot(const std::string& key, ParamType type) const;
+  const MaterialModule* module_ = nullptr;
+  const MaterialParams* params_ = nullptr;
   const Scene* scene_ = nullptr;
-  Complaint whole_;
-  std::map<std::string, MaterialParams::Value> values_;
-  std::map<std::string, bool> given_;
+  std::vector<Slot> slots_;
 };
 
 struct MaterialModule {
