@@ -72,7 +72,7 @@ TEST(CpuReference, DispersionSpreadsTheColoursInTheOrderOfTheirIndices) {
   EXPECT_LT(x.x + 0.3, x.y) << "red " << x.x << ", green " << x.y;
   EXPECT_LT(x.y + 0.3, x.z) << "green " << x.y << ", blue " << x.z;
   for (SceneMaterial& m : scene.materials)  // no dispersion, and not the small ball's tint (metal_rough.cpp's record)
-    if (m.kind == MAT_METAL_ROUGH) m.record.volume = glm::vec4(0.0f, 0.0f, 0.0f, m.record.volume.w > 0.0f ? 1.0f : 0.0f);
+    if (m.kind == MAT_METAL_ROUGH) m.record.extra[MR_VOLUME] = glm::vec4(0.0f, 0.0f, 0.0f, m.record.extra[MR_VOLUME].w > 0.0f ? 1.0f : 0.0f);
   auto [x0, equal0] = centroids(scene);
   EXPECT_TRUE(equal0) << "without dispersion the channels differ";
 }

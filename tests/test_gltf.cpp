@@ -317,19 +317,19 @@ TEST(Gltf, PbrExtensionsBecomeLayersReadingTheirChannels) {
   EXPECT_NEAR(at(coat.amount(), left).y, 0.5f * quarter, 2e-3f);  // clearcoatRoughnessTexture: green
   EXPECT_NEAR(at(sheen.amount(), left).y, 0.8f, 1e-3f);  // sheenRoughnessTexture: alpha
   EXPECT_NEAR(at(sheen.amount(), right).y, 0.8f * quarter, 2e-3f);
-  EXPECT_NEAR(at(tinted.record.moreTextures.x, right).x, quarter, 2e-3f);  // specularTexture: alpha
-  EXPECT_NE(tinted.record.moreTextures.y, WP_INVALID);
+  EXPECT_NEAR(at(glm::floatBitsToUint(tinted.record.extra[MR_TEXTURES].x), right).x, quarter, 2e-3f);  // specularTexture: alpha
+  EXPECT_NE(glm::floatBitsToUint(tinted.record.extra[MR_TEXTURES].y), WP_INVALID);
   // KHR_materials_iridescence, _anisotropy and _volume on the lower row.
   const SceneMaterial film = named("film"), brushed = named("brushed"), glass = named("glass");
-  EXPECT_EQ(film.record.iridescence, glm::vec4(1.0f, 1.4f, 200.0f, 500.0f));
-  EXPECT_NE(film.record.moreTextures.z, WP_INVALID);
-  EXPECT_NE(film.record.moreTextures.w, WP_INVALID);
-  EXPECT_FLOAT_EQ(brushed.record.anisotropy.x, 0.9f);
-  EXPECT_FLOAT_EQ(brushed.record.anisotropy.y, std::cos(0.4f));
-  EXPECT_NE(glm::floatBitsToUint(brushed.record.anisotropy.w), WP_INVALID);
-  EXPECT_FLOAT_EQ(glass.record.volume.w, 1.6f);  // 1 + the dispersion
+  EXPECT_EQ(film.record.extra[MR_IRIDESCENCE], glm::vec4(1.0f, 1.4f, 200.0f, 500.0f));
+  EXPECT_NE(glm::floatBitsToUint(film.record.extra[MR_TEXTURES].z), WP_INVALID);
+  EXPECT_NE(glm::floatBitsToUint(film.record.extra[MR_TEXTURES].w), WP_INVALID);
+  EXPECT_FLOAT_EQ(brushed.record.extra[MR_ANISOTROPY].x, 0.9f);
+  EXPECT_FLOAT_EQ(brushed.record.extra[MR_ANISOTROPY].y, std::cos(0.4f));
+  EXPECT_NE(glm::floatBitsToUint(brushed.record.extra[MR_ANISOTROPY].w), WP_INVALID);
+  EXPECT_FLOAT_EQ(glass.record.extra[MR_VOLUME].w, 1.6f);  // 1 + the dispersion
   EXPECT_TRUE(glass.doubleSided);  // a volume's boundary is there from inside
-  EXPECT_NEAR(glm::distance(glm::vec3(glass.record.volume), -glm::log(glm::vec3(0.9f, 0.4f, 0.2f)) / 0.8f), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::distance(glm::vec3(glass.record.extra[MR_VOLUME]), -glm::log(glm::vec3(0.9f, 0.4f, 0.2f)) / 0.8f), 0.0f, 1e-5f);
   for (uint32_t f : {FEATURE_IRIDESCENCE, FEATURE_ANISOTROPY, FEATURE_VOLUME}) EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(f)) << f;
 }
 
@@ -509,7 +509,7 @@ TEST(Gltf, BadInputIsRefusedInOneLineNamingThePlace) {
                                                : R"({"extensions": {"KHR_materials_dispersion": {"dispersion": 0.5}}})"));
     const Scene s = load_scene(write_scene(thick ? "dispersive.gltf" : "thin-dispersive.gltf", doc.dump()));
     ASSERT_FALSE(s.materials.empty());
-    EXPECT_EQ(s.materials[0].record.volume.w, thick ? 1.5f : 0.0f);  // 1 + the dispersion, 0 thin-walled
+    EXPECT_EQ(s.materials[0].record.extra[MR_VOLUME].w, thick ? 1.5f : 0.0f);  // 1 + the dispersion, 0 thin-walled
     const bool compiled = (compile_scene(s, RenderOptions{}).params.kinds.w & KIND_BIT(FEATURE_DISPERSION)) != 0u;
     EXPECT_EQ(compiled, thick);
   }
@@ -675,9 +675,9 @@ TEST(Gltf, AMaterialPacksAsItsDartsTwinDoes) {
     // The record less its texture and part indices, which differ with the order the importers add them.
     EXPECT_EQ(a.record.params, b.record.params);
     EXPECT_EQ(a.record.params2, b.record.params2);
-    EXPECT_EQ(a.record.volume, b.record.volume);
-    EXPECT_EQ(a.record.iridescence, b.record.iridescence);
-    EXPECT_EQ(glm::vec3(a.record.anisotropy), glm::vec3(b.record.anisotropy));
+    EXPECT_EQ(a.record.extra[MR_VOLUME], b.record.extra[MR_VOLUME]);
+    EXPECT_EQ(a.record.extra[MR_IRIDESCENCE], b.record.extra[MR_IRIDESCENCE]);
+    EXPECT_EQ(glm::vec3(a.record.extra[MR_ANISOTROPY]), glm::vec3(b.record.extra[MR_ANISOTROPY]));
     EXPECT_EQ(a.part(0) == WP_INVALID, b.part(0) == WP_INVALID);
     EXPECT_EQ(colour(g, a.albedo()), colour(d, b.albedo()));
     EXPECT_EQ(colour(g, a.amount()), colour(d, b.amount()));
@@ -685,7 +685,7 @@ TEST(Gltf, AMaterialPacksAsItsDartsTwinDoes) {
   }
   EXPECT_EQ(g.materials[2].kind, MAT_CLEARCOAT);
   EXPECT_NE(g.materials[2].emission, WP_INVALID) << "the top layer carries the emission";
-  EXPECT_GT(g.materials[0].record.volume.w, 0.0f) << "a volume";
+  EXPECT_GT(g.materials[0].record.extra[MR_VOLUME].w, 0.0f) << "a volume";
 }
 
 }  // namespace

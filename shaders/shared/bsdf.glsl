@@ -18,6 +18,8 @@
 
 // Lobes a BSDF of this scene can have: one unless it has blend materials.
 #define BSDF_LOBES_OF_SCENE (COMPOSITE_MATERIALS_COMPILED ? BSDF_MAX_LOBES : 1u)
+// Slots of a lobe's extra parameters (Lobe.extra).
+#define LOBE_EXTRA_SLOTS 3
 
 struct Bsdf {
   vec3 ns;  // shading normal, on wo's side of the geometric surface
@@ -32,8 +34,11 @@ struct Bsdf {
   float lobeParam[BSDF_MAX_LOBES];      // params.x
   vec3 lobeParamYzw[BSDF_MAX_LOBES];    // params.yzw
   vec4 lobeParams2[BSDF_MAX_LOBES];     // params2
-  vec4 lobeParams3[BSDF_MAX_LOBES];     // a metal-rough lobe's thin film (FEATURE_IRIDESCENCE)
-  vec4 lobeParams4[BSDF_MAX_LOBES];     // a metal-rough lobe's anisotropy (FEATURE_ANISOTROPY)
+  // Lobe.extra, one array a slot, stored where a compiled feature reads it
+  // (one array of arrays cost lavapipe 8 % of a layered scene's shading).
+  vec4 lobeExtra0[BSDF_MAX_LOBES];
+  vec4 lobeExtra1[BSDF_MAX_LOBES];
+  vec4 lobeExtra2[BSDF_MAX_LOBES];
   float lobeDispersion[BSDF_MAX_LOBES]; // a metal-rough lobe's dispersion, 20 / Abbe number (FEATURE_DISPERSION)
   float lobeWeight[BSDF_MAX_LOBES];
   // A sheen layer (MAT_SHEEN): x max3 of its colour (0: none), y its
@@ -48,28 +53,55 @@ struct Bsdf {
 struct Lobe {
   vec4 params;
   vec4 params2;
-  vec4 params3;  // metal-rough's thin film: x factor, y ior, z thickness (nm); zero without FEATURE_IRIDESCENCE
-  vec4 params4;  // metal-rough's anisotropy: xyz the direction of alpha_t, w alpha_t (0: isotropic); zero without FEATURE_ANISOTROPY
+  // More of the kind's parameters at the hit, as its materials/ file lays
+  // them out (metal-rough's extensions: MR_LOBE_* slots, kinds.glsl); zero
+  // in a slot no compiled feature reads.
+  vec4 extra[LOBE_EXTRA_SLOTS];
   vec3 color;
   bool front;
 };
 
-// Sets lobe k's parameters (the material's, or resolved at the hit).
+// Whether a compiled feature reads slot `slot` of Lobe.extra (the features'
+// table, kinds.glsl).
+bool lobe_extra_compiled(uint slot) {
+  return (FEATURES_OF_SCENE & (0u WP_FEATURES(WP_READS_LOBE_EXTRA))) != 0u;
+}
+
+// Sets and reads slot `slot` of lobe k's extra parameters.
+void bsdf_set_extra(INOUT(Bsdf) b, uint k, uint slot, vec4 value) {
+  if (!lobe_extra_compiled(slot)) return;
+  if (slot == 0u) b.lobeExtra0[k] = value;
+  if (slot == 1u) b.lobeExtra1[k] = value;
+  if (slot == 2u) b.lobeExtra2[k] = value;
+}
+
+vec4 bsdf_extra(INOUT(Bsdf) b, uint k, uint slot) {  // (INOUT: C++ would copy b)
+  if (!lobe_extra_compiled(slot)) return vec4(0.0f);
+  return slot == 0u ? b.lobeExtra0[k] : slot == 1u ? b.lobeExtra1[k] : b.lobeExtra2[k];
+}
+
+// Stores lobe k's parameters: l's (its colour and side are the Bsdf's own).
+void bsdf_store_params(INOUT(Bsdf) b, uint k, Lobe l) {
+  b.lobeParam[k] = l.params.x;
+  if (MATERIAL_PARAMS_YZW_COMPILED) b.lobeParamYzw[k] = vec3(l.params.y, l.params.z, l.params.w);
+  if (MATERIAL_PARAMS2_COMPILED) b.lobeParams2[k] = l.params2;
+  for (uint slot = 0u; slot < uint(LOBE_EXTRA_SLOTS); ++slot) bsdf_set_extra(b, k, slot, l.extra[slot]);
+}
+
+// A lobe's parameters `params`, `params2`, its extra slots zero.
+Lobe lobe_with_params(vec4 params, vec4 params2) {
+  Lobe l;
+  l.params = params;
+  l.params2 = params2;
+  for (uint slot = 0u; slot < uint(LOBE_EXTRA_SLOTS); ++slot) l.extra[slot] = vec4(0.0f);
+  l.color = vec3(0.0f);
+  l.front = true;
+  return l;
+}
+
+// Sets lobe k's parameters, its extra slots zero.
 void bsdf_set_params(INOUT(Bsdf) b, uint k, vec4 params, vec4 params2) {
-  b.lobeParam[k] = params.x;
-  if (MATERIAL_PARAMS_YZW_COMPILED) b.lobeParamYzw[k] = vec3(params.y, params.z, params.w);
-  if (MATERIAL_PARAMS2_COMPILED) b.lobeParams2[k] = params2;
-  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE)) b.lobeParams3[k] = vec4(0.0f);
-  if (FEATURE_COMPILED(FEATURE_ANISOTROPY)) b.lobeParams4[k] = vec4(0.0f);
-}
-
-// Sets lobe k's thin film and its anisotropy (after bsdf_set_params).
-void bsdf_set_params3(INOUT(Bsdf) b, uint k, vec4 params3) {
-  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE)) b.lobeParams3[k] = params3;
-}
-
-void bsdf_set_params4(INOUT(Bsdf) b, uint k, vec4 params4) {
-  if (FEATURE_COMPILED(FEATURE_ANISOTROPY)) b.lobeParams4[k] = params4;
+  bsdf_store_params(b, k, lobe_with_params(params, params2));
 }
 
 // The index of refraction of colour channel `channel` (1 red, 2 green, 3
@@ -89,8 +121,7 @@ Lobe lobe_of(Bsdf b, uint i) {
   vec3 yzw = MATERIAL_PARAMS_YZW_COMPILED ? b.lobeParamYzw[i] : vec3(0.0f);
   l.params = vec4(b.lobeParam[i], yzw.x, yzw.y, yzw.z);
   l.params2 = MATERIAL_PARAMS2_COMPILED ? b.lobeParams2[i] : vec4(0.0f);
-  l.params3 = FEATURE_COMPILED(FEATURE_IRIDESCENCE) ? b.lobeParams3[i] : vec4(0.0f);
-  l.params4 = FEATURE_COMPILED(FEATURE_ANISOTROPY) ? b.lobeParams4[i] : vec4(0.0f);
+  for (uint slot = 0u; slot < uint(LOBE_EXTRA_SLOTS); ++slot) l.extra[slot] = bsdf_extra(b, i, slot);
   l.color = b.lobeColor[i];
   l.front = b.front;
   return l;

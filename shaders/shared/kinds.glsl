@@ -111,7 +111,11 @@
 #define MEDIUM_NANOVDB 2u      // coefficients times a density read from a NanoVDB grid (FEATURE_MEDIA_GRID)
 #define WP_MEDIUM_KINDS(X) X(MEDIUM_VACUUM, "vacuum") X(MEDIUM_HOMOGENEOUS, "homogeneous") X(MEDIUM_NANOVDB, "nanovdb")
 
-// Other features a scene may use. Columns: id, name.
+// Other features a scene may use. Columns: id; name; the slots of
+// Material.extra its materials fill (EXTRA_SLOT bits), which load_material
+// fetches only where a compiled feature reads them; the slots of Lobe.extra
+// its lobes read at the hit, which bsdf_at stores only where one does (on
+// lavapipe every store to a lobe's arrays costs every path).
 #define FEATURE_SPHERES 0u
 #define FEATURE_SHADING_DATA 1u         // triangles with vertex normals or UVs
 #define FEATURE_CMJ 2u                  // camera samples from correlated multi-jittered patterns (SAMPLER_CMJ)
@@ -124,21 +128,34 @@
 #define FEATURE_COSINE_EMISSION 9u      // a light material emitting in proportion to the cosine (params.x; CS184 3-2's light quads)
 #define FEATURE_SPECULAR_TINT 10u       // metal-rough with a specular factor or colour other than 1 (KHR_materials_specular; params2)
 #define FEATURE_VOLUME 11u              // metal-rough whose transmission refracts into an absorbing volume (KHR_materials_volume)
-#define FEATURE_IRIDESCENCE 12u         // metal-rough under a thin film (KHR_materials_iridescence; Lobe.params3)
-#define FEATURE_ANISOTROPY 13u          // metal-rough with anisotropic roughness (KHR_materials_anisotropy; Lobe.params4)
+#define FEATURE_IRIDESCENCE 12u         // metal-rough under a thin film (KHR_materials_iridescence)
+#define FEATURE_ANISOTROPY 13u          // metal-rough with anisotropic roughness (KHR_materials_anisotropy)
 #define FEATURE_DISPERSION 14u          // a volume whose index of refraction depends on the wavelength (KHR_materials_dispersion)
 #define FEATURE_MEDIA 15u               // participating media: the camera or a surface's side in a medium (media.glsl)
 #define FEATURE_MEDIA_GRID 16u          // a medium whose density a NanoVDB grid holds (MEDIUM_NANOVDB; pnanovdb.glsl)
 #define FEATURE_INSTANCES 17u           // meshes placed by instances: a two-level BVH (Instance; traverse_*.glsl)
-#define WP_FEATURES(X)                                                                                            \
-  X(FEATURE_SPHERES, "spheres") X(FEATURE_SHADING_DATA, "vertex normals or UVs") X(FEATURE_CMJ, "cmj sampler") \
-  X(FEATURE_EMISSION_TEXTURES, "textured emission") X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling") \
-  X(FEATURE_VERTEX_DATA, "tangents, vertex colours or a second UV set") X(FEATURE_NORMAL_MAPS, "normal maps")    \
-  X(FEATURE_ONE_SIDED, "one-sided triangles") X(FEATURE_CUTOUTS, "alpha cut-outs")                          \
-  X(FEATURE_COSINE_EMISSION, "cosine emission") X(FEATURE_SPECULAR_TINT, "specular tint") \
-  X(FEATURE_VOLUME, "volumes") X(FEATURE_IRIDESCENCE, "iridescence") \
-  X(FEATURE_ANISOTROPY, "anisotropy") X(FEATURE_DISPERSION, "dispersion") X(FEATURE_MEDIA, "participating media") \
-  X(FEATURE_MEDIA_GRID, "grid media") X(FEATURE_INSTANCES, "instances")
+#define EXTRA_SLOT(i) (1u << (i))
+// Metal-rough's slots (materials/metal_rough.glsl says what each holds).
+#define MR_TEXTURES 0     // Material.extra: the extensions' textures
+#define MR_VOLUME 1       // Material.extra: KHR_materials_volume and _dispersion
+#define MR_IRIDESCENCE 2  // Material.extra: KHR_materials_iridescence
+#define MR_ANISOTROPY 3   // Material.extra: KHR_materials_anisotropy
+#define MR_LOBE_FILM 0        // Lobe.extra: the thin film at the hit
+#define MR_LOBE_ANISOTROPY 1  // Lobe.extra: the anisotropy at the hit
+#define WP_FEATURES(X)                                                                                              \
+  X(FEATURE_SPHERES, "spheres", 0u, 0u) X(FEATURE_SHADING_DATA, "vertex normals or UVs", 0u, 0u)                    \
+  X(FEATURE_CMJ, "cmj sampler", 0u, 0u) X(FEATURE_EMISSION_TEXTURES, "textured emission", 0u, 0u)                   \
+  X(FEATURE_UNIFORM_HEMISPHERE, "uniform hemisphere sampling", 0u, 0u)                                              \
+  X(FEATURE_VERTEX_DATA, "tangents, vertex colours or a second UV set", 0u, 0u)                                     \
+  X(FEATURE_NORMAL_MAPS, "normal maps", 0u, 0u) X(FEATURE_ONE_SIDED, "one-sided triangles", 0u, 0u)                 \
+  X(FEATURE_CUTOUTS, "alpha cut-outs", 0u, 0u) X(FEATURE_COSINE_EMISSION, "cosine emission", 0u, 0u)                \
+  X(FEATURE_SPECULAR_TINT, "specular tint", EXTRA_SLOT(MR_TEXTURES), 0u)                                            \
+  X(FEATURE_VOLUME, "volumes", EXTRA_SLOT(MR_VOLUME), 0u)                                                           \
+  X(FEATURE_IRIDESCENCE, "iridescence", EXTRA_SLOT(MR_TEXTURES) | EXTRA_SLOT(MR_IRIDESCENCE), EXTRA_SLOT(MR_LOBE_FILM)) \
+  X(FEATURE_ANISOTROPY, "anisotropy", EXTRA_SLOT(MR_ANISOTROPY), EXTRA_SLOT(MR_LOBE_ANISOTROPY))                    \
+  X(FEATURE_DISPERSION, "dispersion", EXTRA_SLOT(MR_VOLUME), 0u)                                                    \
+  X(FEATURE_MEDIA, "participating media", 0u, 0u) X(FEATURE_MEDIA_GRID, "grid media", 0u, 0u)                       \
+  X(FEATURE_INSTANCES, "instances", 0u, 0u)
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the
@@ -157,6 +174,13 @@
 // Whether surface hits carry tangents: normal maps and anisotropy read them.
 #define TANGENTS_COMPILED ((FEATURES_OF_SCENE & (KIND_BIT(FEATURE_NORMAL_MAPS) | KIND_BIT(FEATURE_ANISOTROPY))) != 0u)
 #define ALL_KINDS 0xffffffffu
+
+// Bit `slot` of the features' columns above: whether a compiled feature reads
+// slot `slot` of Material.extra (material_extra_compiled, records.glsl) or of
+// Lobe.extra (lobe_extra_compiled, bsdf.glsl). They name those functions'
+// parameter, so that each call folds to one mask.
+#define WP_READS_MATERIAL_EXTRA(id, name, material, lobe) | ((((material) >> slot) & 1u) != 0u ? KIND_BIT(id) : 0u)
+#define WP_READS_LOBE_EXTRA(id, name, material, lobe) | ((((lobe) >> slot) & 1u) != 0u ? KIND_BIT(id) : 0u)
 
 // Whether a compiled material kind reads params.yzw or params2: kernels
 // without one carry one float of parameters per lobe (on lavapipe every

@@ -30,81 +30,23 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
   return texture_eval(tex, s.uv, s.p) * scale;
 }
 
-// The lobe a non-blend material contributes, with its colour and weight.
-// Parameters are the material's, except metal-rough's, which its
-// metallic-roughness texture scales (glTF: roughness in G, metallic in B)
-// and its transmission texture (children.y; R) scales the transmission of.
-// The anisotropy of metal-rough m at s (KHR_materials_anisotropy,
-// README.md:82-181 at acfcbe6): its texture's red and green give a direction
-// in the tangent frame (2 c - 1; the tangent without a texture) and its blue
-// scales the strength; the direction turns by the material's rotation, and
-// alpha_t = mix(alpha, 1, strength^2) along it (alpha across it). Returns the
-// direction made orthogonal to the shading normal ns, and alpha_t; zero
-// (isotropic) where the surface has no tangent.
-vec4 anisotropy_at(Material m, SurfaceHit s, vec3 ns, float alpha) {
-  float strength = m.anisotropy.x;
-  vec2 d = vec2(1.0f, 0.0f);
-  uint tex = floatBitsToUint(m.anisotropy.w);
-  if (tex != WP_INVALID) {
-    vec3 c = texture_eval(tex, s.uv, s.p);
-    d = vec2(2.0f * c.x - 1.0f, 2.0f * c.y - 1.0f);
-    strength *= c.z;
-    float len = length(d);
-    d = len > 0.0f ? d / len : vec2(1.0f, 0.0f);
-  }
-  vec2 r = vec2(m.anisotropy.y * d.x - m.anisotropy.z * d.y, m.anisotropy.z * d.x + m.anisotropy.y * d.y);
-  vec3 t = vec3(s.tangent.x, s.tangent.y, s.tangent.z);
-  t -= s.ns * dot(s.ns, t);
-  float tl = length(t);
-  if (!(tl > 0.0f) || !(strength > 0.0f)) return vec4(0.0f);
-  t /= tl;
-  vec3 dir = t * r.x + cross(s.ns, t) * (s.tangent.w * r.y);
-  dir -= ns * dot(ns, dir);
-  float dl = length(dir);
-  if (!(dl > 0.0f)) return vec4(0.0f);
-  dir /= dl;
-  strength = clamp(strength, 0.0f, 1.0f);
-  return vec4(dir.x, dir.y, dir.z, alpha + (1.0f - alpha) * strength * strength);
-}
+// Each kind's resolution at the hit, which looks up textures: the second
+// half of its materials/ file (bsdf.glsl included the first).
+#define WP_MATERIAL_AT_HIT
+#include "materials/metal_rough.glsl"
 
-// Its specular factor and colour (KHR_materials_specular), as metal_rough.glsl
-// reads them: params2 less 1, times their textures.
+// The lobe a non-blend material contributes, with its colour and weight, and
+// its parameters: the material's, or those its kind resolves at the hit
+// (stored once: on lavapipe each copy of the stores costs every path).
 void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, SurfaceHit s) {
   b.lobeType[k] = m.info.x;
   b.lobeColor[k] = color;
   b.lobeWeight[k] = w;
-  vec4 params = m.params;
-  vec4 params2 = m.params2;
-  if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && m.info.x == MAT_METAL_ROUGH) {
-    vec3 mr = m.info.w != WP_INVALID ? texture_eval(m.info.w, s.uv, s.p) : vec3(1.0f);
-    float roughness = clamp(m.params.x * mr.y, 0.0f, 1.0f);
-    float transmission = m.children.y != WP_INVALID ? m.params.w * texture_eval(m.children.y, s.uv, s.p).x : m.params.w;
-    params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), max(m.params.z, METAL_ROUGH_MIN_IOR),
-                  clamp(transmission, 0.0f, 1.0f));
-    // A transmission that refracts into a volume is stored negated (metal_rough.glsl).
-    if (FEATURE_COMPILED(FEATURE_VOLUME) && m.volume.w > 0.0f) params.w = -params.w;
-    if (FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) {
-      float weight = 1.0f + m.params2.w;
-      vec3 tint = vec3(1.0f + m.params2.x, 1.0f + m.params2.y, 1.0f + m.params2.z);
-      if (m.moreTextures.x != WP_INVALID) weight *= texture_eval(m.moreTextures.x, s.uv, s.p).x;
-      if (m.moreTextures.y != WP_INVALID) tint *= texture_eval(m.moreTextures.y, s.uv, s.p);
-      params2 = vec4(tint.x - 1.0f, tint.y - 1.0f, tint.z - 1.0f, clamp(weight, 0.0f, 1.0f) - 1.0f);
-    }
-  }
-  bsdf_set_params(b, k, params, params2);
-  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE) && m.info.x == MAT_METAL_ROUGH && m.iridescence.x > 0.0f) {
-    // The film's factor (times its texture's red) and thickness (between
-    // its two bounds by its texture's green; the upper without one).
-    float factor = m.iridescence.x;
-    float along = 1.0f;
-    if (m.moreTextures.z != WP_INVALID) factor *= texture_eval(m.moreTextures.z, s.uv, s.p).x;
-    if (m.moreTextures.w != WP_INVALID) along = texture_eval(m.moreTextures.w, s.uv, s.p).y;
-    bsdf_set_params3(b, k, vec4(clamp(factor, 0.0f, 1.0f), m.iridescence.y, m.iridescence.z + (m.iridescence.w - m.iridescence.z) * along, 0.0f));
-  }
-  if (FEATURE_COMPILED(FEATURE_ANISOTROPY) && m.info.x == MAT_METAL_ROUGH && m.anisotropy.x > 0.0f)
-    bsdf_set_params4(b, k, anisotropy_at(m, s, b.ns, params.x));
-  if (FEATURE_COMPILED(FEATURE_DISPERSION))
-    b.lobeDispersion[k] = m.info.x == MAT_METAL_ROUGH && m.volume.w > 1.0f ? m.volume.w - 1.0f : 0.0f;
+  Lobe l = lobe_with_params(m.params, m.params2);
+  float dispersion = 0.0f;
+  if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && m.info.x == MAT_METAL_ROUGH) metal_rough_at(l, dispersion, m, s, b.ns);
+  bsdf_store_params(b, k, l);
+  if (FEATURE_COMPILED(FEATURE_DISPERSION)) b.lobeDispersion[k] = dispersion;
 }
 
 // The shading normal at s under normal map `tex` (glTF's convention): the
@@ -164,15 +106,13 @@ bool material_needs_no_texture(Material m) {
          (load_texture(m.info.w).info.x & TEX_TYPE_MASK) == TEX_FRESNEL;
 }
 
-// The BSDF at s seen from wo: textures looked up, blends flattened into
-// weighted lobes (depth-first, bounded: the loader allows at most
-// BSDF_MAX_LOBES leaves per material).
 // The fraction of light a path keeps over a segment of length t inside the
 // volume that material `material` bounds (KHR_materials_volume's
 // Beer-Lambert law, T = exp(-sigma t)), 1 for other materials.
 vec3 volume_transmittance(uint material, float t) {
-  vec4 v = surface_material(load_material(material)).volume;
-  if (!(v.w > 0.0f)) return vec3(1.0f);
+  Material m = surface_material(load_material(material));
+  vec4 v = m.extra[MR_VOLUME];
+  if (m.info.x != MAT_METAL_ROUGH || !(v.w > 0.0f)) return vec3(1.0f);
   return vec3(exp(-v.x * t), exp(-v.y * t), exp(-v.z * t));
 }
 
@@ -214,6 +154,9 @@ float bsdf_add_sheen(INOUT(Bsdf) b, uint k, vec3 color, float r, vec3 wo, float 
   return w * albedo;
 }
 
+// The BSDF at s seen from wo: textures looked up, blends flattened into
+// weighted lobes (depth-first, bounded: the loader allows at most
+// BSDF_MAX_LOBES leaves per material).
 Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   Bsdf b;
   Material m = load_material(s.material);

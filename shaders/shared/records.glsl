@@ -123,6 +123,17 @@ Sphere load_sphere(uint i) {
   return sp;
 }
 
+// Whether a compiled feature reads slot `slot` of Material.extra (the
+// features' table, kinds.glsl). The CPU reference compiles every feature
+// and reads every slot.
+bool material_extra_compiled(uint slot) {
+#ifdef __cplusplus
+  return true;
+#else
+  return (FEATURES_OF_SCENE & (0u WP_FEATURES(WP_READS_MATERIAL_EXTRA))) != 0u;
+#endif
+}
+
 Material load_material(uint i) {
   int at = int(i) * MATERIAL_TEXELS;
   Material m;
@@ -130,12 +141,8 @@ Material load_material(uint i) {
   m.children = texelFetch(materialTexels, at + 1);
   m.params = texel_vec4(texelFetch(materialTexels, at + 2));
   m.params2 = MATERIAL_PARAMS2_COMPILED ? texel_vec4(texelFetch(materialTexels, at + 3)) : vec4(0.0f);
-  // (One mask test: Mesa 22.3 refuses a logical or of specialization constants.)
-  bool moreTextures = (FEATURES_OF_SCENE & (KIND_BIT(FEATURE_SPECULAR_TINT) | KIND_BIT(FEATURE_IRIDESCENCE))) != 0u;
-  m.moreTextures = moreTextures ? texelFetch(materialTexels, at + 4) : uvec4(WP_INVALID);
-  m.volume = FEATURE_COMPILED(FEATURE_VOLUME) ? texel_vec4(texelFetch(materialTexels, at + 5)) : vec4(0.0f);
-  m.iridescence = FEATURE_COMPILED(FEATURE_IRIDESCENCE) ? texel_vec4(texelFetch(materialTexels, at + 6)) : vec4(0.0f);
-  m.anisotropy = FEATURE_COMPILED(FEATURE_ANISOTROPY) ? texel_vec4(texelFetch(materialTexels, at + 7)) : vec4(0.0f);
+  for (uint k = 0u; k < uint(MATERIAL_EXTRA_SLOTS); ++k)
+    m.extra[k] = material_extra_compiled(k) ? texel_vec4(texelFetch(materialTexels, at + 4 + int(k))) : vec4(0.0f);
   m.media = FEATURE_COMPILED(FEATURE_MEDIA) ? texelFetch(materialTexels, at + MATERIAL_MEDIA_TEXEL) : uvec4(WP_INVALID);
   return m;
 }

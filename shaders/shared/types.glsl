@@ -159,8 +159,9 @@ struct WideNode {
 #define TRIANGLE_VERTEX_DATA_TEXELS 8
 #define SPHERE_TEXELS 7
 #define INSTANCE_TEXELS 7
-#define MATERIAL_TEXELS 9
-#define MATERIAL_MEDIA_TEXEL 8  // Material.media, which material_media (media.glsl) reads alone
+#define MATERIAL_EXTRA_SLOTS 6
+#define MATERIAL_TEXELS (5 + MATERIAL_EXTRA_SLOTS)
+#define MATERIAL_MEDIA_TEXEL (4 + MATERIAL_EXTRA_SLOTS)  // Material.media, which material_media (media.glsl) reads alone
 #define MEDIUM_TEXELS 9
 #define PHOTON_TEXELS 2
 #define TEXTURE_TEXELS 6
@@ -276,17 +277,9 @@ struct Material {
                    // w: its sort key, shade class + 1 (SORT_KEYS; compile_scene)
   vec4 params;     // the kind's parameters, as kinds.glsl lists them
   vec4 params2;
-  uvec4 moreTextures;  // metal-rough: x its specular texture (read in red: glTF's alpha, as grey), y its
-                       // specular colour texture, scaling params2's w and xyz (FEATURE_SPECULAR_TINT);
-                       // z its iridescence texture (red, scaling iridescence.x), w its film thickness
-                       // texture (green, between iridescence.z and w; FEATURE_IRIDESCENCE). WP_INVALID: none
-  vec4 volume;         // metal-rough (KHR_materials_volume, FEATURE_VOLUME): xyz the attenuation coefficient
-                       // inside (per unit length), w 0 where thin-walled, else 1 + its dispersion (20 / Abbe
-                       // number, KHR_materials_dispersion; FEATURE_DISPERSION where above 0)
-  vec4 iridescence;    // metal-rough (KHR_materials_iridescence, FEATURE_IRIDESCENCE): x the film's factor, y its
-                       // ior, z and w its thickness (nm) where its thickness texture is 0 and 1
-  vec4 anisotropy;     // metal-rough (KHR_materials_anisotropy, FEATURE_ANISOTROPY): x strength, y and z the cosine
-                       // and sine of the direction's rotation from the tangent, w its texture (uint bits; WP_INVALID none)
+  vec4 extra[MATERIAL_EXTRA_SLOTS];  // more of the kind's parameters, as its materials/ file lays them out (metal-rough's
+                                     // extensions: MR_* slots, kinds.glsl); a texture's index as uint bits. Zero in
+                                     // kinds that use none; the kernels fetch a slot only where a feature reads it
   uvec4 media;         // FEATURE_MEDIA: x the medium behind the surface (against its normal), y the one in front
                        // (indices into the media, 0 the vacuum); WP_INVALID where the surface bounds no medium, so a
                        // ray crossing it stays in its medium. zw: unused

@@ -34,6 +34,9 @@ namespace wp::gltf_import {
 
 namespace fs = std::filesystem;
 
+// The material extensions the importer reads (gltf_materials.cpp).
+const std::set<std::string>& material_extensions();
+
 // The files a model may read: those inside its folder.
 struct Sandbox {
   fs::path root;  // canonical

@@ -11,6 +11,14 @@ namespace wp::gltf_import {
 
 // ---- materials -----------------------------------------------------------
 
+const std::set<std::string>& material_extensions() {
+  static const std::set<std::string> names = {"KHR_materials_anisotropy", "KHR_materials_clearcoat",   "KHR_materials_dispersion",
+                                              "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_iridescence",
+                                              "KHR_materials_sheen",      "KHR_materials_specular",    "KHR_materials_transmission",
+                                              "KHR_materials_volume"};
+  return names;
+}
+
 uint32_t GltfImporter::material_for(int index, const std::string& where) {
   if (index < 0) {  // the specification's default material
     // The module's defaults are the specification's: white, metallic 1, roughness 1, ior 1.5.
@@ -124,8 +132,8 @@ int GltfImporter::uv_set_needing_tangents(uint32_t m) const {
   for (int depth = 0; depth <= LAYERS_MAX; ++depth) {
     const SceneMaterial& mat = scene_.materials[m];
     if (mat.normalMap != WP_INVALID) return scene_.textures[mat.normalMap].secondUvSet ? 1 : 0;
-    if (mat.kind == MAT_METAL_ROUGH && mat.record.anisotropy.x > 0.0f) {
-      const uint32_t t = glm::floatBitsToUint(mat.record.anisotropy.w);  // metal_rough.cpp's record
+    if (mat.kind == MAT_METAL_ROUGH && mat.record.extra[MR_ANISOTROPY].x > 0.0f) {
+      const uint32_t t = glm::floatBitsToUint(mat.record.extra[MR_ANISOTROPY].w);  // metal_rough.cpp's record
       return t != WP_INVALID && scene_.textures[t].secondUvSet ? 1 : 0;
     }
     if (!is_layer(mat.kind)) break;

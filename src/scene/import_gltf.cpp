@@ -89,11 +89,10 @@ std::string joined(const std::set<std::string>& names) {
   return out;
 }
 
-// The extensions wavepath reads. Others are named once in a warning, or
-// refused when the file requires them.
-const std::set<std::string> kSupportedExtensions = {"EXT_mesh_gpu_instancing", "KHR_lights_punctual",      "KHR_materials_anisotropy",      "KHR_materials_clearcoat",    "KHR_materials_dispersion", "KHR_materials_emissive_strength",
-                                                    "KHR_materials_ior",        "KHR_materials_iridescence",  "KHR_materials_sheen",        "KHR_materials_specular",
-                                                    "KHR_materials_transmission", "KHR_materials_volume",     "KHR_texture_transform"};
+// The extensions wavepath reads beside its materials' (material_extensions,
+// gltf_materials.cpp). Others are named once in a warning, or refused when
+// the file requires them.
+const std::set<std::string> kSupportedExtensions = {"EXT_mesh_gpu_instancing", "KHR_lights_punctual", "KHR_texture_transform"};
 
 }  // namespace
 
@@ -206,12 +205,12 @@ std::string GltfImporter::first_line(const std::string& s) {
 void GltfImporter::check_extensions() {
   for (size_t i = 0; i < model_.extensionsRequired.size(); ++i) {
     const std::string& e = model_.extensionsRequired[i];
-    if (!kSupportedExtensions.count(e))
+    if (!kSupportedExtensions.count(e) && !material_extensions().count(e))
       fail("/extensionsRequired/" + std::to_string(i), "the model requires extension " + e + ", which wavepath does not support");
   }
   std::set<std::string> ignored;
   for (const std::string& e : model_.extensionsUsed)
-    if (!kSupportedExtensions.count(e)) ignored.insert(e);
+    if (!kSupportedExtensions.count(e) && !material_extensions().count(e)) ignored.insert(e);
   if (!ignored.empty()) std::fprintf(stderr, "wavepath: warning: %s: ignoring extensions it uses: %s\n", path_.c_str(), joined(ignored).c_str());
 }
 

@@ -6,12 +6,13 @@ namespace {
 
 #define WP_MATERIAL_ROW(id, name, prefix, lobes) KindInfo{id, name, lobes},
 #define WP_KIND_ROW(id, name) KindInfo{id, name, 0u},
+#define WP_FEATURE_ROW(id, name, material, lobe) KindInfo{id, name, 0u},
 
 struct Tables {
   std::vector<KindInfo> materials{WP_MATERIAL_KINDS(WP_MATERIAL_ROW)};
   std::vector<KindInfo> textures{WP_TEXTURE_KINDS(WP_KIND_ROW)};
   std::vector<KindInfo> lights{WP_LIGHT_KINDS(WP_KIND_ROW)};
-  std::vector<KindInfo> features{WP_FEATURES(WP_KIND_ROW)};
+  std::vector<KindInfo> features{WP_FEATURES(WP_FEATURE_ROW)};
   std::vector<KindInfo> media{WP_MEDIUM_KINDS(WP_KIND_ROW)};
 };
 

@@ -51,14 +51,11 @@ SceneTexture constant_texture(glm::vec3 color) {
 }
 
 shader::Material SceneMaterial::blank_material_record() {
-  // No textures, no parts; a thin film's defaults (factor 0: none), an
-  // anisotropy of strength 0 along the tangent.
+  // No textures, no parts; the kind's extra slots zero (its module fills
+  // those it uses).
   shader::Material m{};
   m.info = glm::uvec4(MAT_LAMBERTIAN, WP_INVALID, WP_INVALID, WP_INVALID);
   m.children = glm::uvec4(WP_INVALID);
-  m.moreTextures = glm::uvec4(WP_INVALID);
-  m.iridescence = glm::vec4(0.0f, 1.3f, 100.0f, 400.0f);
-  m.anisotropy = glm::vec4(0.0f, 1.0f, 0.0f, glm::uintBitsToFloat(WP_INVALID));
   m.media = glm::uvec4(WP_INVALID, WP_INVALID, 0u, 0u);
   return m;
 }

@@ -34,9 +34,8 @@ static_assert(sizeof(TriangleShading) == 64 && offsetof(TriangleShading, flags) 
 static_assert(sizeof(TriangleVertexData) == 128 && offsetof(TriangleVertexData, color0) == 48 && offsetof(TriangleVertexData, uv1_2) == 112);
 static_assert(sizeof(Sphere) == 112 && offsetof(Sphere, material) == 96 && offsetof(Sphere, area) == 104);
 static_assert(sizeof(Instance) == 112 && offsetof(Instance, root) == 96 && offsetof(Instance, mesh) == 104);
-static_assert(sizeof(Material) == 144 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
-              offsetof(Material, params2) == 48 && offsetof(Material, moreTextures) == 64 && offsetof(Material, volume) == 80 &&
-              offsetof(Material, iridescence) == 96 && offsetof(Material, anisotropy) == 112 && offsetof(Material, media) == 128);
+static_assert(sizeof(Material) == 176 && offsetof(Material, children) == 16 && offsetof(Material, params) == 32 &&
+              offsetof(Material, params2) == 48 && offsetof(Material, extra) == 64 && offsetof(Material, media) == 16 * MATERIAL_MEDIA_TEXEL);
 static_assert(sizeof(Medium) == 144 && offsetof(Medium, sigmaA) == 16 && offsetof(Medium, sigmaN) == 48 &&
               offsetof(Medium, toIndex0) == 64 && offsetof(Medium, boundsHi) == 128);
 static_assert(sizeof(Texture) == 96 && offsetof(Texture, color1) == 32 && offsetof(Texture, map2) == 80);

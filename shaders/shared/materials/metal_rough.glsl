@@ -19,15 +19,15 @@
 //   transmission: f = (1 - m)(1 - max3 F_d) t base BTDF(wo, wi),
 // F_d taken at the transmitted angle on the way out, 1 beyond the critical
 // angle; the volume's absorption is the integrator's (volume_transmittance).
-// KHR_materials_iridescence (FEATURE_IRIDESCENCE; params3) lays a thin film
+// KHR_materials_iridescence (FEATURE_IRIDESCENCE) lays a thin film
 // over both surfaces: metal_rough_iridescence; KHR_materials_anisotropy
-// (FEATURE_ANISOTROPY; params4) stretches the specular layer's microfacets
+// (FEATURE_ANISOTROPY) stretches the specular layer's microfacets
 // along a direction (metal_rough_specular_*); the refraction into a volume
 // stays isotropic.
 // color is the base colour, params at the hit: x alpha (roughness squared,
-// at least GGX_MIN_ALPHA), y metallic, z ior, w transmission (bsdf_at
-// resolves them from the material's factors and its metallic-roughness
-// texture). The specular layer and the transmission are sampled through the
+// at least GGX_MIN_ALPHA), y metallic, z ior, w transmission; params2 and
+// extra as metal_rough_at, at the end of this file, resolves them from the
+// material's factors and its textures. The specular layer and the transmission are sampled through the
 // visible normals, the diffuse base by cosine, picked by their estimated
 // reflectance at wo. Lobe functions as no_lobe.glsl describes them.
 #ifndef WP_METAL_ROUGH_GLSL
@@ -53,16 +53,16 @@ vec3 metal_rough_dielectric_fresnel(Lobe l, float w) {
 }
 
 // A thin film over the dielectric's and the metal's surfaces
-// (KHR_materials_iridescence, params3: factor, ior, thickness): each Fresnel
+// (KHR_materials_iridescence, extra[MR_LOBE_FILM]: factor, ior, thickness): each Fresnel
 // term mixed by the factor with the film's reflectance over it at c = wo.h
 // (README.md:124-245 at acfcbe6; the specification leaves the angle open,
 // and wo.h is where the microfacet model takes its Fresnel terms).
 void metal_rough_iridescence(Lobe l, float c, INOUT(vec3) fd, INOUT(vec3) fm) {
-  if (!FEATURE_COMPILED(FEATURE_IRIDESCENCE) || !(l.params3.x > 0.0f)) return;
-  vec3 filmD = thin_film_fresnel(l.params3.y, l.params3.z, metal_rough_dielectric_fresnel(l, 0.0f), c);
-  vec3 filmM = thin_film_fresnel(l.params3.y, l.params3.z, l.color, c);
-  fd = fd + (filmD - fd) * l.params3.x;
-  fm = fm + (filmM - fm) * l.params3.x;
+  if (!FEATURE_COMPILED(FEATURE_IRIDESCENCE) || !(l.extra[MR_LOBE_FILM].x > 0.0f)) return;
+  vec3 filmD = thin_film_fresnel(l.extra[MR_LOBE_FILM].y, l.extra[MR_LOBE_FILM].z, metal_rough_dielectric_fresnel(l, 0.0f), c);
+  vec3 filmM = thin_film_fresnel(l.extra[MR_LOBE_FILM].y, l.extra[MR_LOBE_FILM].z, l.color, c);
+  fd = fd + (filmD - fd) * l.extra[MR_LOBE_FILM].x;
+  fm = fm + (filmM - fm) * l.extra[MR_LOBE_FILM].x;
 }
 
 float metal_rough_max3(vec3 v) {
@@ -109,16 +109,16 @@ vec3 metal_rough_refraction_normal(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
 
 // The specular layer's microfacets: isotropic GGX of width alpha
 // (params.x), or with KHR_materials_anisotropy (FEATURE_ANISOTROPY)
-// alpha_t (params4.w) along the direction params4.xyz and alpha across it
+// alpha_t (extra[MR_LOBE_ANISOTROPY].w) along the direction in its xyz and alpha across it
 // (README.md:90-105 at acfcbe6). Its reflection term S |cos_i|, the density
 // of its samples and a sample, as ggx_reflection_* give them.
 bool metal_rough_anisotropic(Lobe l) {
-  return FEATURE_COMPILED(FEATURE_ANISOTROPY) && l.params4.w > 0.0f;
+  return FEATURE_COMPILED(FEATURE_ANISOTROPY) && l.extra[MR_LOBE_ANISOTROPY].w > 0.0f;
 }
 
 // w in the frame of the anisotropy's direction t, cross(ns, t) and ns.
 vec3 metal_rough_local(Lobe l, vec3 ns, vec3 w) {
-  vec3 t = vec3(l.params4.x, l.params4.y, l.params4.z);
+  vec3 t = vec3(l.extra[MR_LOBE_ANISOTROPY].x, l.extra[MR_LOBE_ANISOTROPY].y, l.extra[MR_LOBE_ANISOTROPY].z);
   return vec3(dot(w, t), dot(w, cross(ns, t)), dot(w, ns));
 }
 
@@ -129,7 +129,7 @@ vec2 metal_rough_anisotropic_terms(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   vec3 o = metal_rough_local(l, ns, wo);
   vec3 i = metal_rough_local(l, ns, wi);
   if (o.z <= 0.0f || i.z <= 0.0f) return vec2(0.0f);
-  float at = l.params4.w;
+  float at = l.extra[MR_LOBE_ANISOTROPY].w;
   float ab = l.params.x;
   float lambdaO = ggx_anisotropic_lambda(o, at, ab);
   float d = ggx_anisotropic_d(normalize(o + i), at, ab) / (4.0f * o.z);
@@ -148,11 +148,11 @@ float metal_rough_specular_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
 
 vec3 metal_rough_specular_sample(Lobe l, vec3 ns, vec3 wo, vec2 u) {
   if (!metal_rough_anisotropic(l)) return ggx_reflection_sample(l.params.x, ns, wo, u);
-  vec3 t = vec3(l.params4.x, l.params4.y, l.params4.z);
+  vec3 t = vec3(l.extra[MR_LOBE_ANISOTROPY].x, l.extra[MR_LOBE_ANISOTROPY].y, l.extra[MR_LOBE_ANISOTROPY].z);
   vec3 b = cross(ns, t);
   vec3 o = metal_rough_local(l, ns, wo);
   if (o.z <= 0.0f) return vec3(0.0f);
-  vec3 hl = ggx_sample_visible_anisotropic(o, l.params4.w, l.params.x, u);
+  vec3 hl = ggx_sample_visible_anisotropic(o, l.extra[MR_LOBE_ANISOTROPY].w, l.params.x, u);
   vec3 h = t * hl.x + b * hl.y + ns * hl.z;
   vec3 wi = reflect_about(wo, h);
   return hl.z > 0.0f && dot(wi, ns) > 0.0f ? wi : vec3(0.0f);
@@ -254,3 +254,105 @@ vec3 metal_rough_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
 WP_NO_DELTA_LOBE(metal_rough)
 
 #endif  // WP_METAL_ROUGH_GLSL
+
+// ---- The material at a hit: its record's factors and textures resolved into
+// the lobe's parameters. material_at.glsl includes this file a second time,
+// after textures.glsl, with WP_MATERIAL_AT_HIT defined, for this half. ----
+#if defined(WP_MATERIAL_AT_HIT) && !defined(WP_METAL_ROUGH_AT_HIT)
+#define WP_METAL_ROUGH_AT_HIT
+
+// The record (Material; metal_rough.cpp packs it):
+//   params: x roughness, y metallic, z ior, w transmission; info.y the base
+//     colour, info.w the metallic-roughness texture (G roughness, B
+//     metallic), children.y the transmission texture (R);
+//   params2: the specular colour less 1 (xyz) and the specular factor less 1
+//     (w), so that zeros are glTF's default (KHR_materials_specular);
+//   extra[MR_TEXTURES]: the textures of x the specular factor (A, as grey in
+//     R), y the specular colour, z the film's factor (R), w its thickness (G);
+//   extra[MR_VOLUME]: xyz the absorption coefficient inside, w 0 where
+//     thin-walled, else 1 + the dispersion (20 / Abbe number);
+//   extra[MR_IRIDESCENCE]: the film's factor, ior, and thickness (nm) where
+//     its texture is 0 and 1;
+//   extra[MR_ANISOTROPY]: strength, the cosine and sine of the direction's
+//     rotation from the tangent, its texture (uint bits).
+// A texture slot holds WP_INVALID where the material has none.
+
+// The anisotropy of metal-rough m at s (KHR_materials_anisotropy,
+// README.md:82-181 at acfcbe6): its texture's red and green give a direction
+// in the tangent frame (2 c - 1; the tangent without a texture) and its blue
+// scales the strength; the direction turns by the material's rotation, and
+// alpha_t = mix(alpha, 1, strength^2) along it (alpha across it). Returns the
+// direction made orthogonal to the shading normal ns, and alpha_t; zero
+// (isotropic) where the surface has no tangent.
+vec4 metal_rough_anisotropy_at(Material m, SurfaceHit s, vec3 ns, float alpha) {
+  vec4 a = m.extra[MR_ANISOTROPY];
+  float strength = a.x;
+  vec2 d = vec2(1.0f, 0.0f);
+  uint tex = floatBitsToUint(a.w);
+  if (tex != WP_INVALID) {
+    vec3 c = texture_eval(tex, s.uv, s.p);
+    d = vec2(2.0f * c.x - 1.0f, 2.0f * c.y - 1.0f);
+    strength *= c.z;
+    float len = length(d);
+    d = len > 0.0f ? d / len : vec2(1.0f, 0.0f);
+  }
+  vec2 r = vec2(a.y * d.x - a.z * d.y, a.z * d.x + a.y * d.y);
+  vec3 t = vec3(s.tangent.x, s.tangent.y, s.tangent.z);
+  t -= s.ns * dot(s.ns, t);
+  float tl = length(t);
+  if (!(tl > 0.0f) || !(strength > 0.0f)) return vec4(0.0f);
+  t /= tl;
+  vec3 dir = t * r.x + cross(s.ns, t) * (s.tangent.w * r.y);
+  dir -= ns * dot(ns, dir);
+  float dl = length(dir);
+  if (!(dl > 0.0f)) return vec4(0.0f);
+  dir /= dl;
+  strength = clamp(strength, 0.0f, 1.0f);
+  return vec4(dir.x, dir.y, dir.z, alpha + (1.0f - alpha) * strength * strength);
+}
+
+// Texture `tex` of m's extensions at s (stored as bits), which scales
+// `value`: by its red where `red`, else by its colour. (An if, not a
+// select: both sides of a select run.)
+vec3 metal_rough_scaled(float tex, SurfaceHit s, vec3 value, bool red) {
+  uint t = floatBitsToUint(tex);
+  if (t != WP_INVALID) {
+    vec3 c = texture_eval(t, s.uv, s.p);
+    value *= red ? vec3(c.x) : c;
+  }
+  return value;
+}
+
+// The lobe's parameters of metal-rough m at s (shading normal ns), its
+// factors scaled by their textures; and its dispersion (0: none).
+void metal_rough_at(INOUT(Lobe) l, OUT(float) dispersion, Material m, SurfaceHit s, vec3 ns) {
+  vec3 mr = m.info.w != WP_INVALID ? texture_eval(m.info.w, s.uv, s.p) : vec3(1.0f);
+  float roughness = clamp(m.params.x * mr.y, 0.0f, 1.0f);
+  float transmission = m.children.y != WP_INVALID ? m.params.w * texture_eval(m.children.y, s.uv, s.p).x : m.params.w;
+  l.params = vec4(max(roughness * roughness, GGX_MIN_ALPHA), clamp(m.params.y * mr.z, 0.0f, 1.0f), max(m.params.z, METAL_ROUGH_MIN_IOR),
+                  clamp(transmission, 0.0f, 1.0f));
+  vec4 volume = m.extra[MR_VOLUME];
+  // A transmission that refracts into a volume is stored negated (metal_rough_refracts).
+  if (FEATURE_COMPILED(FEATURE_VOLUME) && volume.w > 0.0f) l.params.w = -l.params.w;
+  if (FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) {
+    vec4 textures = m.extra[MR_TEXTURES];
+    float weight = metal_rough_scaled(textures.x, s, vec3(1.0f + m.params2.w), true).x;
+    vec3 tint = metal_rough_scaled(textures.y, s, vec3(1.0f + m.params2.x, 1.0f + m.params2.y, 1.0f + m.params2.z), false);
+    l.params2 = vec4(tint.x - 1.0f, tint.y - 1.0f, tint.z - 1.0f, clamp(weight, 0.0f, 1.0f) - 1.0f);
+  }
+  vec4 film = m.extra[MR_IRIDESCENCE];
+  if (FEATURE_COMPILED(FEATURE_IRIDESCENCE) && film.x > 0.0f) {
+    // The film's factor (times its texture's red) and thickness (between
+    // its two bounds by its texture's green; the upper without one).
+    vec4 textures = m.extra[MR_TEXTURES];
+    float factor = metal_rough_scaled(textures.z, s, vec3(film.x), true).x;
+    float along = 1.0f;
+    if (floatBitsToUint(textures.w) != WP_INVALID) along = texture_eval(floatBitsToUint(textures.w), s.uv, s.p).y;
+    l.extra[MR_LOBE_FILM] = vec4(clamp(factor, 0.0f, 1.0f), film.y, film.z + (film.w - film.z) * along, 0.0f);
+  }
+  if (FEATURE_COMPILED(FEATURE_ANISOTROPY) && m.extra[MR_ANISOTROPY].x > 0.0f)
+    l.extra[MR_LOBE_ANISOTROPY] = metal_rough_anisotropy_at(m, s, ns, l.params.x);
+  dispersion = volume.w > 1.0f ? volume.w - 1.0f : 0.0f;
+}
+
+#endif  // WP_METAL_ROUGH_AT_HIT

@@ -234,6 +234,12 @@ const MaterialModule& material_module(uint32_t kind) {
   return *all[kind];
 }
 
+uint32_t MaterialInputs::add_medium(SceneMedium medium) const {
+  if (medium.name.empty()) medium.name = params_->name() + " (inside)";
+  scene_->media.push_back(std::move(medium));
+  return uint32_t(scene_->media.size() - 1);
+}
+
 uint32_t add_material(Scene& scene, const MaterialParams& params) {
   const MaterialModule& module = material_module(params.kind());
   MaterialInputs in;

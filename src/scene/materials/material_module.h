@@ -132,6 +132,9 @@ class MaterialInputs {
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const;  // at the value's place
   [[noreturn]] void fail(const std::string& problem) const;                          // at the material's
   const Scene& scene() const { return *scene_; }
+  // Adds a medium the material bounds to the scene (glTF's volumes, whose
+  // material holds their inside); its index into Scene::media.
+  uint32_t add_medium(SceneMedium medium) const;
 
  private:
   friend uint32_t add_material(Scene&, const MaterialParams&);
@@ -146,7 +149,7 @@ class MaterialInputs {
   const Slot& slot(const std::string& key, ParamType type) const;
   const MaterialModule* module_ = nullptr;
   const MaterialParams* params_ = nullptr;
-  const Scene* scene_ = nullptr;
+  Scene* scene_ = nullptr;
   std::vector<Slot> slots_;
 };
 

@@ -60,36 +60,36 @@ extern const MaterialModule metal_rough{
       r.params = glm::vec4(in.number("roughness"), in.number("metallic"), in.number("ior"), in.number("transmission"));
       // metal_rough.glsl reads the specular factor and colour less 1, so that a record of zeros is glTF's default.
       r.params2 = glm::vec4(in.colour("specular_color") - glm::vec3(1.0f), in.number("specular") - 1.0f);
-      r.moreTextures = glm::uvec4(in.texture("specular_texture"), in.texture("specular_color_texture"), in.texture("iridescence.factor_texture"),
-                                  in.texture("iridescence.thickness_texture"));
-      // xyz the absorption coefficient inside; w 0 where thin-walled, else 1 + the dispersion.
+      // The extensions' slots, as metal_rough.glsl lays them out.
+      const auto bits = [](uint32_t texture) { return glm::uintBitsToFloat(texture); };
+      r.extra[MR_TEXTURES] = glm::vec4(bits(in.texture("specular_texture")), bits(in.texture("specular_color_texture")),
+                                       bits(in.texture("iridescence.factor_texture")), bits(in.texture("iridescence.thickness_texture")));
       glm::vec3 attenuation(0.0f);
       if (in.given("volume.attenuation_color") || in.given("volume.attenuation_distance"))
         attenuation = -glm::log(glm::max(in.colour("volume.attenuation_color"), glm::vec3(1e-6f))) / in.number("volume.attenuation_distance");
-      r.volume = glm::vec4(attenuation, in.flag("volume") ? 1.0f + in.number("volume.dispersion") : 0.0f);
-      if (in.flag("iridescence"))
-        r.iridescence = glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"), in.number("iridescence.thickness_minimum"),
-                                  in.number("iridescence.thickness_maximum"));
-      if (in.flag("anisotropy")) {
-        const float rotation = in.number("anisotropy.rotation");
-        r.anisotropy = glm::vec4(in.number("anisotropy.strength"), std::cos(rotation), std::sin(rotation),
-                                 glm::uintBitsToFloat(in.texture("anisotropy.texture")));
-      }
+      r.extra[MR_VOLUME] = glm::vec4(attenuation, in.flag("volume") ? 1.0f + in.number("volume.dispersion") : 0.0f);
+      r.extra[MR_IRIDESCENCE] = in.flag("iridescence") ? glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"),
+                                                                   in.number("iridescence.thickness_minimum"), in.number("iridescence.thickness_maximum"))
+                                                       : glm::vec4(0.0f);
+      const float rotation = in.flag("anisotropy") ? in.number("anisotropy.rotation") : 0.0f;
+      r.extra[MR_ANISOTROPY] = glm::vec4(in.flag("anisotropy") ? in.number("anisotropy.strength") : 0.0f, std::cos(rotation), std::sin(rotation),
+                                         bits(in.flag("anisotropy") ? in.texture("anisotropy.texture") : WP_INVALID));
     },
     // The features the kernels compile in for it.
     [](const shader::Material& r) {
       uint32_t f = 0u;
-      if (r.params2 != glm::vec4(0.0f) || r.moreTextures.x != WP_INVALID || r.moreTextures.y != WP_INVALID) f |= KIND_BIT(FEATURE_SPECULAR_TINT);
-      if (r.iridescence.x > 0.0f) f |= KIND_BIT(FEATURE_IRIDESCENCE);
-      if (r.anisotropy.x > 0.0f) f |= KIND_BIT(FEATURE_ANISOTROPY);
-      if (r.volume.w > 0.0f) f |= KIND_BIT(FEATURE_VOLUME);
-      if (r.volume.w > 1.0f) f |= KIND_BIT(FEATURE_DISPERSION);
+      const glm::uvec4 textures = glm::floatBitsToUint(r.extra[MR_TEXTURES]);
+      if (r.params2 != glm::vec4(0.0f) || textures.x != WP_INVALID || textures.y != WP_INVALID) f |= KIND_BIT(FEATURE_SPECULAR_TINT);
+      if (r.extra[MR_IRIDESCENCE].x > 0.0f) f |= KIND_BIT(FEATURE_IRIDESCENCE);
+      if (r.extra[MR_ANISOTROPY].x > 0.0f) f |= KIND_BIT(FEATURE_ANISOTROPY);
+      if (r.extra[MR_VOLUME].w > 0.0f) f |= KIND_BIT(FEATURE_VOLUME);
+      if (r.extra[MR_VOLUME].w > 1.0f) f |= KIND_BIT(FEATURE_DISPERSION);
       return f;
     },
     // The textures its lobe reads besides the base colour and metallic-roughness.
     [](const shader::Material& r) {
-      return std::vector<uint32_t>{r.children.y, r.moreTextures.x, r.moreTextures.y, r.moreTextures.z, r.moreTextures.w,
-                                   glm::floatBitsToUint(r.anisotropy.w)};
+      const glm::uvec4 textures = glm::floatBitsToUint(r.extra[MR_TEXTURES]);
+      return std::vector<uint32_t>{r.children.y, textures.x, textures.y, textures.z, textures.w, glm::floatBitsToUint(r.extra[MR_ANISOTROPY].w)};
     }};
 
 }  // namespace wp::materials
