@@ -28,6 +28,12 @@ third-party asset, no licence to track):
   layers.glb      KHR_materials_clearcoat, _sheen, _specular, _iridescence,
                   _anisotropy and _volume, each with its textures (the
                   channels each reads), under a sun.
+  translucent.glb KHR_materials_diffuse_transmission as the Khronos
+                  DiffuseTransmissionTest lays it out: double-sided panes
+                  lit from behind by a sun shining at the camera, in rows
+                  of the factor (0 to 1), the colour factor, the factor's
+                  texture (alpha) and the colour's texture (sRGB), and a
+                  dark panel behind them that only light through them shows.
   lamp-room.glb   a room as Blender exports one lit by an emissive mesh
                   (KHR_materials_emissive_strength, no punctual light): it
                   renders by its lamp alone, without the default sky.
@@ -613,6 +619,61 @@ def layers():
         out.write(glb(doc, buf.data))
 
 
+# ---- translucent.glb -----------------------------------------------------------
+
+def translucent():
+    """Rows of double-sided 1 x 1 panes in the z = 0 plane facing the camera
+    (+z), lit from behind by a sun travelling along +z: the factor from 0 to
+    1 left to right (white transmission), the same with a red colour factor,
+    a factor of 1 times a texture whose alpha ramps across the pane, and a
+    colour texture (red and yellow stripes) at the row's factors. A dark
+    pink strip half a unit behind the gap between the middle rows, out of
+    the sun (the panes' shadows miss it), is lit by the light their backs
+    reflect."""
+    buf = Buffer()
+    pos = [[-0.5, -0.5, 0], [0.5, -0.5, 0], [0.5, 0.5, 0], [-0.5, 0.5, 0]]
+    attrs = {"POSITION": buf.accessor("f", FLOAT, "VEC3", pos), "NORMAL": buf.accessor("f", FLOAT, "VEC3", [[0, 0, 1]] * 4),
+             "TEXCOORD_0": buf.accessor("f", FLOAT, "VEC2", [[0, 1], [1, 1], [1, 0], [0, 0]])}
+    indices = buf.accessor("H", USHORT, "SCALAR", [0, 1, 2, 0, 2, 3])
+    factors = [0.0, 0.25, 0.5, 0.75, 1.0]
+    base = {"baseColorFactor": [0.0, 0.25, 0.25, 1], "metallicFactor": 0.0, "roughnessFactor": 0.5}
+    rows = [
+        lambda f: {"diffuseTransmissionFactor": f},
+        lambda f: {"diffuseTransmissionFactor": f, "diffuseTransmissionColorFactor": [1, 0, 0]},
+        lambda f: {"diffuseTransmissionFactor": 1.0, "diffuseTransmissionTexture": {"index": 0}},
+        lambda f: {"diffuseTransmissionFactor": f, "diffuseTransmissionColorTexture": {"index": 1}},
+    ]
+    materials, meshes, nodes = [], [], []
+    for r, row in enumerate(rows):
+        for c, f in enumerate(factors):
+            materials.append({"name": "row %d factor %g" % (r, f), "doubleSided": True, "pbrMetallicRoughness": base,
+                              "extensions": {"KHR_materials_diffuse_transmission": row(f)}})
+            meshes.append({"primitives": [{"attributes": attrs, "indices": indices, "material": len(materials) - 1}]})
+            nodes.append({"mesh": len(meshes) - 1, "translation": [1.2 * (c - 2), 1.8 - 1.2 * r, 0]})
+    materials.append({"name": "behind", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.1, 0.2, 1], "metallicFactor": 0.0,
+                                                                 "roughnessFactor": 1.0}})
+    meshes.append({"primitives": [{"attributes": attrs, "indices": indices, "material": len(materials) - 1}]})
+    nodes.append({"mesh": len(meshes) - 1, "translation": [0, 0, -0.5], "scale": [7, 0.15, 1]})
+    nodes.append({"extensions": {"KHR_lights_punctual": {"light": 0}}, "rotation": [1, 0, 0, 0]})  # -Z turned to +Z
+    nodes.append({"camera": 0, "translation": [0, 0, 9]})
+    # Alpha ramps left to right; the colour stripes alternate red and yellow.
+    ramp = png(8, 8, lambda x, y: (255, 255, 255, 32 * x + 16), alpha=True)
+    stripes = png(8, 8, lambda x, y: (230, 40, 20) if (x // 2) % 2 == 0 else (240, 220, 40))
+    doc = {
+        "asset": {"version": "2.0", "generator": "wavepath scripts/make-gltf-test-assets.py"},
+        "extensionsUsed": ["KHR_materials_diffuse_transmission", "KHR_lights_punctual"],
+        "scene": 0, "scenes": [{"nodes": list(range(len(nodes)))}],
+        "nodes": nodes, "meshes": meshes, "materials": materials,
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "aspectRatio": 1.4, "znear": 0.1}}],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "directional", "intensity": 3.0 * 683}]}},
+        "textures": [{"source": 0}, {"source": 1}],
+        "images": [{"bufferView": buf.view(ramp), "mimeType": "image/png"}, {"bufferView": buf.view(stripes), "mimeType": "image/png"}],
+        "accessors": buf.accessors, "bufferViews": buf.views, "buffers": [{"byteLength": len(buf.data)}],
+    }
+    with open(os.path.join(OUT, "translucent.glb"), "wb") as out:
+        out.write(glb(doc, buf.data))
+
+
 # ---- instances.gltf --------------------------------------------------------
 
 def instances():
@@ -810,6 +871,7 @@ def main():
     surface()
     mirror_bumps()
     layers()
+    translucent()
     instances()
     lamp_room()
     labels()

@@ -818,6 +818,9 @@ const FeatureCase kFeatureCases[] = {
     {"volume.json", IntegratorKind::PathMis,
      "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, and a "
      "thin-walled pane (mis)"},
+    {"translucent.json", IntegratorKind::PathMis,
+     "KHR_materials_diffuse_transmission: backlit leaf and paper of textured factor and colour, a wax ball transmitting "
+     "diffusely into an absorbing volume, a shade mixing it with specular transmission, under a sun and a light behind (mis)"},
     {"dispersion.json", IntegratorKind::PathMis,
      "KHR_materials_dispersion: a smooth flint ball splitting the glowing checker board behind it into its colours, a "
      "rough tinted one (mis)"},
@@ -847,6 +850,10 @@ const FeatureCase kFeatureCases[] = {
     {"../gltf/instances.gltf", IntegratorKind::PathMis,
      "instances: meshes placed by several glTF nodes (mirrored, stretched, sheared, nested) and by EXT_mesh_gpu_instancing, "
      "one-sided and normal-mapped, lit by emissive quads placed twice (mis)",
+     40},
+    {"../gltf/translucent.glb", IntegratorKind::PathMis,
+     "KHR_materials_diffuse_transmission laid out as the Khronos DiffuseTransmissionTest: backlit panes of rising factor, "
+     "colour factor, factor texture (alpha) and colour texture (sRGB)",
      40},
     {"../gltf/layers.glb", IntegratorKind::PathMis,
      "glTF's clear coat (textured, its own normal map), sheen (textured colour and roughness), specular (textured), thin "

@@ -64,9 +64,18 @@ const char* const kBrushed =
     R"({"type": "metal_rough", "name": "m", "base_color": [0.9, 0.8, 0.6], "metallic": 0.8, "roughness": 0.3,
         "anisotropy": {"strength": 0.8, "rotation": 0.5}})";
 
+// KHR_materials_diffuse_transmission: thin, and under a rough glass's
+// transmission into a volume (which takes its share first).
+const char* const kTranslucent =
+    R"({"type": "metal_rough", "name": "m", "base_color": [0.6, 0.8, 0.3], "metallic": 0.1, "roughness": 0.5,
+        "diffuse_transmission": 0.6, "diffuse_transmission_color": [0.9, 0.5, 0.2]})";
+const char* const kTranslucentGlass =
+    R"({"type": "metal_rough", "name": "m", "base_color": [0.9, 0.9, 0.8], "metallic": 0, "roughness": 0.5, "transmission": 0.4,
+        "ior": 1.4, "diffuse_transmission": 0.7, "volume": {"attenuation_color": [0.8, 0.6, 0.5], "attenuation_distance": 2}})";
+
 const char* const kChi2Materials[] = {kClearcoatOverPlastic, kPatchyCoatOverMetal, kSheenOverLambertian, kRoughSheenOverMetalRough,
                                       kCoatOverSheen,        kTintedSpecular,      kRoughGlass,          kIridescent,
-                                      kBrushed};
+                                      kBrushed,              kTranslucent,         kTranslucentGlass};
 
 const auto& kGeometries = kBsdfGeometries;
 
@@ -93,7 +102,7 @@ TEST(Layers, EveryLayeredMaterialSamplesItsPdf) {
       EXPECT_GE(b.lobeCount, 1u);
       const Chi2Result r = layered_chi2(b, b, wo, seed++);
       // Refracting head-on: RefractionIntoAndOutOfAVolumeSamplesItsPdf.
-      if (material == kRoughGlass && wo.z > 0.999f) continue;
+      if ((material == kRoughGlass || material == kTranslucentGlass) && wo.z > 0.999f) continue;
       EXPECT_TRUE(r.problem.empty()) << material << ": " << r.problem;
       EXPECT_GT(r.pValue, kLevel) << material << ", wo = " << wo.x << " " << wo.y << " " << wo.z << ": chi2 = " << r.statistic << " with "
                                   << r.dof << " dof";
@@ -221,6 +230,118 @@ TEST(Layers, WhiteFurnaceLossMatchesTheLayering) {
       EXPECT_NEAR(mean, expected, 4.0 * se + 2e-3) << "coat roughness " << roughness << " at cos " << cosO;
       EXPECT_LT(mean, 1.0 + 4.0 * se);
     }
+  }
+}
+
+// Mean weights of bsdf_sample at wo (red channel) that leave on wo's side
+// (x) and through the surface (y), and the standard error of their sum (z).
+glm::dvec3 sampled_split(const SceneView::Bsdf& b, glm::vec3 wo, int n, uint32_t seed) {
+  ShaderMath m;
+  uint32_t state = m.rng_seed(seed, 5u, 6u);
+  double back = 0.0, through = 0.0, sumSq = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
+    glm::vec3 wi;
+    float pdf;
+    bool isDelta;
+    const double w = m.bsdf_sample(b, wo, u, wi, pdf, isDelta).x;
+    (glm::dot(wi, b.ng) < 0.0f ? through : back) += w;
+    sumSq += w * w;
+  }
+  const double mean = (back + through) / n;
+  return {back / n, through / n, std::sqrt(std::max(sumSq / n - mean * mean, 0.0) / n)};
+}
+
+// KHR_materials_diffuse_transmission moves light from the diffuse BRDF to
+// the BTDF and changes nothing else (README.md:212 at 603619ef). In a white
+// furnace, a white base transmitting white keeps the opaque material's
+// total at every factor and sends factor times the diffuse base through;
+// transmitting black loses that share, which the furnace tells apart.
+TEST(Layers, DiffuseTransmissionMovesTheDiffuseBaseThrough) {
+  auto material = [](double dt, double colour) {
+    char text[240];
+    std::snprintf(text, sizeof text, R"({"type": "metal_rough", "name": "m", "base_color": 1, "metallic": 0, "roughness": 0.5,
+      "diffuse_transmission": %g, "diffuse_transmission_color": %g})", dt, colour);
+    return std::string(text);
+  };
+  const LayeredSphere opaque(material(0.0, 1.0)), half(material(0.4, 1.0)), through(material(1.0, 1.0)), black(material(1.0, 0.0));
+  uint32_t seed = 40;
+  for (double cosO : {1.0, 0.5, 0.2}) {
+    const glm::vec3 wo = at_cosine(cosO);
+    const glm::dvec3 o = sampled_split(opaque.bsdf({0, 0, 1}, wo), wo, 300000, seed++);
+    const glm::dvec3 h = sampled_split(half.bsdf({0, 0, 1}, wo), wo, 300000, seed++);
+    const glm::dvec3 t = sampled_split(through.bsdf({0, 0, 1}, wo), wo, 300000, seed++);
+    const glm::dvec3 k = sampled_split(black.bsdf({0, 0, 1}, wo), wo, 300000, seed++);
+    EXPECT_EQ(o.y, 0.0) << "an opaque material transmits nothing";
+    // (Not bounded by 1: glTF's base under 1 - max3 F(wo.h) is not energy-conserving at grazing angles.)
+    EXPECT_NEAR(h.x + h.y, o.x, 4.0 * (h.z + o.z) + 1e-3) << "factor 0.4 at cos " << cosO;
+    EXPECT_NEAR(t.x + t.y, o.x, 4.0 * (t.z + o.z) + 1e-3) << "factor 1 at cos " << cosO;
+    EXPECT_NEAR(h.y, 0.4 * t.y, 4.0 * (h.z + t.z) + 1e-3) << "the share through at cos " << cosO;
+    EXPECT_GT(t.y, 0.5) << "most of a white base goes through";
+    // Black transmission: the specular layer alone, what factor 1 kept on wo's side.
+    EXPECT_NEAR(k.x + k.y, t.x, 4.0 * (k.z + t.z) + 1e-3) << "black at cos " << cosO;
+    EXPECT_GT(o.x - (k.x + k.y), 4.0 * (o.z + k.z) + 1e-3) << "the furnace cannot tell a lost share at cos " << cosO;
+  }
+}
+
+// Its lobe against the extension's formula (README.md:200-240), written here
+// in double precision: through the surface, (1 - m)(1 - max3 F_d)(1 - t) dt
+// dtColor |cos_i| / pi; on wo's side, the opaque material's reflection less
+// dt of its diffuse base. F_d is Schlick's at wo.h, h the half vector of wo
+// and wi mirrored to wo's side.
+TEST(Layers, DiffuseTransmissionEvaluatesTheExtensionsFormula) {
+  const double metallic = 0.3, dt = 0.7, roughness = 0.6;
+  const glm::dvec3 base(0.5, 0.4, 0.3), colour(0.9, 0.3, 0.2);
+  const LayeredSphere translucent(R"({"type": "metal_rough", "name": "m", "base_color": [0.5, 0.4, 0.3], "metallic": 0.3, "roughness": 0.6,
+      "diffuse_transmission": 0.7, "diffuse_transmission_color": [0.9, 0.3, 0.2]})");
+  const LayeredSphere opaque(R"({"type": "metal_rough", "name": "m", "base_color": [0.5, 0.4, 0.3], "metallic": 0.3, "roughness": 0.6})");
+  (void)roughness;
+  ShaderMath m;
+  int checked = 0;
+  for (double cosO : {0.95, 0.6, 0.25})
+    for (double cosI : {0.9, 0.5, 0.15})
+      for (double phi : {0.0, 2.0}) {
+        const glm::vec3 wo = at_cosine(cosO);
+        const double sinI = std::sqrt(1.0 - cosI * cosI);
+        const glm::dvec3 below(sinI * std::cos(phi), sinI * std::sin(phi), -cosI), mirrored(below.x, below.y, cosI);
+        const double c = glm::dot(glm::dvec3(wo), glm::normalize(glm::dvec3(wo) + mirrored));
+        const double fd = 0.04 + 0.96 * std::pow(1.0 - c, 5.0);
+        const double weight = (1.0 - metallic) * (1.0 - fd) * cosI / M_PI;
+        const SceneView::Bsdf b = translucent.bsdf({0, 0, 1}, wo), a = opaque.bsdf({0, 0, 1}, wo);
+        const glm::dvec3 through = m.bsdf_eval(b, wo, glm::vec3(below));
+        const glm::dvec3 back = m.bsdf_eval(b, wo, glm::vec3(mirrored)), opaqueBack = m.bsdf_eval(a, wo, glm::vec3(mirrored));
+        const glm::dvec3 expectedThrough = colour * (weight * dt), expectedBack = opaqueBack - base * (weight * dt);
+        for (int ch = 0; ch < 3; ++ch) {
+          EXPECT_NEAR(through[ch], expectedThrough[ch], 1e-4 * expectedThrough[ch] + 1e-6) << cosO << " " << cosI << " " << phi;
+          EXPECT_NEAR(back[ch], expectedBack[ch], 1e-4 * opaqueBack[ch] + 1e-6) << cosO << " " << cosI << " " << phi;
+        }
+        ++checked;
+      }
+  EXPECT_EQ(checked, 18);
+}
+
+// A pane lit from behind by a sun along its normal, seen head-on, direct
+// light only: it shows the light its diffuse transmission lets through,
+// (1 - F0) dt dtColor E / pi with F0 = 0.04, and nothing of its base colour.
+TEST(Layers, ABacklitPaneShowsWhatItsDiffuseTransmissionLetsThrough) {
+  const double irradiance = 2.0, dt = 0.6;
+  const glm::dvec3 colour(0.9, 0.5, 0.1);
+  Scene scene = load_scene(write_scene("pane.json", R"({"camera": {"transform": {"from": [0, 0, 5], "at": [0, 0, 0], "up": [0, 1, 0]},
+      "vfov": 10, "resolution": [16, 16]}, "background": 0, "sampler": {"samples": 64},
+      "integrator": {"type": "path tracer nee", "max bounces": 1},
+      "materials": [{"type": "metal_rough", "name": "leaf", "base_color": [0.1, 0.6, 0.1], "metallic": 0, "roughness": 0.5,
+                     "diffuse_transmission": 0.6, "diffuse_transmission_color": [0.9, 0.5, 0.1]}],
+      "surfaces": [{"type": "quad", "size": 4, "material": "leaf"},
+                   {"type": "directional_light", "direction": [0, 0, 1], "irradiance": 2}]})"));
+  RenderOptions o;
+  const CompiledScene cs = compile_scene(scene, reference_options(o));
+  EXPECT_TRUE(cs.params.kinds.w & KIND_BIT(FEATURE_DIFFUSE_TRANSMISSION));
+  Progress quiet("", 0, false);
+  const ImageStats img = render_cpu(cs, 0, quiet);
+  const glm::dvec3 expected = colour * (0.96 * dt * irradiance / M_PI);
+  for (size_t i = 0; i < 16 * 16; ++i) {
+    const glm::dvec3 got = img.mean(i);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], expected[ch], 2e-3 * expected[ch] + 1e-5) << "pixel " << i << ", channel " << ch;
   }
 }
 

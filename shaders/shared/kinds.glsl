@@ -134,14 +134,18 @@
 #define FEATURE_MEDIA 15u               // participating media: the camera or a surface's side in a medium (media.glsl)
 #define FEATURE_MEDIA_GRID 16u          // a medium whose density a NanoVDB grid holds (MEDIUM_NANOVDB; pnanovdb.glsl)
 #define FEATURE_INSTANCES 17u           // meshes placed by instances: a two-level BVH (Instance; traverse_*.glsl)
+#define FEATURE_DIFFUSE_TRANSMISSION 18u  // metal-rough's diffuse base transmitting too (KHR_materials_diffuse_transmission)
 #define EXTRA_SLOT(i) (1u << (i))
 // Metal-rough's slots (materials/metal_rough.glsl says what each holds).
 #define MR_TEXTURES 0     // Material.extra: the extensions' textures
 #define MR_VOLUME 1       // Material.extra: KHR_materials_volume and _dispersion
 #define MR_IRIDESCENCE 2  // Material.extra: KHR_materials_iridescence
 #define MR_ANISOTROPY 3   // Material.extra: KHR_materials_anisotropy
+#define MR_DIFFUSE_TRANSMISSION 4           // Material.extra: KHR_materials_diffuse_transmission's factors
+#define MR_DIFFUSE_TRANSMISSION_TEXTURES 5  // Material.extra: and its textures
 #define MR_LOBE_FILM 0        // Lobe.extra: the thin film at the hit
 #define MR_LOBE_ANISOTROPY 1  // Lobe.extra: the anisotropy at the hit
+#define MR_LOBE_DIFFUSE_TRANSMISSION 2  // Lobe.extra: the diffuse transmission at the hit
 #define WP_FEATURES(X)                                                                                              \
   X(FEATURE_SPHERES, "spheres", 0u, 0u) X(FEATURE_SHADING_DATA, "vertex normals or UVs", 0u, 0u)                    \
   X(FEATURE_CMJ, "cmj sampler", 0u, 0u) X(FEATURE_EMISSION_TEXTURES, "textured emission", 0u, 0u)                   \
@@ -155,7 +159,9 @@
   X(FEATURE_ANISOTROPY, "anisotropy", EXTRA_SLOT(MR_ANISOTROPY), EXTRA_SLOT(MR_LOBE_ANISOTROPY))                    \
   X(FEATURE_DISPERSION, "dispersion", EXTRA_SLOT(MR_VOLUME), 0u)                                                    \
   X(FEATURE_MEDIA, "participating media", 0u, 0u) X(FEATURE_MEDIA_GRID, "grid media", 0u, 0u)                       \
-  X(FEATURE_INSTANCES, "instances", 0u, 0u)
+  X(FEATURE_INSTANCES, "instances", 0u, 0u)                                                                        \
+  X(FEATURE_DIFFUSE_TRANSMISSION, "diffuse transmission",                                                          \
+    EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION) | EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION_TEXTURES), EXTRA_SLOT(MR_LOBE_DIFFUSE_TRANSMISSION))
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

@@ -12,7 +12,7 @@ namespace wp::gltf_import {
 // ---- materials -----------------------------------------------------------
 
 const std::set<std::string>& material_extensions() {
-  static const std::set<std::string> names = {"KHR_materials_anisotropy", "KHR_materials_clearcoat",   "KHR_materials_dispersion",
+  static const std::set<std::string> names = {"KHR_materials_anisotropy", "KHR_materials_clearcoat", "KHR_materials_diffuse_transmission",   "KHR_materials_dispersion",
                                               "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_iridescence",
                                               "KHR_materials_sheen",      "KHR_materials_specular",    "KHR_materials_transmission",
                                               "KHR_materials_volume"};
@@ -70,6 +70,22 @@ uint32_t GltfImporter::material_for(int index, const std::string& where) {
     }
     if (t.Has("transmissionTexture"))
       m.texture("transmission_texture", extension_texture(t, "transmissionTexture", glm::vec4(1.0f), ColorEncoding::Linear, tat));
+  }
+  // KHR_materials_diffuse_transmission (README.md:70-160 at 603619ef): the
+  // factor (its texture's alpha) and colour (its texture sRGB).
+  auto diffuseExt = g.extensions.find("KHR_materials_diffuse_transmission");
+  if (diffuseExt != g.extensions.end()) {
+    const tinygltf::Value& e = diffuseExt->second;
+    const std::string eat = at + "/extensions/KHR_materials_diffuse_transmission";
+    if (!e.IsObject()) fail(eat, "expected an object");
+    m.number("diffuse_transmission", extension_number(e, "diffuseTransmissionFactor", 0.0f, 0.0f, 1.0f, eat), complaint(eat + "/diffuseTransmissionFactor"));
+    m.colour("diffuse_transmission_color", extension_color(e, "diffuseTransmissionColorFactor", glm::vec3(1.0f), 1.0f, eat),
+             complaint(eat + "/diffuseTransmissionColorFactor"));
+    if (e.Has("diffuseTransmissionTexture"))
+      m.texture("diffuse_transmission_texture", extension_texture(e, "diffuseTransmissionTexture", glm::vec4(1.0f), ColorEncoding::AlphaAsGrey, eat));
+    if (e.Has("diffuseTransmissionColorTexture"))
+      m.texture("diffuse_transmission_color_texture",
+                extension_texture(e, "diffuseTransmissionColorTexture", glm::vec4(1.0f), ColorEncoding::Srgb, eat));
   }
   // Surface properties, not the kind's parameters: on the top layer (below).
   bool doubleSided = g.doubleSided;

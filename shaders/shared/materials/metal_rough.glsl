@@ -19,6 +19,15 @@
 //   transmission: f = (1 - m)(1 - max3 F_d) t base BTDF(wo, wi),
 // F_d taken at the transmitted angle on the way out, 1 beyond the critical
 // angle; the volume's absorption is the integrator's (volume_transmittance).
+// KHR_materials_diffuse_transmission (FEATURE_DIFFUSE_TRANSMISSION) lets a
+// fraction dt of the diffuse base through the surface, as a Lambertian lobe
+// of its own colour dtColor on wi's other side (README.md:183-240 at
+// 603619ef; a thin surface, whatever a volume behind it does):
+//   reflection:   the base's term above times (1 - dt),
+//   transmission: + (1 - m)(1 - max3 F_d)(1 - t) dt dtColor |cos_i| / pi,
+// F_d at wo.h with h the half vector of wo and wi mirrored to wo's side, as
+// the reflection takes it; KHR_materials_transmission's t takes its share
+// first (README.md:338-357).
 // KHR_materials_iridescence (FEATURE_IRIDESCENCE) lays a thin film
 // over both surfaces: metal_rough_iridescence; KHR_materials_anisotropy
 // (FEATURE_ANISOTROPY) stretches the specular layer's microfacets
@@ -158,6 +167,21 @@ vec3 metal_rough_specular_sample(Lobe l, vec3 ns, vec3 wo, vec2 u) {
   return hl.z > 0.0f && dot(wi, ns) > 0.0f ? wi : vec3(0.0f);
 }
 
+// The diffuse transmission at the hit: xyz its colour, w its factor dt (0
+// where the feature is not compiled).
+vec4 metal_rough_diffuse_transmission(Lobe l) {
+  return FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION) ? l.extra[MR_LOBE_DIFFUSE_TRANSMISSION] : vec4(0.0f);
+}
+
+// The share of the diffuse base's samples sent through the surface: by the
+// two lobes' mean colours.
+float metal_rough_diffuse_transmitted_share(Lobe l) {
+  vec4 dt = metal_rough_diffuse_transmission(l);
+  float through = dt.w * (dt.x + dt.y + dt.z);
+  float back = (1.0f - dt.w) * (l.color.x + l.color.y + l.color.z);
+  return through + back > 0.0f ? through / (through + back) : dt.w;
+}
+
 // Probabilities of sampling the specular layer (x) and the transmission (y)
 // rather than the diffuse base, by their estimated reflectance at wo. The
 // Fresnel weight is the one eval takes (inside a volume, total internal
@@ -170,6 +194,15 @@ vec2 metal_rough_probabilities(Lobe l, float cosO) {
   float fd = metal_rough_max3(metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, cosO)));
   float specular = (1.0f - metallic) * fd + metallic;
   float base = (1.0f - metallic) * (1.0f - fd) * clamp((l.color.x + l.color.y + l.color.z) * (1.0f / 3.0f), 0.0f, 1.0f);
+  if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) {
+    // The diffuse base reflects (1 - dt) of the base colour and transmits dt of its own.
+    vec4 dt = metal_rough_diffuse_transmission(l);
+    vec3 mixed = l.color * (1.0f - dt.w) + vec3(dt.x, dt.y, dt.z) * dt.w;
+    float diffuse = (1.0f - metallic) * (1.0f - fd) * (1.0f - transmission) * clamp((mixed.x + mixed.y + mixed.z) * (1.0f / 3.0f), 0.0f, 1.0f);
+    float all = specular + diffuse + base * transmission;
+    if (!(all > 0.0f)) return vec2(1.0f, 0.0f);
+    return vec2(specular, base * transmission) / all;
+  }
   float total = specular + base;
   if (!(total > 0.0f)) return vec2(1.0f, 0.0f);
   return vec2(specular, base * transmission) / total;
@@ -180,19 +213,47 @@ vec3 metal_rough_mirrored(vec3 ns, vec3 wi) {
   return wi - ns * (2.0f * dot(wi, ns));
 }
 
+// The density of the diffuse transmission's samples at wi below the
+// surface, where p are the lobe's probabilities (metal_rough_probabilities).
+float metal_rough_diffuse_transmitted_pdf(Lobe l, vec2 p, vec3 ns, vec3 wo, vec3 wi) {
+  if (!FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) return 0.0f;
+  return (1.0f - p.x - p.y) * metal_rough_diffuse_transmitted_share(l) * lambertian_pdf(l, ns, wo, -wi);
+}
+
+// The diffuse transmission's term f |cos_i| at wi below the surface.
+vec3 metal_rough_diffuse_transmitted(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  vec4 dt = metal_rough_diffuse_transmission(l);
+  if (!(dt.w > 0.0f)) return vec3(0.0f);
+  vec3 wr = metal_rough_mirrored(ns, wi);
+  float c = dot(wo, normalize(wo + wr));
+  vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
+  vec3 fm = vec3(0.0f);
+  metal_rough_iridescence(l, c, fd, fm);
+  float weight = (1.0f - l.params.y) * (1.0f - metal_rough_max3(fd)) * (1.0f - metal_rough_transmission(l)) * dt.w;
+  return vec3(dt.x, dt.y, dt.z) * (weight * max(-dot(wi, ns), 0.0f) * WP_INV_PI);
+}
+
 float metal_rough_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosO = dot(wo, ns);
   if (cosO <= 0.0f) return 0.0f;
   vec2 p = metal_rough_probabilities(l, cosO);
   if (dot(wi, ns) < 0.0f && metal_rough_refracts(l)) {
     vec3 h = metal_rough_refraction_normal(l, ns, wo, wi);
-    if (h == vec3(0.0f)) return 0.0f;
+    if (h == vec3(0.0f)) return metal_rough_diffuse_transmitted_pdf(l, p, ns, wo, wi);
     float eta = metal_rough_eta(l);
     float denom = dot(wo, h) + eta * dot(wi, h);
-    return p.y * ggx_visible_pdf(wo, h, ns, l.params.x) * eta * eta * abs(dot(wi, h)) / (denom * denom);
+    float pdf = p.y * ggx_visible_pdf(wo, h, ns, l.params.x) * eta * eta * abs(dot(wi, h)) / (denom * denom);
+    if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) pdf += metal_rough_diffuse_transmitted_pdf(l, p, ns, wo, wi);
+    return pdf;
   }
-  if (dot(wi, ns) < 0.0f) return p.y * metal_rough_specular_pdf(l, ns, wo, metal_rough_mirrored(ns, wi));
-  return p.x * metal_rough_specular_pdf(l, ns, wo, wi) + (1.0f - p.x - p.y) * lambertian_pdf(l, ns, wo, wi);
+  if (dot(wi, ns) < 0.0f) {
+    float pdf = p.y * metal_rough_specular_pdf(l, ns, wo, metal_rough_mirrored(ns, wi));
+    if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) pdf += metal_rough_diffuse_transmitted_pdf(l, p, ns, wo, wi);
+    return pdf;
+  }
+  float diffuse = 1.0f - p.x - p.y;
+  if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) diffuse *= 1.0f - metal_rough_diffuse_transmitted_share(l);
+  return p.x * metal_rough_specular_pdf(l, ns, wo, wi) + diffuse * lambertian_pdf(l, ns, wo, wi);
 }
 
 vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
@@ -206,7 +267,7 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
     // base's weight under the specular layer; as rough_dielectric.glsl,
     // radiance is not scaled by eta^2 on crossing.
     vec3 h = metal_rough_refraction_normal(l, ns, wo, wi);
-    if (h == vec3(0.0f)) return vec3(0.0f);
+    if (h == vec3(0.0f)) return metal_rough_diffuse_transmitted(l, ns, wo, wi);
     float eta = metal_rough_eta(l);
     float woH = dot(wo, h);
     float wiH = dot(wi, h);
@@ -216,7 +277,9 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
     float base = 1.0f - metal_rough_max3(fd);
     float denom = woH + eta * wiH;
     float btdf = ggx_d(h, ns, l.params.x) * ggx_g2(cosO, -cosI, l.params.x) * eta * eta * woH * abs(wiH) / (cosO * denom * denom);
-    return l.color * ((1.0f - metallic) * base * transmission * btdf);
+    vec3 f = l.color * ((1.0f - metallic) * base * transmission * btdf);
+    if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) f += metal_rough_diffuse_transmitted(l, ns, wo, wi);
+    return f;
   }
   vec3 wr = cosI > 0.0f ? wi : metal_rough_mirrored(ns, wi);
   float c = dot(wo, normalize(wo + wr));
@@ -226,8 +289,14 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   metal_rough_iridescence(l, c, fd, fm);
   float base = 1.0f - metal_rough_max3(fd);  // the base's weight under the specular layer
   float specular = metal_rough_specular_eval(l, ns, wo, wr);  // S |cos_i|
-  if (cosI < 0.0f) return l.color * ((1.0f - metallic) * base * transmission * specular);
-  vec3 dielectric = l.color * (base * (1.0f - transmission) * cosI * WP_INV_PI) + fd * specular;
+  if (cosI < 0.0f) {
+    vec3 f = l.color * ((1.0f - metallic) * base * transmission * specular);
+    if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) f += metal_rough_diffuse_transmitted(l, ns, wo, wi);
+    return f;
+  }
+  float diffuse = 1.0f - transmission;
+  if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) diffuse *= 1.0f - metal_rough_diffuse_transmission(l).w;
+  vec3 dielectric = l.color * (base * diffuse * cosI * WP_INV_PI) + fd * specular;
   return dielectric * (1.0f - metallic) + fm * (metallic * specular);
 }
 
@@ -248,6 +317,9 @@ vec3 metal_rough_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
     vec3 wr = metal_rough_specular_sample(l, ns, wo, vec2(u.x, u.y));
     return wr == vec3(0.0f) ? wr : metal_rough_mirrored(ns, wr);
   }
+  // The diffuse base: through the surface for its transmitted share.
+  if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION) && u.z - p.x - p.y < (1.0f - p.x - p.y) * metal_rough_diffuse_transmitted_share(l))
+    return metal_rough_mirrored(ns, lambertian_sample(l, ns, wo, u));
   return lambertian_sample(l, ns, wo, u);
 }
 
@@ -274,7 +346,10 @@ WP_NO_DELTA_LOBE(metal_rough)
 //   extra[MR_IRIDESCENCE]: the film's factor, ior, and thickness (nm) where
 //     its texture is 0 and 1;
 //   extra[MR_ANISOTROPY]: strength, the cosine and sine of the direction's
-//     rotation from the tangent, its texture (uint bits).
+//     rotation from the tangent, its texture (uint bits);
+//   extra[MR_DIFFUSE_TRANSMISSION]: xyz the diffuse transmission's colour,
+//     w its factor; extra[MR_DIFFUSE_TRANSMISSION_TEXTURES]: x the factor's
+//     texture (R: glTF's alpha, as grey), y the colour's.
 // A texture slot holds WP_INVALID where the material has none.
 
 // The anisotropy of metal-rough m at s (KHR_materials_anisotropy,
@@ -352,6 +427,13 @@ void metal_rough_at(INOUT(Lobe) l, OUT(float) dispersion, Material m, SurfaceHit
   }
   if (FEATURE_COMPILED(FEATURE_ANISOTROPY) && m.extra[MR_ANISOTROPY].x > 0.0f)
     l.extra[MR_LOBE_ANISOTROPY] = metal_rough_anisotropy_at(m, s, ns, l.params.x);
+  vec4 dt = m.extra[MR_DIFFUSE_TRANSMISSION];
+  if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION) && dt.w > 0.0f) {
+    vec4 textures = m.extra[MR_DIFFUSE_TRANSMISSION_TEXTURES];
+    float factor = metal_rough_scaled(textures.x, s, vec3(dt.w), true).x;
+    vec3 color = metal_rough_scaled(textures.y, s, vec3(dt.x, dt.y, dt.z), false);
+    l.extra[MR_LOBE_DIFFUSE_TRANSMISSION] = vec4(color.x, color.y, color.z, clamp(factor, 0.0f, 1.0f));
+  }
   dispersion = volume.w > 1.0f ? volume.w - 1.0f : 0.0f;
 }
 

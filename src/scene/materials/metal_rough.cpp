@@ -28,6 +28,13 @@ extern const MaterialModule metal_rough{
         // KHR_materials_volume: the transmission refracts into a volume whose
         // absorption takes the light to attenuation_color after
         // attenuation_distance; KHR_materials_dispersion: 20 / Abbe number.
+        // KHR_materials_diffuse_transmission: the share of the diffuse base
+        // that passes through the surface, and its colour, each scaled by a
+        // texture (the factor's read in red: glTF's alpha, as grey).
+        ParamSpec::number("diffuse_transmission", 0.0f, unit_range()).or_texture("diffuse_transmission_texture"),
+        ParamSpec::optional_texture("diffuse_transmission_texture"),
+        ParamSpec::colour("diffuse_transmission_color", glm::vec3(1.0f), unit_range()).or_texture("diffuse_transmission_color_texture"),
+        ParamSpec::optional_texture("diffuse_transmission_color_texture"),
         ParamSpec::group("volume"),
         ParamSpec::colour("volume.attenuation_color", glm::vec3(1.0f), unit_range()),
         ParamSpec::number("volume.attenuation_distance", 1e30f, positive_range()),
@@ -71,6 +78,11 @@ extern const MaterialModule metal_rough{
       r.extra[MR_IRIDESCENCE] = in.flag("iridescence") ? glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"),
                                                                    in.number("iridescence.thickness_minimum"), in.number("iridescence.thickness_maximum"))
                                                        : glm::vec4(0.0f);
+      // A texture given for the factor alone (darts) is the factor.
+      const uint32_t dtTexture = in.texture("diffuse_transmission_texture");
+      const float dt = in.given("diffuse_transmission") || dtTexture == WP_INVALID ? in.number("diffuse_transmission") : 1.0f;
+      r.extra[MR_DIFFUSE_TRANSMISSION] = glm::vec4(in.colour("diffuse_transmission_color"), dt);
+      r.extra[MR_DIFFUSE_TRANSMISSION_TEXTURES] = glm::vec4(bits(dtTexture), bits(in.texture("diffuse_transmission_color_texture")), 0.0f, 0.0f);
       const float rotation = in.flag("anisotropy") ? in.number("anisotropy.rotation") : 0.0f;
       r.extra[MR_ANISOTROPY] = glm::vec4(in.flag("anisotropy") ? in.number("anisotropy.strength") : 0.0f, std::cos(rotation), std::sin(rotation),
                                          bits(in.flag("anisotropy") ? in.texture("anisotropy.texture") : WP_INVALID));
@@ -84,12 +96,15 @@ extern const MaterialModule metal_rough{
       if (r.extra[MR_ANISOTROPY].x > 0.0f) f |= KIND_BIT(FEATURE_ANISOTROPY);
       if (r.extra[MR_VOLUME].w > 0.0f) f |= KIND_BIT(FEATURE_VOLUME);
       if (r.extra[MR_VOLUME].w > 1.0f) f |= KIND_BIT(FEATURE_DISPERSION);
+      if (r.extra[MR_DIFFUSE_TRANSMISSION].w > 0.0f) f |= KIND_BIT(FEATURE_DIFFUSE_TRANSMISSION);
       return f;
     },
     // The textures its lobe reads besides the base colour and metallic-roughness.
     [](const shader::Material& r) {
       const glm::uvec4 textures = glm::floatBitsToUint(r.extra[MR_TEXTURES]);
-      return std::vector<uint32_t>{r.children.y, textures.x, textures.y, textures.z, textures.w, glm::floatBitsToUint(r.extra[MR_ANISOTROPY].w)};
+      const glm::uvec4 dtTextures = glm::floatBitsToUint(r.extra[MR_DIFFUSE_TRANSMISSION_TEXTURES]);
+      return std::vector<uint32_t>{r.children.y, textures.x, textures.y, textures.z, textures.w, glm::floatBitsToUint(r.extra[MR_ANISOTROPY].w),
+                                   dtTextures.x, dtTextures.y};
     }};
 
 }  // namespace wp::materials
