@@ -816,8 +816,8 @@ const FeatureCase kFeatureCases[] = {
      0, nullptr, 256},
     {"layers.json", IntegratorKind::PathMixture, "glTF's layers, path tracer mixture", 0, nullptr, 256},
     {"volume.json", IntegratorKind::PathMis,
-     "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, and a "
-     "thin-walled pane (mis)"},
+     "KHR_materials_volume: smooth and rough glass refracting into absorbing volumes, one under a clear coat, one of "
+     "scattering particles (KHR_materials_volume_scatter), and a thin-walled pane (mis)"},
     {"translucent.json", IntegratorKind::PathMis,
      "KHR_materials_diffuse_transmission: backlit leaf and paper of textured factor and colour, a wax ball transmitting "
      "diffusely into an absorbing volume, a shade mixing it with specular transmission, under a sun and a light behind (mis)"},

@@ -2,11 +2,25 @@
 // (shaders/shared/materials/metal_rough.glsl). The names are darts-style;
 // import_gltf.cpp translates glTF's, and gives glTF's own defaults where
 // they differ (an extension's factors).
+#include <algorithm>
 #include <cmath>
 
 #include "scene/materials/material_module.h"
 
 namespace wp::materials {
+
+// The single-scattering albedo of particles whose medium shows `multiple`
+// after many bounces (KHR_materials_volume_scatter's README.md:123-127 at
+// PR #2453's 134d0766, Kulla and Conty 2017's fit), each channel in [0, 1].
+static glm::vec3 single_scattering_albedo(glm::vec3 multiple) {
+  glm::vec3 out;
+  for (int c = 0; c < 3; ++c) {
+    const double a = multiple[c];
+    const double s = 4.09712 + 4.20863 * a - std::sqrt(9.59217 + 41.6808 * a + 17.7126 * a * a);
+    out[c] = float(std::clamp(1.0 - s * s, 0.0, 1.0));
+  }
+  return out;
+}
 
 extern const MaterialModule metal_rough{
     MAT_METAL_ROUGH,
@@ -39,6 +53,11 @@ extern const MaterialModule metal_rough{
         ParamSpec::colour("volume.attenuation_color", glm::vec3(1.0f), unit_range()),
         ParamSpec::number("volume.attenuation_distance", 1e30f, positive_range()),
         ParamSpec::number("volume.dispersion", 0.0f, closed_range(0.0f, 1000.0f)).with_problem("dispersion must lie in [0, 1000] (20 / Abbe number)"),
+        // KHR_materials_volume_scatter: the attenuation is the extinction of
+        // particles that scatter, multiscatter_color the albedo they show
+        // after many bounces, scatter_anisotropy their Henyey-Greenstein g.
+        ParamSpec::colour("volume.multiscatter_color", glm::vec3(0.0f), unit_range()),
+        ParamSpec::number("volume.scatter_anisotropy", 0.0f, closed_range(-0.99f, 0.99f)).with_problem("scatter_anisotropy must lie in [-0.99, 0.99]"),
         // KHR_materials_iridescence: a thin film of `ior`, from
         // thickness_minimum nm where thickness_texture's green is 0 to
         // thickness_maximum where it is 1 (the maximum without one), mixed
@@ -75,6 +94,18 @@ extern const MaterialModule metal_rough{
       if (in.given("volume.attenuation_color") || in.given("volume.attenuation_distance"))
         attenuation = -glm::log(glm::max(in.colour("volume.attenuation_color"), glm::vec3(1e-6f))) / in.number("volume.attenuation_distance");
       r.extra[MR_VOLUME] = glm::vec4(attenuation, in.flag("volume") ? 1.0f + in.number("volume.dispersion") : 0.0f);
+      // With scattering, a homogeneous medium inside takes the whole extinction (media.glsl).
+      if (in.flag("volume") && (in.given("volume.multiscatter_color") || in.given("volume.scatter_anisotropy")) && attenuation != glm::vec3(0.0f)) {
+        SceneMedium inside;
+        const glm::vec3 albedo = single_scattering_albedo(in.colour("volume.multiscatter_color"));
+        inside.sigmaS = attenuation * albedo;
+        inside.sigmaA = attenuation - inside.sigmaS;
+        inside.g = in.number("volume.scatter_anisotropy");
+        m.boundsMedia = true;
+        m.interior = in.add_medium(inside);
+        m.exterior = WP_INVALID;
+        r.extra[MR_VOLUME] = glm::vec4(glm::vec3(0.0f), r.extra[MR_VOLUME].w);
+      }
       r.extra[MR_IRIDESCENCE] = in.flag("iridescence") ? glm::vec4(in.number("iridescence.factor"), in.number("iridescence.ior"),
                                                                    in.number("iridescence.thickness_minimum"), in.number("iridescence.thickness_maximum"))
                                                        : glm::vec4(0.0f);
