@@ -144,11 +144,12 @@ TEST(Layers, ChiSquareCatchesAPlantedCoatRoughnessError) {
   EXPECT_LT(r.pValue, kLevel) << "a 5 % error in the coat's roughness was not detected";
 }
 
-// Mean and standard error of bsdf_sample's weight (red channel) at wo.
-std::pair<double, double> sampled_albedo(const SceneView::Bsdf& b, glm::vec3 wo, int n, uint32_t seed) {
+// Mean weights of bsdf_sample at wo (red channel) that leave on wo's side
+// (x) and through the surface (y), and the standard error of their sum (z).
+glm::dvec3 sampled_split(const SceneView::Bsdf& b, glm::vec3 wo, int n, uint32_t seed) {
   ShaderMath m;
   uint32_t state = m.rng_seed(seed, 3u, 4u);
-  double sum = 0.0, sumSq = 0.0;
+  double back = 0.0, through = 0.0, sumSq = 0.0;
   for (int i = 0; i < n; ++i) {
     const glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
     glm::vec3 wi;
@@ -156,11 +157,17 @@ std::pair<double, double> sampled_albedo(const SceneView::Bsdf& b, glm::vec3 wo,
     bool isDelta;
     const double w = m.bsdf_sample(b, wo, u, wi, pdf, isDelta).x;
     EXPECT_TRUE(std::isfinite(w));
-    sum += w;
+    (glm::dot(wi, b.ng) < 0.0f ? through : back) += w;
     sumSq += w * w;
   }
-  const double mean = sum / n;
-  return {mean, std::sqrt(std::max(sumSq / n - mean * mean, 0.0) / n)};
+  const double mean = (back + through) / n;
+  return {back / n, through / n, std::sqrt(std::max(sumSq / n - mean * mean, 0.0) / n)};
+}
+
+// Mean and standard error of bsdf_sample's weight (red channel) at wo.
+std::pair<double, double> sampled_albedo(const SceneView::Bsdf& b, glm::vec3 wo, int n, uint32_t seed) {
+  const glm::dvec3 s = sampled_split(b, wo, n, seed);
+  return {s.x + s.y, s.z};
 }
 
 glm::vec3 at_cosine(double c) { return glm::vec3(float(std::sqrt(1.0 - c * c)), 0.0f, float(c)); }
@@ -231,25 +238,6 @@ TEST(Layers, WhiteFurnaceLossMatchesTheLayering) {
       EXPECT_LT(mean, 1.0 + 4.0 * se);
     }
   }
-}
-
-// Mean weights of bsdf_sample at wo (red channel) that leave on wo's side
-// (x) and through the surface (y), and the standard error of their sum (z).
-glm::dvec3 sampled_split(const SceneView::Bsdf& b, glm::vec3 wo, int n, uint32_t seed) {
-  ShaderMath m;
-  uint32_t state = m.rng_seed(seed, 5u, 6u);
-  double back = 0.0, through = 0.0, sumSq = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const glm::vec4 u(m.rng_next(state), m.rng_next(state), m.rng_next(state), m.rng_next(state));
-    glm::vec3 wi;
-    float pdf;
-    bool isDelta;
-    const double w = m.bsdf_sample(b, wo, u, wi, pdf, isDelta).x;
-    (glm::dot(wi, b.ng) < 0.0f ? through : back) += w;
-    sumSq += w * w;
-  }
-  const double mean = (back + through) / n;
-  return {back / n, through / n, std::sqrt(std::max(sumSq / n - mean * mean, 0.0) / n)};
 }
 
 // KHR_materials_diffuse_transmission moves light from the diffuse BRDF to
