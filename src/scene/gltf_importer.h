@@ -85,6 +85,9 @@ class GltfImporter {
   uint32_t material_for(int index, const std::string& where);
   Complaint complaint(const std::string& where) const;
   int uv_set_needing_tangents(uint32_t m) const;
+  // Material g's extension `name` (checked to be an object; its path in
+  // `where`), or null where g has none.
+  const tinygltf::Value* material_extension(const tinygltf::Material& g, const char* name, const std::string& at, std::string& where) const;
   float extension_number(const tinygltf::Value& ext, const char* key, float fallback, float lo, float hi, const std::string& at) const;
   glm::vec3 extension_color(const tinygltf::Value& ext, const char* key, glm::vec3 fallback, float hi, const std::string& at) const;
   static std::string number_text(float v);

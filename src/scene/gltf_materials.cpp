@@ -60,10 +60,9 @@ uint32_t GltfImporter::material_for(int index, const std::string& where) {
     if (!(ior >= 1.0f && ior <= 10.0f)) fail(at + "/extensions/KHR_materials_ior/ior", "must lie in [1, 10]");
     m.number("ior", ior, complaint(at + "/extensions/KHR_materials_ior/ior"));
   }
-  auto transmissionExt = g.extensions.find("KHR_materials_transmission");
-  if (transmissionExt != g.extensions.end()) {
-    const tinygltf::Value& t = transmissionExt->second;
-    const std::string tat = at + "/extensions/KHR_materials_transmission";
+  std::string tat;
+  if (const tinygltf::Value* transmission = material_extension(g, "KHR_materials_transmission", at, tat)) {
+    const tinygltf::Value& t = *transmission;
     if (t.Has("transmissionFactor")) {
       if (!t.Get("transmissionFactor").IsNumber()) fail(tat + "/transmissionFactor", "expected a number");
       m.number("transmission", unit(t.Get("transmissionFactor").GetNumberAsDouble(), tat + "/transmissionFactor"),
@@ -74,11 +73,9 @@ uint32_t GltfImporter::material_for(int index, const std::string& where) {
   }
   // KHR_materials_diffuse_transmission (README.md:70-160 at 603619ef): the
   // factor (its texture's alpha) and colour (its texture sRGB).
-  auto diffuseExt = g.extensions.find("KHR_materials_diffuse_transmission");
-  if (diffuseExt != g.extensions.end()) {
-    const tinygltf::Value& e = diffuseExt->second;
-    const std::string eat = at + "/extensions/KHR_materials_diffuse_transmission";
-    if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  if (const tinygltf::Value* diffuse = material_extension(g, "KHR_materials_diffuse_transmission", at, eat)) {
+    const tinygltf::Value& e = *diffuse;
     m.number("diffuse_transmission", extension_number(e, "diffuseTransmissionFactor", 0.0f, 0.0f, 1.0f, eat), complaint(eat + "/diffuseTransmissionFactor"));
     m.colour("diffuse_transmission_color", extension_color(e, "diffuseTransmissionColorFactor", glm::vec3(1.0f), 1.0f, eat),
              complaint(eat + "/diffuseTransmissionColorFactor"));
@@ -120,11 +117,9 @@ uint32_t GltfImporter::material_for(int index, const std::string& where) {
   // multiscatterColorFactor was multiscatterColor until that commit (as in
   // the sample ScatteringSkull): both are read. Its texture, read where a
   // path enters, would need a medium per path: not read.
-  auto scatter = g.extensions.find("KHR_materials_volume_scatter");
-  if (scatter != g.extensions.end()) {
-    const tinygltf::Value& s = scatter->second;
-    const std::string sat = at + "/extensions/KHR_materials_volume_scatter";
-    if (!s.IsObject()) fail(sat, "expected an object");
+  std::string sat;
+  if (const tinygltf::Value* scatter = material_extension(g, "KHR_materials_volume_scatter", at, sat)) {
+    const tinygltf::Value& s = *scatter;
     const char* key = s.Has("multiscatterColorFactor") ? "multiscatterColorFactor" : "multiscatterColor";
     m.colour("volume.multiscatter_color", extension_color(s, key, glm::vec3(0.0f), 1.0f, sat), complaint(sat + "/" + key));
     m.number("volume.scatter_anisotropy", std::clamp(extension_number(s, "scatterAnisotropy", 0.0f, -1.0f, 1.0f, sat), -0.99f, 0.99f),
@@ -174,6 +169,15 @@ int GltfImporter::uv_set_needing_tangents(uint32_t m) const {
     m = mat.part(0);
   }
   return -1;
+}
+
+const tinygltf::Value* GltfImporter::material_extension(const tinygltf::Material& g, const char* name, const std::string& at,
+                                                        std::string& where) const {
+  auto found = g.extensions.find(name);
+  if (found == g.extensions.end()) return nullptr;
+  where = at + "/extensions/" + name;
+  if (!found->second.IsObject()) fail(where, "expected an object");
+  return &found->second;
 }
 
 // A number of an extension's object in [lo, hi], or `fallback` if absent.
@@ -232,11 +236,10 @@ uint32_t GltfImporter::extension_texture(const tinygltf::Value& ext, const char*
 // KHR_materials_specular on metal-rough m: params2 holds the factor and
 // colour less 1 (metal_rough.glsl), the textures scale them.
 void GltfImporter::read_specular(const tinygltf::Material& g, const std::string& at, MaterialParams& m) {
-  auto found = g.extensions.find("KHR_materials_specular");
-  if (found == g.extensions.end()) return;
-  const tinygltf::Value& e = found->second;
-  const std::string eat = at + "/extensions/KHR_materials_specular";
-  if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  const tinygltf::Value* found = material_extension(g, "KHR_materials_specular", at, eat);
+  if (!found) return;
+  const tinygltf::Value& e = *found;
   const float specular = extension_number(e, "specularFactor", 1.0f, 0.0f, 1.0f, eat);
   const glm::vec3 color = extension_color(e, "specularColorFactor", glm::vec3(1.0f), 1e3f, eat);
   m.number("specular", specular, complaint(eat + "/specularFactor"));
@@ -255,11 +258,10 @@ void GltfImporter::read_specular(const tinygltf::Material& g, const std::string&
 // traces, and is not read (README.md:125).
 // Whether the material is a volume's boundary.
 bool GltfImporter::read_volume(const tinygltf::Material& g, const std::string& at, MaterialParams& m) const {
-  auto found = g.extensions.find("KHR_materials_volume");
-  if (found == g.extensions.end()) return false;
-  const tinygltf::Value& e = found->second;
-  const std::string eat = at + "/extensions/KHR_materials_volume";
-  if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  const tinygltf::Value* found = material_extension(g, "KHR_materials_volume", at, eat);
+  if (!found) return false;
+  const tinygltf::Value& e = *found;
   const float thickness = extension_number(e, "thicknessFactor", 0.0f, 0.0f, 1e30f, eat);
   const float distance = extension_number(e, "attenuationDistance", 1e30f, 0.0f, 1e30f, eat);
   if (!(distance > 0.0f)) fail(eat + "/attenuationDistance", "must be above 0");
@@ -269,12 +271,9 @@ bool GltfImporter::read_volume(const tinygltf::Material& g, const std::string& a
   m.number("volume.attenuation_distance", distance, complaint(eat + "/attenuationDistance"));
   // KHR_materials_dispersion (20 / Abbe number) spreads the volume's index
   // over the colours; a thin-walled surface does not disperse (README.md).
-  auto dispersion = g.extensions.find("KHR_materials_dispersion");
-  if (dispersion != g.extensions.end()) {
-    const std::string dat = at + "/extensions/KHR_materials_dispersion";
-    if (!dispersion->second.IsObject()) fail(dat, "expected an object");
-    m.number("volume.dispersion", extension_number(dispersion->second, "dispersion", 0.0f, 0.0f, 1000.0f, dat), complaint(dat + "/dispersion"));
-  }
+  std::string dat;
+  if (const tinygltf::Value* dispersion = material_extension(g, "KHR_materials_dispersion", at, dat))
+    m.number("volume.dispersion", extension_number(*dispersion, "dispersion", 0.0f, 0.0f, 1000.0f, dat), complaint(dat + "/dispersion"));
   // "doubleSided has no effect on volume boundaries" (README.md:110-115):
   // paths inside meet the boundary from behind.
   return thickness > 0.0f;
@@ -284,11 +283,10 @@ bool GltfImporter::read_volume(const tinygltf::Material& g, const std::string& a
 // the red of its texture), ior and thickness range (nm; its texture's green
 // picks within it, the maximum without one; README.md:61-88).
 void GltfImporter::read_iridescence(const tinygltf::Material& g, const std::string& at, MaterialParams& m) {
-  auto found = g.extensions.find("KHR_materials_iridescence");
-  if (found == g.extensions.end()) return;
-  const tinygltf::Value& e = found->second;
-  const std::string eat = at + "/extensions/KHR_materials_iridescence";
-  if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  const tinygltf::Value* found = material_extension(g, "KHR_materials_iridescence", at, eat);
+  if (!found) return;
+  const tinygltf::Value& e = *found;
   m.flag("iridescence", true, complaint(eat));
   m.number("iridescence.factor", extension_number(e, "iridescenceFactor", 0.0f, 0.0f, 1.0f, eat), complaint(eat + "/iridescenceFactor"));
   m.number("iridescence.ior", extension_number(e, "iridescenceIor", 1.3f, 1.0f, 10.0f, eat), complaint(eat + "/iridescenceIor"));
@@ -306,11 +304,10 @@ void GltfImporter::read_iridescence(const tinygltf::Material& g, const std::stri
 // and a texture of directions (red, green: 2 c - 1 in the tangent frame)
 // and strengths (blue), linear (README.md:65-90).
 void GltfImporter::read_anisotropy(const tinygltf::Material& g, const std::string& at, MaterialParams& m) {
-  auto found = g.extensions.find("KHR_materials_anisotropy");
-  if (found == g.extensions.end()) return;
-  const tinygltf::Value& e = found->second;
-  const std::string eat = at + "/extensions/KHR_materials_anisotropy";
-  if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  const tinygltf::Value* found = material_extension(g, "KHR_materials_anisotropy", at, eat);
+  if (!found) return;
+  const tinygltf::Value& e = *found;
   m.flag("anisotropy", true, complaint(eat));
   m.number("anisotropy.strength", extension_number(e, "anisotropyStrength", 0.0f, 0.0f, 1.0f, eat), complaint(eat + "/anisotropyStrength"));
   m.number("anisotropy.rotation", extension_number(e, "anisotropyRotation", 0.0f, -1e4f, 1e4f, eat), complaint(eat + "/anisotropyRotation"));
@@ -320,11 +317,10 @@ void GltfImporter::read_anisotropy(const tinygltf::Material& g, const std::strin
 
 // KHR_materials_sheen, to lie over the base; none where the sheen is black.
 std::optional<MaterialParams> GltfImporter::sheen_layer(const tinygltf::Material& g, const std::string& at, const std::string& name) {
-  auto found = g.extensions.find("KHR_materials_sheen");
-  if (found == g.extensions.end()) return std::nullopt;
-  const tinygltf::Value& e = found->second;
-  const std::string eat = at + "/extensions/KHR_materials_sheen";
-  if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  const tinygltf::Value* found = material_extension(g, "KHR_materials_sheen", at, eat);
+  if (!found) return std::nullopt;
+  const tinygltf::Value& e = *found;
   const glm::vec3 color = extension_color(e, "sheenColorFactor", glm::vec3(0.0f), 1.0f, eat);
   const float roughness = extension_number(e, "sheenRoughnessFactor", 0.0f, 0.0f, 1.0f, eat);
   if (color == glm::vec3(0.0f)) return std::nullopt;  // "If sheenColorFactor is zero, the whole sheen layer is disabled."
@@ -340,11 +336,10 @@ std::optional<MaterialParams> GltfImporter::sheen_layer(const tinygltf::Material
 // KHR_materials_clearcoat, to lie over the base (and its own normal map in
 // `normalMap`); none where the coat is 0.
 std::optional<MaterialParams> GltfImporter::clearcoat_layer(const tinygltf::Material& g, const std::string& at, const std::string& name, uint32_t& normalMap) {
-  auto found = g.extensions.find("KHR_materials_clearcoat");
-  if (found == g.extensions.end()) return std::nullopt;
-  const tinygltf::Value& e = found->second;
-  const std::string eat = at + "/extensions/KHR_materials_clearcoat";
-  if (!e.IsObject()) fail(eat, "expected an object");
+  std::string eat;
+  const tinygltf::Value* found = material_extension(g, "KHR_materials_clearcoat", at, eat);
+  if (!found) return std::nullopt;
+  const tinygltf::Value& e = *found;
   const float factor = extension_number(e, "clearcoatFactor", 0.0f, 0.0f, 1.0f, eat);
   const float roughness = extension_number(e, "clearcoatRoughnessFactor", 0.0f, 0.0f, 1.0f, eat);
   if (factor == 0.0f) return std::nullopt;  // "If clearcoatFactor = 0, the clearcoat layer is disabled."
