@@ -68,6 +68,7 @@ layout(constant_id = SPEC_AOVS) const bool kAovs = false;
 #define AOVS_OF_SCENE kAovs
 #include "rng.glsl"
 #include "sampling.glsl"
+#include "spectrum.glsl"
 #include "noise.glsl"
 #include "intersect.glsl"
 #include "bsdf.glsl"

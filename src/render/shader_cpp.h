@@ -43,6 +43,7 @@ inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texel
 struct ShaderMath {
 #include "../../shaders/shared/rng.glsl"
 #include "../../shaders/shared/sampling.glsl"
+#include "../../shaders/shared/spectrum.glsl"
 #include "../../shaders/shared/noise.glsl"
 #include "../../shaders/shared/intersect.glsl"
 #include "../../shaders/shared/bsdf.glsl"
