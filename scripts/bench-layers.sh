@@ -4,7 +4,8 @@
 # layer or parameter the extensions add (KHR_materials_specular's tint, a
 # clear coat, a sheen, a coat over a sheen; thin-walled transmission,
 # KHR_materials_volume's refraction into an absorbing volume, and
-# KHR_materials_iridescence's thin film, KHR_materials_anisotropy, KHR_materials_dispersion), 320x240, 64 spp, at most 8
+# KHR_materials_iridescence's thin film, KHR_materials_anisotropy, KHR_materials_dispersion,
+# KHR_materials_diffuse_transmission, KHR_materials_volume_scatter's particles), 320x240, 64 spp, at most 8
 # bounces, on the default Vulkan device (or --cpu). ROUNDS interleaved
 # rounds, medians of the render time; samples per second and the ratio to
 # plain metal-rough.
@@ -29,8 +30,10 @@ declare -A material=(
   [iridescence]="$base, \"name\": \"m\", \"iridescence\": {\"factor\": 1, \"ior\": 1.3}}"
   [anisotropy]="$base, \"name\": \"m\", \"anisotropy\": {\"strength\": 0.8, \"rotation\": 0.5}}"
   [dispersion]="$base, \"name\": \"m\", \"transmission\": 1, \"volume\": {\"attenuation_color\": [0.9, 0.6, 0.3], \"attenuation_distance\": 1, \"dispersion\": 1}}"
+  [diffuse-transmission]="$base, \"name\": \"m\", \"diffuse_transmission\": 0.6, \"diffuse_transmission_color\": [0.9, 0.7, 0.4]}"
+  [scatter]="$base, \"name\": \"m\", \"transmission\": 1, \"volume\": {\"attenuation_color\": [0.9, 0.6, 0.3], \"attenuation_distance\": 1, \"multiscatter_color\": [0.8, 0.6, 0.4]}}"
 )
-variants=${VARIANTS:-"plain specular clearcoat sheen coat+sheen thin-glass volume iridescence anisotropy dispersion"}
+variants=${VARIANTS:-"plain specular clearcoat sheen coat+sheen thin-glass volume iridescence anisotropy dispersion diffuse-transmission scatter"}
 for v in $variants; do
   cat >"$out/$v.json" <<SCENE
 {"camera": {"transform": {"from": [0, 1.2, 3.2], "at": [0, 0.5, 0], "up": [0, 1, 0]}, "vfov": 35, "resolution": [320, 240]},
