@@ -220,17 +220,23 @@ float metal_rough_diffuse_transmitted_pdf(Lobe l, vec2 p, vec3 ns, vec3 wo, vec3
   return (1.0f - p.x - p.y) * metal_rough_diffuse_transmitted_share(l) * lambertian_pdf(l, ns, wo, -wi);
 }
 
-// The diffuse transmission's term f |cos_i| at wi below the surface.
-vec3 metal_rough_diffuse_transmitted(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+// The diffuse transmission's term f |cos_i| at wi below the surface, where
+// the base under the specular layer keeps `base` (1 - max3 F_d).
+vec3 metal_rough_diffuse_transmitted_under(Lobe l, float base, vec3 ns, vec3 wi) {
   vec4 dt = metal_rough_diffuse_transmission(l);
-  if (!(dt.w > 0.0f)) return vec3(0.0f);
+  float weight = (1.0f - l.params.y) * base * (1.0f - metal_rough_transmission(l)) * dt.w;
+  return vec3(dt.x, dt.y, dt.z) * (weight * max(-dot(wi, ns), 0.0f) * WP_INV_PI);
+}
+
+// The same where the caller has no F_d at wo and wi mirrored (the refraction branch).
+vec3 metal_rough_diffuse_transmitted(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  if (!(metal_rough_diffuse_transmission(l).w > 0.0f)) return vec3(0.0f);
   vec3 wr = metal_rough_mirrored(ns, wi);
   float c = dot(wo, normalize(wo + wr));
   vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
   vec3 fm = vec3(0.0f);
   metal_rough_iridescence(l, c, fd, fm);
-  float weight = (1.0f - l.params.y) * (1.0f - metal_rough_max3(fd)) * (1.0f - metal_rough_transmission(l)) * dt.w;
-  return vec3(dt.x, dt.y, dt.z) * (weight * max(-dot(wi, ns), 0.0f) * WP_INV_PI);
+  return metal_rough_diffuse_transmitted_under(l, 1.0f - metal_rough_max3(fd), ns, wi);
 }
 
 float metal_rough_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
@@ -291,7 +297,7 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float specular = metal_rough_specular_eval(l, ns, wo, wr);  // S |cos_i|
   if (cosI < 0.0f) {
     vec3 f = l.color * ((1.0f - metallic) * base * transmission * specular);
-    if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) f += metal_rough_diffuse_transmitted(l, ns, wo, wi);
+    if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) f += metal_rough_diffuse_transmitted_under(l, base, ns, wi);
     return f;
   }
   float diffuse = 1.0f - transmission;
