@@ -386,6 +386,46 @@ TEST(Bvh, TraversalStaysWithinItsStackSlots) {
   }
 }
 
+// The walks meet near children first. A cloud of small triangles, and rays
+// from all around into it: a walk that goes front to back finds a hit among
+// the first triangles it meets and culls the boxes behind it; one that goes
+// back to front finds hits deep in the cloud first. The wide walk, which
+// orders a node's children by the ray's octant, took 46.6 steps a ray when
+// that order put the farthest child first, and takes 23.7. (The binary walk
+// orders its two children by distance.)
+TEST(Bvh, WalksMeetNearChildrenFirst) {
+  Scene scene;
+  add_lambertian(scene, glm::vec3(0.5f));
+  std::mt19937 place(9);
+  std::uniform_real_distribution<float> inCube(-1.0f, 1.0f), corner(-0.04f, 0.04f);
+  for (int i = 0; i < 20000; ++i) {
+    const glm::vec3 c(inCube(place), inCube(place), inCube(place));
+    SceneTriangle t{{c, c, c}, 0};
+    for (glm::vec3& v : t.v) v += glm::vec3(corner(place), corner(place), corner(place));
+    scene.triangles.push_back(t);
+  }
+  std::mt19937 rng(3);
+  std::normal_distribution<float> normal;
+  std::vector<ShadowRay> rays;
+  for (int i = 0; i < 2000; ++i) {
+    ShadowRay r{};
+    r.origin = 4.0f * glm::normalize(glm::vec3(normal(rng), normal(rng), normal(rng)));
+    r.dir = glm::normalize(0.5f * glm::vec3(normal(rng), normal(rng), normal(rng)) - r.origin);
+    r.tmax = WP_INF;
+    rays.push_back(r);
+  }
+  CompiledScene cs = compile_scene(scene, RenderOptions{});
+  ASSERT_EQ(cs.bvhLayout, BvhLayout::Wide);
+  SceneView view = cs.view();
+  uint64_t steps = 0;
+  view.stepsTaken = &steps;
+  for (const ShadowRay& r : rays) {
+    Hit h;
+    ASSERT_EQ(view.trace_ray(r.origin, r.dir, r.tmax, false, h), TRACE_OK);
+  }
+  EXPECT_LT(double(steps) / double(rays.size()), 30.0);
+}
+
 // A traversal that would need more steps than the cap reports itself
 // truncated instead of returning a wrong answer: exactly the walks that take
 // more steps than the cap without one are truncated, and the others return

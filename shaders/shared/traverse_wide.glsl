@@ -96,8 +96,11 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
 // A zero direction component becomes a tiny one, so that no slab distance is
 // 0 * inf: the result differs only for rays exactly in a box's face. Slot
 // order for the ray: the builder put the child lying towards octant s in
-// slot s, and the walk takes the highest bit first, so bit 24 + (s ^
-// xorSlot) puts the child facing the ray's origin first.
+// slot s (bit a set: towards -a), and the walk takes the highest bit first.
+// A ray travelling towards -a meets the children on the +a side first, whose
+// bit a is clear: so xorSlot sets bit a for it, and bit 24 + (s ^ xorSlot)
+// puts the child facing the ray's origin first. (The other way round, the
+// walk went back to front: Bvh.WalksMeetNearChildrenFirst.)
 #define WP_WIDE_WALK_AIM()                                                                                        \
   sh = make_ray_shear(rd);                                                                                         \
   invDir = vec3(1.0f) / vec3(abs(rd.x) < 1e-20f ? 1e-20f : rd.x, abs(rd.y) < 1e-20f ? 1e-20f : rd.y,              \
@@ -105,7 +108,7 @@ uint permute_meta(uint meta, uint imask4, uint xorSlot) {
   negX = invDir.x < 0.0f;                                                                                          \
   negY = invDir.y < 0.0f;                                                                                          \
   negZ = invDir.z < 0.0f;                                                                                          \
-  xorSlot = (negX ? 0u : 1u) | (negY ? 0u : 2u) | (negZ ? 0u : 4u);
+  xorSlot = (negX ? 1u : 0u) | (negY ? 2u : 0u) | (negZ ? 4u : 0u);
 
 // Pushes entry e on the wide walk's stack (either kind, see below).
 #define WP_WIDE_PUSH(e)                \
