@@ -64,7 +64,8 @@
 #define SPEC_TEXTURE_KINDS 13
 #define SPEC_LIGHT_KINDS 14
 #define SPEC_AOVS 15
-#define SPEC_COUNT 16
+#define SPEC_WIDE_CHILD_ORDER 16
+#define SPEC_COUNT 17
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).

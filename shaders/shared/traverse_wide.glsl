@@ -25,23 +25,54 @@ uint slot_byte(uvec2 words, uint slot) {
 }
 
 // The hit-mask bits of child `slot` of a wide node if the ray meets its box
-// before tmax, else 0. Per axis the ray's distance to a quantized plane q is
+// before tmax, else 0; tnear: where it enters the box. Per axis the ray's distance to a quantized plane q is
 // q * scale + base; nearX / farX are the plane words facing the ray and facing
 // away (lower and upper planes swapped for negative directions). `meta` has
 // the interior slots already permuted for the ray's octant.
 uint wide_child_bits(uint slot, uvec2 meta, uvec2 nearX, uvec2 farX, uvec2 nearY, uvec2 farY, uvec2 nearZ, uvec2 farZ,
-                     vec3 scale, vec3 base, float tmax) {
+                     vec3 scale, vec3 base, float tmax, OUT(float) tnear) {
   float tnx = fma(float(slot_byte(nearX, slot)), scale.x, base.x);
   float tny = fma(float(slot_byte(nearY, slot)), scale.y, base.y);
   float tnz = fma(float(slot_byte(nearZ, slot)), scale.z, base.z);
   float tfx = fma(float(slot_byte(farX, slot)), scale.x, base.x);
   float tfy = fma(float(slot_byte(farY, slot)), scale.y, base.y);
   float tfz = fma(float(slot_byte(farZ, slot)), scale.z, base.z);
-  float tnear = max_of(max_of(tnx, tny), max_of(tnz, 0.0f));
+  tnear = max_of(max_of(tnx, tny), max_of(tnz, 0.0f));
   // Widened by a few ulps against rounding in the slab distances.
   float tfar = min_of(min_of(tfx, tfy), min_of(tfz, tmax)) * 1.0000004f;
   uint m = slot_byte(meta, slot);
   return tnear <= tfar ? (m >> 5u) << (m & 31u) : 0u;
+}
+
+// WIDE_ORDER_DISTANCE: a slot's sort key, the bits of its entry distance
+// (non-negative floats order as their bits) with its rank among the node's
+// interior children in the lowest three, or ~0 (sorted last) unless it is an
+// interior child the ray meets. `slotBits`: what wide_child_bits gave it.
+uint wide_child_key(uint slotBits, float tnear, uint rank) {
+  return (slotBits & WIDE_NODE_BITS) != 0u ? ((floatBitsToUint(tnear) & ~7u) | rank) : 0xffffffffu;
+}
+
+// One comparator of a sorting network: a gets the smaller key, b the larger.
+#define WP_SORT_PAIR(a, b) \
+  {                        \
+    uint low_ = min(a, b); \
+    b = max(a, b);         \
+    a = low_;              \
+  }
+
+// WIDE_ORDER_DISTANCE: the node group's y for a node whose children have the
+// keys k0..k7, `count` of them hit interior children: the count in bits
+// 24-27, and their ranks nearest first, 3 bits each from bit 0.
+uint wide_nearest_first(uint count, uint k0, uint k1, uint k2, uint k3, uint k4, uint k5, uint k6, uint k7) {
+  // Batcher's odd-even merge sort of eight: 19 comparators.
+  WP_SORT_PAIR(k0, k2); WP_SORT_PAIR(k1, k3); WP_SORT_PAIR(k4, k6); WP_SORT_PAIR(k5, k7);
+  WP_SORT_PAIR(k0, k4); WP_SORT_PAIR(k1, k5); WP_SORT_PAIR(k2, k6); WP_SORT_PAIR(k3, k7);
+  WP_SORT_PAIR(k0, k1); WP_SORT_PAIR(k2, k3); WP_SORT_PAIR(k4, k5); WP_SORT_PAIR(k6, k7);
+  WP_SORT_PAIR(k2, k4); WP_SORT_PAIR(k3, k5);
+  WP_SORT_PAIR(k1, k4); WP_SORT_PAIR(k3, k6);
+  WP_SORT_PAIR(k1, k2); WP_SORT_PAIR(k3, k4); WP_SORT_PAIR(k5, k6);
+  return (count << 24u) | (k0 & 7u) | ((k1 & 7u) << 3u) | ((k2 & 7u) << 6u) | ((k3 & 7u) << 9u) | ((k4 & 7u) << 12u) |
+         ((k5 & 7u) << 15u) | ((k6 & 7u) << 18u) | ((k7 & 7u) << 21u);
 }
 
 // The interior slots' bytes of a meta word (4 slots, `imask4` their interior

@@ -26,6 +26,10 @@
 // SceneParams.accel.x: which node layout the kernels traverse.
 #define BVH_LAYOUT_BINARY 0u  // BvhNode: two children per node, float boxes
 #define BVH_LAYOUT_WIDE 1u    // WideNode: eight children, quantized boxes
+// SceneParams.accel.y: the order in which the wide walk visits a node's hit
+// children (wide_walk_step.glsl).
+#define WIDE_ORDER_OCTANT 0u   // by the slots of the ray's octant: a fixed order, no sort
+#define WIDE_ORDER_DISTANCE 1u // nearest first, by a sorting network over their entry distances
 // A wide node's leaf child holds at most this many primitives, and all its
 // leaf children together at most WIDE_MAX_NODE_PRIMS (offsets in 5 bits).
 #define WIDE_MAX_LEAF_SIZE 3
@@ -356,7 +360,7 @@ struct SceneParams {
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
-  uvec4 accel;       // x: BVH_LAYOUT_*, y: unused, z: traversal stack slots needed, w: unused
+  uvec4 accel;       // x: BVH_LAYOUT_*, y: WIDE_ORDER_*, z: traversal stack slots needed, w: unused
   // The kinds the scene uses (kinds.glsl), one bit per kind id: x material
   // kinds, y texture kinds, z light kinds, w other features. The kernels get
   // them as specialization constants and compile out the code of the rest.

@@ -16,7 +16,7 @@ uvec2 stack[TRAVERSAL_STACK_SIZE];  // the stack, bottom first, otherwise
 uint sp;
 uint primGroupsSetAside;  // primitive groups on the stack
 uint visit;               // the node to visit in this iteration (the root first), or WP_INVALID
-uvec2 nodeGroup;          // x: first interior child; y: its remaining hit bits (24-31) | imask (0-7)
+uvec2 nodeGroup;          // x: first interior child; y: the hit ones still to visit (wide_walk_step.glsl)
 uvec2 primGroup;          // x: first primitive; y: remaining hit bits (0-23)
 // Cleared once, not at the start of each ray: entries above the top are
 // never read, and in the multi-ray loop (trace_items.glsl) a ray's start runs,

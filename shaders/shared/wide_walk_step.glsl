@@ -27,14 +27,14 @@ if (primGroup.y != 0u) {
 if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
   WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
   // Set aside the top level's node group, its node still to visit (as a
-  // group of that one node, in slot 0 for this ray's order), its primitive
+  // group of that one node, its first in either order), its primitive
   // group, then the way back, which keeps the count of primitive groups set
   // aside: the instance's walk starts with none.
   if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
     WP_WIDE_PUSH(nodeGroup);
   }
   if (visit != WP_INVALID) {
-    WP_WIDE_PUSH(uvec2(visit, 1u << (24u + xorSlot)));
+    WP_WIDE_PUSH(uvec2(visit, WIDE_CHILD_ORDER_OF_SCENE == WIDE_ORDER_DISTANCE ? 1u << 24u : 1u << (24u + xorSlot)));
   }
   if (primGroup.y != 0u) {
     WP_WIDE_PUSH(primGroup);
@@ -75,14 +75,39 @@ if (!walkDone && !enter && visit != WP_INVALID && (primGroupsSetAside < WIDE_STA
   uint imask = n.exyzImask >> 24u;
   uvec2 meta = uvec2(permute_meta(n.meta0123, imask & 15u, xorSlot), permute_meta(n.meta4567, imask >> 4u, xorSlot));
   // Eight explicit calls, not a loop: a loop would count against lavapipe's budget.
-  uint bits = wide_child_bits(0u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(1u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(2u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(3u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(4u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(5u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(6u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t) |
-              wide_child_bits(7u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t);
+  float t0, t1, t2, t3, t4, t5, t6, t7;
+  uint b0 = wide_child_bits(0u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t0);
+  uint b1 = wide_child_bits(1u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t1);
+  uint b2 = wide_child_bits(2u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t2);
+  uint b3 = wide_child_bits(3u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t3);
+  uint b4 = wide_child_bits(4u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t4);
+  uint b5 = wide_child_bits(5u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t5);
+  uint b6 = wide_child_bits(6u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t6);
+  uint b7 = wide_child_bits(7u, meta, nearX, farX, nearY, farY, nearZ, farZ, scale, base, hit.t, t7);
+  uint bits = b0 | b1 | b2 | b3 | b4 | b5 | b6 | b7;
+  // The node group's y: the hit interior slots' bits (24-31, in the ray's
+  // octant order) and imask (0-7), or, nearest first, their count (24-27)
+  // and their ranks among the interior children, 3 bits each, the nearest
+  // lowest (0-23).
+  uint groupBits = (bits & WIDE_NODE_BITS) | imask;
+  if (WIDE_CHILD_ORDER_OF_SCENE == WIDE_ORDER_DISTANCE) {
+    uint r1 = imask & 1u;
+    uint r2 = r1 + ((imask >> 1u) & 1u);
+    uint r3 = r2 + ((imask >> 2u) & 1u);
+    uint r4 = r3 + ((imask >> 3u) & 1u);
+    uint r5 = r4 + ((imask >> 4u) & 1u);
+    uint r6 = r5 + ((imask >> 5u) & 1u);
+    uint r7 = r6 + ((imask >> 6u) & 1u);
+    uint k0 = wide_child_key(b0, t0, 0u);
+    uint k1 = wide_child_key(b1, t1, r1);
+    uint k2 = wide_child_key(b2, t2, r2);
+    uint k3 = wide_child_key(b3, t3, r3);
+    uint k4 = wide_child_key(b4, t4, r4);
+    uint k5 = wide_child_key(b5, t5, r5);
+    uint k6 = wide_child_key(b6, t6, r6);
+    uint k7 = wide_child_key(b7, t7, r7);
+    groupBits = wide_nearest_first(uint(bitCount(bits & WIDE_NODE_BITS)), k0, k1, k2, k3, k4, k5, k6, k7);
+  }
   // Set aside what is left of the current node group, and the current
   // primitive group when this node brings a new one.
   bool pushNodes = (nodeGroup.y & WIDE_NODE_BITS) != 0u;
@@ -107,7 +132,7 @@ if (!walkDone && !enter && visit != WP_INVALID && (primGroupsSetAside < WIDE_STA
   sp += pushes;
   WP_NOTE_STACK_DEPTH(sp);
   primGroupsSetAside += pushPrims ? 1u : 0u;
-  nodeGroup = uvec2(n.childBase, (bits & WIDE_NODE_BITS) | imask);
+  nodeGroup = uvec2(n.childBase, groupBits);
   if (prims != 0u) primGroup = uvec2(n.primBase, prims);
   visit = WP_INVALID;
 }
@@ -143,10 +168,15 @@ if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
 // The next node to visit, unless one is still waiting.
 if (visit == WP_INVALID) {
   if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
-    uint bit = uint(findMSB(nodeGroup.y));
-    nodeGroup.y &= ~(1u << bit);
-    uint slot = (bit - 24u) ^ xorSlot;
-    visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
+    if (WIDE_CHILD_ORDER_OF_SCENE == WIDE_ORDER_DISTANCE) {
+      visit = nodeGroup.x + (nodeGroup.y & 7u);
+      nodeGroup.y = ((nodeGroup.y & WIDE_NODE_BITS) - (1u << 24u)) | ((nodeGroup.y & 0x00ffffffu) >> 3u);
+    } else {
+      uint bit = uint(findMSB(nodeGroup.y));
+      nodeGroup.y &= ~(1u << bit);
+      uint slot = (bit - 24u) ^ xorSlot;
+      visit = nodeGroup.x + uint(bitCount(nodeGroup.y & ((1u << slot) - 1u) & 0xffu));
+    }
   } else if (primGroup.y == 0u && (!FEATURE_COMPILED(FEATURE_INSTANCES) || sp == 0u)) {
     walkDone = true;  // nothing to visit or test, and the stack is empty
   }

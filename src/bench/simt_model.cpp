@@ -41,6 +41,7 @@ SimtWalk simt_walk(const std::string& variant, const CompiledScene& cs) {
   w.indexedStack = !w.wide || v.settings.stack != TraversalStack::Registers;
   w.stackSlots = cs.params.accel.z;
   w.raysPerLane = w.wide && v.settings.raysPerInvocation > 1 ? v.settings.raysPerInvocation : 1u;
+  w.nearestFirst = w.wide && cs.params.accel.y == WIDE_ORDER_DISTANCE;
   return w;
 }
 
@@ -58,6 +59,10 @@ WalkCosts walk_costs(const SimtWalk& walk) {
     c.phase[2] = 12.0;   // pop: the top entry, what kind it is
     c.phase[3] = 0.0;    // (no leaf phase: primitive groups come with their node)
     c.phase[4] = 70.0;   // instance: its transform read, the ray taken into it, the pushes
+    if (walk.nearestFirst) {
+      c.iteration -= 4.0;  // the next node is the lowest rank: no findMSB, no bitCount
+      c.phase[1] += 125.0; // the keys and the ranks (61), 19 comparators of two operations, the ranks packed (24)
+    }
     c.stackMovePerSlot = walk.indexedStack ? 0.0 : 2.0;  // a uvec2 entry through two selects
     c.rayStart = 40.0;   // the next ray: its record, the walk's constants, the ballots
   } else {

@@ -26,6 +26,10 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
         {"gpu-greedy", "wavefront kernels, wide BVH collapsed greedily (largest child opened first) instead of by SAH",
          WavefrontSettings{}, BvhLayout::Wide, false, WideCollapse::Greedy},
+        {"gpu-nearest", "wavefront kernels, the wide walk taking each node's hit children nearest first (sorted by entry distance) in every scene (gpu: in scenes with instances)",
+         WavefrontSettings{}, BvhLayout::Wide, false, WideCollapse::Sah, WideChildOrder::Distance},
+        {"gpu-octant", "wavefront kernels, the wide walk taking each node's hit children in its ray's octant order in every scene (gpu: in scenes without instances)",
+         WavefrontSettings{}, BvhLayout::Wide, false, WideCollapse::Sah, WideChildOrder::Octant},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
         {"gpu-nocompact", "wavefront kernels without path compaction: every bounce runs over every path", noCompaction,
          BvhLayout::Wide},
@@ -92,6 +96,7 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
   options.bvhLayout = v.bvhLayout;
   options.clusteredBuild = v.clusteredBuild;
   options.wideCollapse = v.wideCollapse;
+  options.wideChildOrder = v.wideChildOrder;
   options.photonsOnHost = false;  // the renderer traces the photon map with its kernels
   return options;
 }

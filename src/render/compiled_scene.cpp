@@ -70,7 +70,13 @@ void set_render_params(const Scene& scene, const RenderOptions& options, size_t 
   p.counts = glm::uvec4(uint32_t(emitters), options.seed, options.traversalStepCap, flags);
   if (sampler == SamplerKind::Cmj) p.kinds.w |= KIND_BIT(FEATURE_CMJ);
   if ((flags & SCENE_FLAG_HEMISPHERE) != 0u) p.kinds.w |= KIND_BIT(FEATURE_UNIFORM_HEMISPHERE);
-  p.accel = glm::uvec4(options.bvhLayout == BvhLayout::Wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY, 0u, stackSlots, 0u);
+  // Nearest first where a wrong turn costs a whole instance's walk (the
+  // forest of docs/benchmarks.md: 58 walk steps a camera ray in octant order,
+  // 40 nearest first); elsewhere the octant's order, which sorts nothing.
+  const bool nearest = options.wideChildOrder == WideChildOrder::Distance ||
+                       (options.wideChildOrder == WideChildOrder::Auto && !scene.instances.empty());
+  p.accel = glm::uvec4(options.bvhLayout == BvhLayout::Wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY,
+                       nearest ? WIDE_ORDER_DISTANCE : WIDE_ORDER_OCTANT, stackSlots, 0u);
 }
 
 // Buffers are never empty: bind a zero element where the scene has none.

@@ -28,6 +28,11 @@ struct SceneView;
 // binary BVH it is collapsed from.
 enum class BvhLayout { Wide, Binary };
 
+// The order in which the wide walk visits a node's hit children: the slots
+// of the ray's octant (no sort), nearest first (a sorting network), or
+// (Auto) nearest first in scenes with instances and the octant's elsewhere.
+enum class WideChildOrder { Auto, Octant, Distance };
+
 struct RenderOptions {
   int spp = -1;          // -1: the scene's sampler count
   int maxBounces = -1;   // -1: the scene's integrator setting
@@ -40,6 +45,7 @@ struct RenderOptions {
   BvhLayout bvhLayout = BvhLayout::Wide;
   bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide layout's nodes are picked from the binary tree
+  WideChildOrder wideChildOrder = WideChildOrder::Auto;
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
