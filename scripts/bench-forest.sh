@@ -5,7 +5,8 @@
 # scene: what `wavepath info` reports (load, BVH build, GPU memory, the
 # instances), that process's peak resident memory from /usr/bin/time, and
 # the rays per second of `wavepath bench --raycast` at 1024x1024 with the
-# default variant (primary: camera rays; a bounce from each hit, a shadow ray).
+# default variant, or the variants VARIANTS names (primary: camera rays; a
+# bounce from each hit, a shadow ray).
 # Prints Markdown tables (docs/benchmarks.md, "Instancing").
 # Usage: scripts/bench-forest.sh BUILD_DIR [INSTANCES] [TRIANGLES] [-- bench options, e.g. --device 0]
 set -euo pipefail
@@ -38,6 +39,6 @@ done
 echo
 for scene in "$work/forest.gltf" "$root/scenes/cornell-dragon.json"; do
   echo "$(basename "$scene"):"
-  "$build/wavepath" bench --raycast --scenes "$scene" --variants gpu --resolution 1024 1024 --repeats 3 "$@" |
+  "$build/wavepath" bench --raycast --scenes "$scene" --variants "${VARIANTS:-gpu}" --resolution 1024 1024 --repeats 3 "$@" |
     grep -E "^ +(primary|bounce|shadow|rays) " || true
 done

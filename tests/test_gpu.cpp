@@ -447,7 +447,8 @@ TEST_F(Gpu, EveryKernelVariantAgreesWithTheCpuReference) {
 // nested placements, EXT_mesh_gpu_instancing): the kernels' walks through
 // the two-level trees find the CPU walks' hits, instance included, for both
 // layouts, several rays per invocation and one, the wide stack in registers
-// and in its indexed array, nearest first and in octant order; and the
+// and in its indexed array, nearest first and in octant order, an
+// instance's root visited in the iteration that enters it or the next; and the
 // kernel variants render the instanced scene as the CPU reference renders its
 // flattened copy.
 TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
@@ -461,15 +462,18 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
     BvhLayout layout;
     bool indexedStack, coherent;
     WideChildOrder order = WideChildOrder::Auto;  // nearest first, in a scene with instances
+    bool rootAtEntry = false;
   };
   for (const Case& c : {Case{"wide, register stack", BvhLayout::Wide, false, false}, Case{"wide, indexed stack", BvhLayout::Wide, true, false},
                         Case{"wide, one ray per invocation", BvhLayout::Wide, false, true},
                         Case{"wide, octant order", BvhLayout::Wide, false, false, WideChildOrder::Octant},
+                        Case{"wide, an instance's root visited as it is entered", BvhLayout::Wide, false, false, WideChildOrder::Auto, true},
                         Case{"binary", BvhLayout::Binary, false, false}}) {
     SCOPED_TRACE(c.name);
     RenderOptions options;
     options.bvhLayout = c.layout;
     options.wideChildOrder = c.order;
+    options.rootAtEntry = c.rootAtEntry;
     CompiledScene cs = compile_scene(scene, options);
     if (c.indexedStack) cs.params.accel.z = WIDE_REGISTER_STACK + 1u;
     SceneView view = cs.view();
@@ -509,7 +513,7 @@ TEST_F(Gpu, InstancedScenesRenderAsTheirFlattenedCopies) {
   Progress quiet("", 0, false);
   ImageStats cpu = render_cpu(compile_scene(flat, reference_options(o)), 0, quiet);
   o.seed = 4;
-  for (const char* name : {"gpu", "gpu-octant", "gpu-bvh2", "gpu-mega", "gpu-sort"}) {
+  for (const char* name : {"gpu", "gpu-octant", "gpu-enter-root", "gpu-bvh2", "gpu-mega", "gpu-sort"}) {
     CompiledScene cs = compile_scene(scene, variant_options(o, name));
     ASSERT_NE(cs.params.kinds.w & KIND_BIT(FEATURE_INSTANCES), 0u);
     WavefrontRenderer r(*ctx_, cs, kernel_variant(name).settings);

@@ -25,6 +25,7 @@ layout(constant_id = SPEC_LIGHT_SAMPLES) const uint kLightSamples = 1u;
 // wide walk moves every entry of it on a push or a pop: traverse_wide.glsl).
 layout(constant_id = SPEC_BVH_LAYOUT) const uint kBvhLayout = BVH_LAYOUT_WIDE;
 layout(constant_id = SPEC_WIDE_CHILD_ORDER) const uint kWideChildOrder = WIDE_ORDER_OCTANT;
+layout(constant_id = SPEC_ROOT_AT_ENTRY) const bool kRootAtEntry = false;
 layout(constant_id = SPEC_MATERIAL_KINDS) const uint kMaterialKinds = ALL_KINDS;
 layout(constant_id = SPEC_TEXTURE_KINDS) const uint kTextureKinds = ALL_KINDS;
 layout(constant_id = SPEC_LIGHT_KINDS) const uint kLightKinds = ALL_KINDS;
@@ -32,6 +33,7 @@ layout(constant_id = SPEC_FEATURES) const uint kFeatures = ALL_KINDS;
 layout(constant_id = SPEC_STACK_SIZE) const uint kStackSize = BVH_STACK_MAX;
 #define BVH_LAYOUT_OF_SCENE kBvhLayout
 #define WIDE_CHILD_ORDER_OF_SCENE kWideChildOrder
+#define ROOT_AT_ENTRY_OF_SCENE kRootAtEntry
 #define MATERIAL_KINDS_OF_SCENE kMaterialKinds
 #define TEXTURE_KINDS_OF_SCENE kTextureKinds
 #define LIGHT_KINDS_OF_SCENE kLightKinds

@@ -360,7 +360,7 @@ struct SceneParams {
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
-  uvec4 accel;       // x: BVH_LAYOUT_*, y: WIDE_ORDER_*, z: traversal stack slots needed, w: unused
+  uvec4 accel;       // x: BVH_LAYOUT_*, y: WIDE_ORDER_*, z: traversal stack slots needed, w: 1 where entering an instance visits its root at once
   // The kinds the scene uses (kinds.glsl), one bit per kind id: x material
   // kinds, y texture kinds, z light kinds, w other features. The kernels get
   // them as specialization constants and compile out the code of the rest.

@@ -51,10 +51,13 @@ if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
   rd = xform_vector(inst.toObject0, inst.toObject1, inst.toObject2, d);
   WP_WIDE_WALK_AIM();
   visit = inst.root;
+  if (ROOT_AT_ENTRY_OF_SCENE) {
+    n = load_wide_node(visit);
+  }
 }
 // A node waits while it might bring a primitive group that there is no
 // room to set aside.
-if (!walkDone && !enter && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
+if (!walkDone && (ROOT_AT_ENTRY_OF_SCENE || !enter) && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
   WP_NOTE_PHASE(WALK_PHASE_NODE);
   vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
                    uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));

@@ -42,6 +42,7 @@ SimtWalk simt_walk(const std::string& variant, const CompiledScene& cs) {
   w.stackSlots = cs.params.accel.z;
   w.raysPerLane = w.wide && v.settings.raysPerInvocation > 1 ? v.settings.raysPerInvocation : 1u;
   w.nearestFirst = w.wide && cs.params.accel.y == WIDE_ORDER_DISTANCE;
+  w.rootAtEntry = w.wide && cs.params.accel.w != 0u;
   return w;
 }
 
@@ -63,6 +64,7 @@ WalkCosts walk_costs(const SimtWalk& walk) {
       c.iteration -= 4.0;  // the next node is the lowest rank: no findMSB, no bitCount
       c.phase[1] += 125.0; // the keys and the ranks (61), 19 comparators of two operations, the ranks packed (24)
     }
+    if (walk.rootAtEntry) c.phase[4] += 12.0;  // the root's 5 texels and their address
     c.stackMovePerSlot = walk.indexedStack ? 0.0 : 2.0;  // a uvec2 entry through two selects
     c.rayStart = 40.0;   // the next ray: its record, the walk's constants, the ballots
   } else {

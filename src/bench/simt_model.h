@@ -48,6 +48,7 @@ struct SimtWalk {
   uint32_t stackSlots = 0;    // the register stack's entries (TRAVERSAL_STACK_SLOTS)
   uint32_t raysPerLane = 1;   // 1: one ray per invocation; more: lanes take the next ray as theirs ends (trace_items.glsl)
   bool nearestFirst = false;  // the wide walk sorts a node's hit children by distance (WIDE_ORDER_DISTANCE)
+  bool rootAtEntry = false;   // entering an instance loads its root and visits it in the same iteration
 };
 
 // The walk a kernel variant runs on a GPU (where `gpu` picks the indexed

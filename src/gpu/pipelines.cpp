@@ -339,6 +339,7 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_LIGHT_SAMPLES] = scene.params.mode.w;
   values[SPEC_BVH_LAYOUT] = accel.x;
   values[SPEC_WIDE_CHILD_ORDER] = accel.y;
+  values[SPEC_ROOT_AT_ENTRY] = accel.w != 0u ? 1u : 0u;
   values[SPEC_MATERIAL_KINDS] = kinds.x;
   values[SPEC_TEXTURE_KINDS] = kinds.y;
   values[SPEC_LIGHT_KINDS] = kinds.z;

@@ -30,6 +30,8 @@ const std::vector<KernelVariant>& kernel_variants() {
          WavefrontSettings{}, BvhLayout::Wide, false, WideCollapse::Sah, WideChildOrder::Distance},
         {"gpu-octant", "wavefront kernels, the wide walk taking each node's hit children in its ray's octant order in every scene (gpu: in scenes without instances)",
          WavefrontSettings{}, BvhLayout::Wide, false, WideCollapse::Sah, WideChildOrder::Octant},
+        {"gpu-enter-root", "wavefront kernels, the wide walk visiting an instance's root in the iteration that enters it (a dependent load more, an iteration fewer)",
+         WavefrontSettings{}, BvhLayout::Wide, false, WideCollapse::Sah, WideChildOrder::Auto, true},
         {"gpu-bvh2", "wavefront kernels, binary BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Binary},
         {"gpu-nocompact", "wavefront kernels without path compaction: every bounce runs over every path", noCompaction,
          BvhLayout::Wide},
@@ -97,6 +99,7 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
   options.clusteredBuild = v.clusteredBuild;
   options.wideCollapse = v.wideCollapse;
   options.wideChildOrder = v.wideChildOrder;
+  options.rootAtEntry = v.rootAtEntry;
   options.photonsOnHost = false;  // the renderer traces the photon map with its kernels
   return options;
 }

@@ -101,6 +101,7 @@ struct KernelVariant {
   bool clusteredBuild = false;  // the BVH built by SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide BVH's nodes are picked from the binary tree
   WideChildOrder wideChildOrder = WideChildOrder::Auto;  // how the wide walk orders a node's hit children
+  bool rootAtEntry = false;  // RenderOptions::rootAtEntry
 };
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.

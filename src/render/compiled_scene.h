@@ -46,6 +46,9 @@ struct RenderOptions {
   bool clusteredBuild = false;  // build with SplitMethod::ClusteredSah where the scene's build would be binned SAH
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide layout's nodes are picked from the binary tree
   WideChildOrder wideChildOrder = WideChildOrder::Auto;
+  // The wide walk visits an instance's root in the iteration that enters it
+  // (an iteration fewer per instance, a dependent load more), not the next.
+  bool rootAtEntry = false;
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;
