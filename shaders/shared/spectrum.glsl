@@ -1,6 +1,7 @@
 // spectrum.glsl — wavelengths, for the spectral mode issue 58 builds: the
 // density wavelengths are sampled by, and the eye's colour matching
-// functions that turn a spectral radiance into CIE XYZ and linear sRGB.
+// functions that turn a spectral radiance into CIE XYZ and linear sRGB, the
+// D65 illuminant, and the smooth spectra RGB colours are uplifted to.
 // tests/test_spectrum.cpp checks the sampler against its density with a
 // chi-square test and the matching functions against the CIE's integrals.
 #ifndef WP_SPECTRUM_GLSL
@@ -48,6 +49,47 @@ vec3 cie_xyz_bar(float lambda) {
 vec3 xyz_to_linear_srgb(vec3 c) {
   return vec3(3.2404542f * c.x - 1.5371385f * c.y - 0.4985314f * c.z, -0.9692660f * c.x + 1.8760108f * c.y + 0.0415560f * c.z,
               0.0556434f * c.x - 0.2040259f * c.y + 1.0572252f * c.z);
+}
+
+// CIE standard illuminant D65, relative spectral power at 5 nm steps from
+// 360 to 830 nm (100 at 560 nm): CIE 15:2004 Colorimetry, Table T.1 (also
+// ISO 11664-2). The host's tables (RGB uplift) use it; the kernels will read
+// it from the float tables, as sheen_albedo.glsl's.
+#define CIE_D65_SAMPLES 95
+#ifdef __cplusplus
+WP_TABLE(CIE_D65, CIE_D65_SAMPLES)
+    46.6383f, 49.3637f, 52.0891f, 51.0323f, 49.9755f, 52.3118f, 54.6482f, 68.7015f, 82.7549f, 87.1204f,
+    91.486f, 92.4589f, 93.4318f, 90.057f, 86.6823f, 95.7736f, 104.865f, 110.936f, 117.008f, 117.41f,
+    117.812f, 116.336f, 114.861f, 115.392f, 115.923f, 112.367f, 108.811f, 109.082f, 109.354f, 108.578f,
+    107.802f, 106.296f, 104.79f, 106.239f, 107.689f, 106.047f, 104.405f, 104.225f, 104.046f, 102.023f,
+    100.0f, 98.1671f, 96.3342f, 96.0611f, 95.788f, 92.2368f, 88.6856f, 89.3459f, 90.0062f, 89.8026f,
+    89.5991f, 88.6489f, 87.6987f, 85.4936f, 83.2886f, 83.4939f, 83.6992f, 81.863f, 80.0268f, 80.1207f,
+    80.2146f, 81.2462f, 82.2778f, 80.281f, 78.2842f, 74.0027f, 69.7213f, 70.6652f, 71.6091f, 72.979f,
+    74.349f, 67.9765f, 61.604f, 65.7448f, 69.8856f, 72.4863f, 75.087f, 69.3398f, 63.5927f, 55.0054f,
+    46.4182f, 56.6118f, 66.8054f, 65.0941f, 63.3828f, 63.8434f, 64.304f, 61.8779f, 59.4519f, 55.7054f,
+    51.959f, 54.6998f, 57.4406f, 58.8765f, 60.3125f
+WP_TABLE_END
+
+// D65 at lambda (nm), linear between the table's samples, 0 outside it.
+float cie_d65(float lambda) {
+  float x = (lambda - SPECTRUM_MIN_NM) / 5.0f;
+  if (x < 0.0f || x > float(CIE_D65_SAMPLES - 1)) return 0.0f;
+  int i = min(int(x), CIE_D65_SAMPLES - 2);
+  float f = x - float(i);
+  return (1.0f - f) * CIE_D65[i] + f * CIE_D65[i + 1];
+}
+#endif
+
+// Jakob and Hanika's (2019) smooth reflectance spectrum of three
+// coefficients c: a sigmoid of a quadratic in the wavelength mapped to
+// [0, 1] over the visible range (in nm the coefficients of saturated colours
+// cancel to nothing in float), in [0, 1] at every wavelength; c2 = inf gives
+// 1 and -inf gives 0 (the sigmoid's limits).
+float sigmoid_polynomial(vec3 c, float lambda) {
+  float l = (lambda - SPECTRUM_MIN_NM) * (1.0f / (SPECTRUM_MAX_NM - SPECTRUM_MIN_NM));
+  float x = fma(fma(c.x, l, c.y), l, c.z);
+  if (isinf(x)) return x > 0.0f ? 1.0f : 0.0f;
+  return 0.5f + x / (2.0f * sqrt(1.0f + x * x));
 }
 
 #endif  // WP_SPECTRUM_GLSL
