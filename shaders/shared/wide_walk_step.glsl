@@ -34,7 +34,7 @@ if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
     WP_WIDE_PUSH(nodeGroup);
   }
   if (visit != WP_INVALID) {
-    WP_WIDE_PUSH(uvec2(visit, WIDE_CHILD_ORDER_OF_SCENE == WIDE_ORDER_DISTANCE ? 1u << 24u : 1u << (24u + xorSlot)));
+    WP_WIDE_PUSH(uvec2(visit, WP_NEAREST_FIRST ? 1u << 24u : 1u << (24u + xorSlot)));
   }
   if (primGroup.y != 0u) {
     WP_WIDE_PUSH(primGroup);
@@ -93,7 +93,7 @@ if (!walkDone && (ROOT_AT_ENTRY_OF_SCENE || !enter) && visit != WP_INVALID && (p
   // and their ranks among the interior children, 3 bits each, the nearest
   // lowest (0-23).
   uint groupBits = (bits & WIDE_NODE_BITS) | imask;
-  if (WIDE_CHILD_ORDER_OF_SCENE == WIDE_ORDER_DISTANCE) {
+  if (WP_NEAREST_FIRST) {
     uint r1 = imask & 1u;
     uint r2 = r1 + ((imask >> 1u) & 1u);
     uint r3 = r2 + ((imask >> 2u) & 1u);
@@ -171,7 +171,7 @@ if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
 // The next node to visit, unless one is still waiting.
 if (visit == WP_INVALID) {
   if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
-    if (WIDE_CHILD_ORDER_OF_SCENE == WIDE_ORDER_DISTANCE) {
+    if (WP_NEAREST_FIRST) {
       visit = nodeGroup.x + (nodeGroup.y & 7u);
       nodeGroup.y = ((nodeGroup.y & WIDE_NODE_BITS) - (1u << 24u)) | ((nodeGroup.y & 0x00ffffffu) >> 3u);
     } else {

@@ -365,7 +365,9 @@ struct Totals {
 SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::ShadowRay>& rays, bool anyHit,
                            const SimtWalk& walk, const GpuModel& gpu, int width) {
   if (width <= 0 || kWorkgroupSize % width != 0) throw InputError("the SIMT model's warps must divide a workgroup of 64 lanes");
-  const WalkCosts costs = walk_costs(walk);
+  SimtWalk sorted = walk;
+  sorted.nearestFirst = walk.nearestFirst && !anyHit;  // WP_NEAREST_FIRST: any-hit walks keep the octant's order
+  const WalkCosts costs = walk_costs(sorted);
   const shader::SceneView view = cs.view();
   const uint64_t n = rays.size();
   // Warps as the kernels launch them: one ray per invocation, warp w the

@@ -47,7 +47,7 @@ struct SimtWalk {
   bool indexedStack = true;   // the stack in an indexed array (local memory), else in registers
   uint32_t stackSlots = 0;    // the register stack's entries (TRAVERSAL_STACK_SLOTS)
   uint32_t raysPerLane = 1;   // 1: one ray per invocation; more: lanes take the next ray as theirs ends (trace_items.glsl)
-  bool nearestFirst = false;  // the wide walk sorts a node's hit children by distance (WIDE_ORDER_DISTANCE)
+  bool nearestFirst = false;  // the wide walk sorts a node's hit children by distance (WIDE_ORDER_DISTANCE; closest hits only)
   bool rootAtEntry = false;   // entering an instance loads its root and visits it in the same iteration
 };
 
