@@ -20,6 +20,8 @@
 #   --require-all      a scene that does not load counts as a failure (default:
 #                      listed as skipped, with the loader's message)
 #   --list FILE        also write the lines to FILE
+#   --render-options "OPTS"  more options for every render of both sides,
+#                      e.g. "--spectral"
 #
 # A .dae is rendered with the course's command line (-t 2 -s N -l 4 -m 5
 # -r W H) under the course's estimator, again with --consistent-lights, and
@@ -32,7 +34,7 @@
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 wavepath=$here/../build/wavepath
-spp=32 width=96 height=72 variants=gpu out="" requireAll=0 list=""
+spp=32 width=96 height=72 variants=gpu out="" requireAll=0 list="" renderOptions=""
 paths=()
 usage() { sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -44,6 +46,7 @@ while [ $# -gt 0 ]; do
     --out) out=$2; shift 2 ;;
     --require-all) requireAll=1; shift ;;
     --list) list=$2; shift 2 ;;
+    --render-options) renderOptions=$2; shift 2 ;;
     -h|--help) usage ;;
     -*) echo "check-agreement.sh: unknown option $1" >&2; usage ;;
     *) paths+=("$1"); shift ;;
@@ -77,9 +80,15 @@ settings_of() {
     *) echo "scene|" ;;
   esac
 }
+# Every render takes the --render-options too.
+settings_with_options() {
+  settings_of "$1" | while IFS='|' read -r label extra; do
+    echo "$label${renderOptions:+ $renderOptions}|$extra $renderOptions"
+  done
+}
 IFS=, read -r -a variantList <<<"$variants"
 comparisons=0
-for s in "${scenes[@]}"; do comparisons=$((comparisons + $(settings_of "$s" | wc -l) * ${#variantList[@]})); done
+for s in "${scenes[@]}"; do comparisons=$((comparisons + $(settings_with_options "$s" | wc -l) * ${#variantList[@]})); done
 [ $comparisons -gt 0 ] || { echo "check-agreement.sh: no scenes under ${paths[*]}" >&2; exit 2; }
 alpha=$(awk -v n=$comparisons 'BEGIN { printf "%.6g", 0.01 / n }')
 
@@ -139,7 +148,7 @@ for s in "${scenes[@]}"; do
         say "ERROR  $name: compare exit $rc: $(head -n 1 <<<"$verdict")"
       fi
     done
-  done < <(settings_of "$s")
+  done < <(settings_with_options "$s")
 done
 say "summary: $n comparisons: $agree agree, $differ differ, $skipped skipped (do not load), $errors errors"
 [ $differ -eq 0 ] && [ $errors -eq 0 ] && { [ $requireAll -eq 0 ] || [ $skipped -eq 0 ]; }

@@ -78,8 +78,9 @@ TEST(CpuReference, DispersionSpreadsTheColoursInTheOrderOfTheirIndices) {
 }
 
 // The same glass, clear, in a white furnace: however a path splits the
-// colours, each channel still sees exactly 1 (a lossless boundary under a
-// uniform sky), so the weight of the channel a path keeps is right.
+// colours (in the spectral mode, its wavelengths), each channel still sees
+// exactly 1 (a lossless boundary under a uniform sky), so the weight of the
+// channel a path keeps is right.
 TEST(CpuReference, DispersiveGlassInAWhiteFurnaceStaysWhite) {
   const std::string path = write_scene("dispersive-furnace.json", R"({
     "camera": { "transform": { "from": [0, 0, 3], "at": [0, 0, 0], "up": [0, 1, 0] }, "vfov": 30, "resolution": [32, 32] },
@@ -88,12 +89,16 @@ TEST(CpuReference, DispersiveGlassInAWhiteFurnaceStaysWhite) {
     "surfaces": [ { "type": "sphere", "radius": 0.7, "material": { "type": "metal_rough", "base_color": 1, "metallic": 0, "roughness": 0,
                     "transmission": 1, "ior": 1.6, "volume": { "dispersion": 4 } } } ]
   })");
-  ImageStats img = render_reference(path, RenderOptions{}, 256);
-  glm::dvec3 sum(0.0);
-  for (size_t p = 0; p < img.pixels(); ++p) sum += img.mean(p);
-  sum /= double(img.pixels());
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], 1.0, 0.01) << "channel " << c;
-  expect_mean(img, 1.0, "dispersive glass in a white furnace");
+  for (bool spectral : {false, true}) {
+    RenderOptions o;
+    o.spectral = spectral;
+    ImageStats img = render_reference(path, o, 256);
+    glm::dvec3 sum(0.0);
+    for (size_t p = 0; p < img.pixels(); ++p) sum += img.mean(p);
+    sum /= double(img.pixels());
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], 1.0, 0.01) << "channel " << c << (spectral ? ", spectral" : "");
+    expect_mean(img, 1.0, spectral ? "dispersive glass in a white furnace, spectral" : "dispersive glass in a white furnace");
+  }
 }
 
 // A convex diffuse sphere (albedo 0.5) under a white sky: every ray leaving it

@@ -817,6 +817,10 @@ const FeatureCase kFeatureCases[] = {
      "texture, a blend with a transmissive lobe (mis)"},
     {"microfacet.json", IntegratorKind::PathMixture, "the GGX materials, path tracer mixture"},
     {"punctual.json", IntegratorKind::PathMis, "a spot light between its cones and a directional light (mis)"},
+    {"dispersion.json", IntegratorKind::PathMis, "the spectral mode: glass dispersing each wavelength by its own index (mis)", 0,
+     [](Scene& s) { s.integrator.spectral = true; }},
+    {"metals.json", IntegratorKind::PathMis, "the spectral mode: measured metals by name, uplifted colours and lights (mis)", 0,
+     [](Scene& s) { s.integrator.spectral = true; }},
     {"microfacet.json", IntegratorKind::PathMats, "the GGX materials, path tracer mats"},
     {"layers.json", IntegratorKind::PathMis,
      "glTF's layers: clear coats (textured factor, own ior) over metal-rough, a sheen over metal-rough and under a coat, "

@@ -65,7 +65,7 @@ std::vector<Expected> expected_layouts() {
       {"PathState", sizeof(PathState),
        {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
         FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf),
-        FIELD(PathState, medium), FIELD(PathState, travelled), FIELD(PathState, crossings), FIELD(PathState, pad)}},
+        FIELD(PathState, medium), FIELD(PathState, travelled), FIELD(PathState, crossings), FIELD(PathState, wavelengths)}},
       // Hit and ShadowRay are no buffer members: the kernels store them as
       // whole uvec4 texels (write_hit, write_shadow_ray in kernel.glsl) and
       // read them through texel views; the ray-casting and texture-probe

@@ -3,6 +3,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "render/spectra.h"
 #include "test_support.h"
 
 namespace wp::test {
@@ -72,6 +73,31 @@ TEST(MaterialModules, DefaultsFillWhatIsNotGiven) {
   EXPECT_EQ(s.materials[beckmann].record.params2.w, 0.0f) << "Smith's shadowing is the default";
 }
 
+// A conductor's "metal" names a measured metal (metal_spectra.glsl): an RGB
+// render takes its eta and k as their spectra's sRGB projections, and
+// params2.w names it for the spectral mode (CONDUCTOR_NAMED), beside CS184's
+// shadowing choice.
+TEST(MaterialModules, NamedMetalsBringTheirMeasuredIndices) {
+  Scene s;
+  const uint32_t gold = add_material(s, MaterialParams(MAT_ROUGH_CONDUCTOR, "gold", thrower("gold")).choice("metal", "Au"));
+  const shader::Material& g = s.materials[gold].record;
+  EXPECT_EQ(g.params2.w, CONDUCTOR_NAMED * float(METAL_AU + 1u));
+  glm::vec3 eta, k;
+  metal_rgb(METAL_AU, eta, k);
+  EXPECT_EQ(glm::vec3(g.params.y, g.params.z, g.params.w), eta);
+  EXPECT_EQ(glm::vec3(g.params2), k);
+  EXPECT_LT(eta.x, 0.5f) << "gold's index is low in the red";
+  EXPECT_GT(eta.z, 1.0f) << "and above 1 in the blue";
+  EXPECT_GT(k.x, k.z);
+  const uint32_t copper = add_material(s, MaterialParams(MAT_BECKMANN_CONDUCTOR, "copper", thrower("copper"))
+                                              .number("alpha", 0.3f)
+                                              .choice("metal", "Cu")
+                                              .choice("shadowing", "cs184"));
+  EXPECT_EQ(s.materials[copper].record.params2.w, CONDUCTOR_NAMED * float(METAL_CU + 1u) + 1.0f);
+  EXPECT_EQ(error_of([&] { add_material(s, MaterialParams(MAT_ROUGH_CONDUCTOR, "x", thrower("x")).choice("metal", "Zn", thrower("x/metal"))); }),
+            "x/metal: metal must be \"none\", \"Au\", \"Ag\", \"Cu\", \"Al\", \"Cr\", \"Ni\", \"Ti\", \"W\" or \"Pt\"");
+}
+
 // Each problem is reported at the place the importer gave for the value, or
 // for the whole material where the value is missing.
 TEST(MaterialModules, ProblemsAreReportedWhereTheValueCameFrom) {
@@ -79,7 +105,10 @@ TEST(MaterialModules, ProblemsAreReportedWhereTheValueCameFrom) {
   auto conductor = [&] {
     return MaterialParams(MAT_ROUGH_CONDUCTOR, "c", thrower("/materials/0")).colour("eta", glm::vec3(1.0f), thrower("/materials/0/eta"));
   };
-  EXPECT_EQ(error_of([&] { add_material(s, conductor()); }), "/materials/0: needs \"k\"");
+  EXPECT_EQ(error_of([&] { add_material(s, conductor()); }),
+            "/materials/0: a conductor needs \"eta\" and \"k\", or \"metal\": one of Au, Ag, Cu, Al, Cr, Ni, Ti, W, Pt");
+  EXPECT_EQ(error_of([&] { add_material(s, conductor().choice("metal", "Au", thrower("/materials/0/metal"))); }),
+            "/materials/0/metal: a named metal brings its measured eta and k: give \"metal\" or \"eta\" and \"k\", not both");
   EXPECT_EQ(error_of([&] { add_material(s, conductor().colour("k", glm::vec3(0.0f, -1.0f, 0.0f), thrower("/materials/0/k"))); }),
             "/materials/0/k: k must lie in [0, 1000) in every channel");
   EXPECT_EQ(error_of([&] { add_material(s, conductor().colour("k", glm::vec3(1.0f)).number("roughness", 2.0f, thrower("<roughness>"))); }),

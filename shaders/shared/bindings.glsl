@@ -38,7 +38,8 @@
 #define BINDING_VOLUMES 29  // grid media's NanoVDB grids and majorant grids, R32UI words (pnanovdb.glsl)
 #define BINDING_PHOTONS 30  // the photon map (INTEGRATOR_PHOTONS), RGBA32UI texels
 #define BINDING_INSTANCES 31  // instances of meshes (FEATURE_INSTANCES)
-#define BINDING_COUNT 32
+#define BINDING_SPECTRA 32    // the spectral mode's tables (FEATURE_SPECTRAL; spectral.glsl), RGBA32F texels
+#define BINDING_COUNT 33
 
 // Where each table starts in the float tables (BINDING_FLOAT_TABLES).
 #include "sheen_albedo.glsl"
@@ -133,6 +134,10 @@ layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;
 // sampling distribution: the CDF over rows (height + 1 values), then one CDF
 // over the columns of each row (width + 1 values each).
 layout(set = 0, binding = BINDING_FLOAT_TABLES) uniform samplerBuffer floatTables;
+// The spectral mode's tables, RGBA32F (spectral.glsl lays them out): the
+// film's white balance, D65, the RGB uplift's coefficients, the metals'
+// indices. One placeholder texel where the render is in RGB.
+layout(set = 0, binding = BINDING_SPECTRA) uniform samplerBuffer spectrumTexels;
 // Work buffers, written by the kernels. Paths, hits and shadow rays are also
 // read through texel-buffer views of the same memory (read_path, read_hit,
 // read_shadow_ray in kernel.glsl): on lavapipe a storage-buffer read at a

@@ -10,7 +10,8 @@ void connect_through_media() {
   if (item >= count) return;
   ShadowRay sr = read_shadow_ray(item);
   uint truncated = 0u;
-  vec3 tr = shadow_ray_transmittance(sr, truncated);
+  // (The path's wavelengths: its fifth texel, which shade wrote before.)
+  vec3 tr = shadow_ray_transmittance(sr, spectral_mode() ? read_path(sr.path).wavelengths : 0.0f, truncated);
   if (truncated > 0u) atomicAdd(counters[COUNTER_TRUNCATED], truncated);
   if (tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f) add_to_path(sr.path, sr.contribution * tr);
 }

@@ -85,7 +85,9 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.medium = FEATURE_COMPILED(FEATURE_MEDIA) ? scene.media.x : 0u;
   p.travelled = 0.0f;
   p.crossings = 0u;
-  p.pad = 0u;
+  // The spectral mode's wavelengths, drawn after the camera's numbers so
+  // that an RGB render's stay as they were.
+  p.wavelengths = spectral_mode() ? WP_WAVELENGTH_SAMPLE(rng_next(p.rng)) : 0.0f;
 }
 
 // A shadow ray that adds `contribution` to the path's pixel when the segment
@@ -159,8 +161,11 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
 // by its own index. The first one a path meets picks one channel uniformly,
 // which the path carries alone from then on, three times as strong (the
 // other channels' light is estimated by the paths that picked them); its
-// lobes, and every dispersive lobe after, take that channel's index.
-void disperse(INOUT(PathState) p, INOUT(Bsdf) b) {
+// lobes, and every dispersive lobe after, take that channel's index: in RGB
+// the red, green or blue of dispersed_ior, in the spectral mode the index
+// at the channel's wavelength (pbrt-v4 keeps the hero wavelength alone; any
+// one of the three, picked uniformly, is as unbiased).
+void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
   bool dispersive = false;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i < b.lobeCount && b.lobeDispersion[i] > 0.0f) dispersive = true;
@@ -173,7 +178,10 @@ void disperse(INOUT(PathState) p, INOUT(Bsdf) b) {
     p.throughput *= vec3(channel == 1u ? 3.0f : 0.0f, channel == 2u ? 3.0f : 0.0f, channel == 3u ? 3.0f : 0.0f);
   }
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && b.lobeDispersion[i] > 0.0f) b.lobeParamYzw[i].y = dispersed_ior(b.lobeParamYzw[i].y, b.lobeDispersion[i], channel);
+    if (!(i < b.lobeCount && b.lobeDispersion[i] > 0.0f)) continue;
+    float lambda = channel == 1u ? lambdas.x : channel == 2u ? lambdas.y : lambdas.z;
+    b.lobeParamYzw[i].y = spectral_mode() ? dispersed_ior_at(b.lobeParamYzw[i].y, b.lobeDispersion[i], lambda)
+                                          : dispersed_ior(b.lobeParamYzw[i].y, b.lobeDispersion[i], channel);
   }
 }
 
@@ -201,6 +209,7 @@ bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, bool useNee,
     if (j >= lightSamples) break;
     vec3 uLight = rng_next3(p.rng);
     if (!(useNee && sample_emitter(x, uLight, ls))) continue;
+    ls.radiance = path_radiance(ls.radiance, p);
     float f = medium_phase(med, p.dir, ls.wi);
     if (ls.pdf <= 0.0f || f <= 0.0f) continue;
     float nPdf = float(lightSamples) * ls.pdf;
@@ -250,7 +259,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   // The medium between the ray's origin and its hit: the path may scatter
   // (or be absorbed) in it first.
   if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && p.medium != 0u) {
-    Medium med = load_medium(p.medium);
+    Medium med = load_medium_at(p.medium, p.wavelengths);
     float t;
     uint event = medium_free_flight(med, p.origin, p.dir, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
     if (event == MEDIUM_EVENT_ABSORB) return false;
@@ -264,17 +273,20 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
       float lightPdf = load_emitter(scene.environment.y).pmf * environment_pdf(p.dir);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf, scene.mis.x) : 0.0f;
     }
-    p.radiance += p.throughput * background_radiance(p.dir) * w;
+    p.radiance += p.throughput * path_radiance(background_radiance(p.dir), p) * w;
     return false;
   }
   SurfaceHit s = surface_at(p.origin, p.dir, h);
   if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && is_interface(s.material)) return path_cross_interface(p, s, h.t);
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
+  // The spectral mode: the BSDF's colours at the path's wavelengths.
+  vec3 lambdas = spectral_mode() ? path_wavelengths(p.wavelengths) : vec3(0.0f);
+  if (spectral_mode()) bsdf_at_wavelengths(b, p.wavelengths);
   // A segment that ends on the inside of a volume's boundary crossed the
   // volume, which absorbed some of the light along it.
-  if (FEATURE_COMPILED(FEATURE_VOLUME) && !b.front) p.throughput *= volume_transmittance(s.material, h.t);
-  if (FEATURE_COMPILED(FEATURE_DISPERSION)) disperse(p, b);
+  if (FEATURE_COMPILED(FEATURE_VOLUME) && !b.front) p.throughput *= volume_transmittance(s.material, h.t, lambdas);
+  if (FEATURE_COMPILED(FEATURE_DISPERSION)) disperse(p, b, lambdas);
   if (preview) {
     shade_preview(p, s, b, srs.ray[0]);
     return false;
@@ -284,6 +296,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   // Emission, seen from the front side only.
   vec3 le = emitted_radiance(s, wo);
   if (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f) {
+    if (spectral_mode()) le = illuminant_spectrum(le, lambdas);
     float w = 1.0f;
     if ((p.flags & PATH_SPECULAR) == 0u && s.emitter == WP_INVALID) {
       // Outside the light table (CS184's emissive meshes): only BSDF sampling
@@ -309,6 +322,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (j >= lightSamples) break;
     vec3 uLight = rng_next3(p.rng);
     if (!(useNee && hasSmooth && sample_emitter(s.p, uLight, ls))) continue;
+    if (spectral_mode()) ls.radiance = illuminant_spectrum(ls.radiance, lambdas);
     vec3 f = bsdf_eval(b, wo, ls.wi);
     if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
     float nPdf = float(lightSamples) * ls.pdf;
@@ -449,8 +463,8 @@ AovSample aov_sample(PathState p, Hit h) {
 // estimated by medium_transmittance), and blocked (0) by any other surface;
 // without interfaces in the scene, one walk that any hit ends. `truncated`
 // counts the walks that reached the step cap (the ray then counts as
-// blocked).
-vec3 shadow_ray_transmittance(ShadowRay sr, INOUT(uint) truncated) {
+// blocked). `wavelengths`: its path's sample of them (the spectral mode).
+vec3 shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) truncated) {
   uint medium = sr.media & 0xffffu;
   uint rng = pcg_hash(sr.media ^ floatBitsToUint(sr.origin.x + sr.origin.y + sr.origin.z));
   vec3 o = sr.origin;
@@ -471,7 +485,7 @@ vec3 shadow_ray_transmittance(ShadowRay sr, INOUT(uint) truncated) {
     }
     if (!interfaces && h.prim != WP_INVALID) return vec3(0.0f);
     float t = h.prim == WP_INVALID ? tmax : h.t;
-    if (medium != 0u) tr *= medium_transmittance(load_medium(medium), o, dir, t, rng);
+    if (medium != 0u) tr *= medium_transmittance(load_medium_at(medium, wavelengths), o, dir, t, rng);
     if (h.prim == WP_INVALID) return tr;
     SurfaceHit s = surface_at(o, dir, h);
     if (!is_interface(s.material) || !(tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f)) return vec3(0.0f);
@@ -532,7 +546,7 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(A
       if (sr.tmax <= 0.0f) continue;
       if (FEATURE_COMPILED(FEATURE_MEDIA)) {
         rays.shadow += 1u;
-        p.radiance += sr.contribution * shadow_ray_transmittance(sr, rays.truncated);
+        p.radiance += sr.contribution * shadow_ray_transmittance(sr, p.wavelengths, rays.truncated);
         continue;
       }
       Hit blocker;

@@ -42,6 +42,7 @@ layout(constant_id = SPEC_STACK_SIZE) const uint kStackSize = BVH_STACK_MAX;
 #define TRAVERSAL_STACK_SLOTS kStackSize
 #define WP_NOTE_STACK_DEPTH(sp)  // C++ only: the tests check the stack's size
 #define WP_NOTE_STEP()  // C++ only: the ray-casting benchmark counts the walks' iterations
+#define WP_WAVELENGTH_SAMPLE(u) (u)  // C++ only: tests confine the wavelengths to a band
 // C++ only: what each iteration of a walk did and which stack entries it
 // touched, for the SIMT model of the walks (src/bench/simt_model.h).
 #define WP_NOTE_PHASE(phase)
@@ -111,6 +112,9 @@ uint dispatch_item(uint count) {
 
 // Work-buffer records read through their texel views (bindings.glsl), field
 // by field as types.glsl lays them out; fields left unused cost nothing.
+// A path's fifth texel (its medium, and its wavelengths) is moved only where
+// media or the spectral mode are compiled.
+#define PATH_MEDIUM_TEXEL_COMPILED ((FEATURES_OF_SCENE & (KIND_BIT(FEATURE_MEDIA) | KIND_BIT(FEATURE_SPECTRAL))) != 0u)
 PathState read_path(uint i) {
   int at = int(i) * PATH_STATE_TEXELS;
   uvec4 a = texelFetch(pathTexels, at);
@@ -126,11 +130,11 @@ PathState read_path(uint i) {
   p.flags = c.w;
   p.radiance = texel_xyz(d);
   p.bsdfPdf = uintBitsToFloat(d.w);
-  uvec4 e = FEATURE_COMPILED(FEATURE_MEDIA) ? texelFetch(pathTexels, at + PATH_MEDIUM_TEXEL) : uvec4(0u);
+  uvec4 e = PATH_MEDIUM_TEXEL_COMPILED ? texelFetch(pathTexels, at + PATH_MEDIUM_TEXEL) : uvec4(0u);
   p.medium = e.x;
   p.travelled = uintBitsToFloat(e.y);
   p.crossings = e.z;
-  p.pad = 0u;
+  p.wavelengths = uintBitsToFloat(e.w);
   return p;
 }
 
@@ -165,7 +169,8 @@ void write_path(uint i, PathState p) {
   pathTexelsOut[at + 1u] = uvec4(floatBitsToUint(p.dir), p.rng);
   pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(p.throughput), p.flags);
   pathTexelsOut[at + uint(PATH_RADIANCE_TEXEL)] = uvec4(floatBitsToUint(p.radiance), floatBitsToUint(p.bsdfPdf));
-  if (FEATURE_COMPILED(FEATURE_MEDIA)) pathTexelsOut[at + uint(PATH_MEDIUM_TEXEL)] = uvec4(p.medium, floatBitsToUint(p.travelled), p.crossings, 0u);
+  if (PATH_MEDIUM_TEXEL_COMPILED)
+    pathTexelsOut[at + uint(PATH_MEDIUM_TEXEL)] = uvec4(p.medium, floatBitsToUint(p.travelled), p.crossings, floatBitsToUint(p.wavelengths));
 }
 #endif
 
@@ -197,13 +202,14 @@ ShadowRay read_shadow_ray(uint i) {
 // AOVs with it, so that every layer has the same count. A wave holds each
 // pixel at most once, so no atomics are needed.
 void accumulate_path(PathState p, AovSample aov) {
-  if (!radiance_is_finite(p.radiance)) {
+  vec3 l = sample_rgb(p);
+  if (!radiance_is_finite(l)) {
     atomicAdd(counters[COUNTER_NONFINITE], 1u);
     return;
   }
   // The accumulators hold one tile of the image, from pixel pc.accumBase.
   uint at = p.pixel - pc.accumBase;
-  PixelAccum s = sample_moments(p.radiance);
+  PixelAccum s = sample_moments(l);
   PixelAccum a = accum[at];
   a.sum += s.sum;
   a.sumSq += s.sumSq;

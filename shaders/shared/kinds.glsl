@@ -72,6 +72,13 @@
   X(MAT_SHEEN, "sheen", sheen, LOBE_GLOSSY | LOBE_LAYER)                                                                \
   X(MAT_INTERFACE, "interface", no_lobe, LOBE_NULL)
 
+// A conductor's params2.w (rough_conductor, beckmann_conductor) names its
+// measured metal (METAL_*, metal_spectra.glsl): CONDUCTOR_NAMED (metal + 1),
+// plus 1 for CS184's skeleton terms (beckmann_conductor.glsl); below
+// CONDUCTOR_NAMED its eta and k are the RGB given. The spectral mode reads
+// a named metal's eta and k per wavelength (spectral.glsl).
+#define CONDUCTOR_NAMED 2.0f
+
 // Texture kinds (Texture.info.x & TEX_TYPE_MASK), and the flag that selects
 // solid mapping. Columns: id, name.
 #define TEX_CONSTANT 0u
@@ -135,6 +142,7 @@
 #define FEATURE_MEDIA_GRID 16u          // a medium whose density a NanoVDB grid holds (MEDIUM_NANOVDB; pnanovdb.glsl)
 #define FEATURE_INSTANCES 17u           // meshes placed by instances: a two-level BVH (Instance; traverse_*.glsl)
 #define FEATURE_DIFFUSE_TRANSMISSION 18u  // metal-rough's diffuse base transmitting too (KHR_materials_diffuse_transmission)
+#define FEATURE_SPECTRAL 19u            // paths carry radiance at sampled wavelengths, RGB inputs uplifted (spectral.glsl)
 #define EXTRA_SLOT(i) (1u << (i))
 // Metal-rough's slots (materials/metal_rough.glsl says what each holds).
 #define MR_TEXTURES 0     // Material.extra: the extensions' textures
@@ -161,7 +169,8 @@
   X(FEATURE_MEDIA, "participating media", 0u, 0u) X(FEATURE_MEDIA_GRID, "grid media", 0u, 0u)                       \
   X(FEATURE_INSTANCES, "instances", 0u, 0u)                                                                        \
   X(FEATURE_DIFFUSE_TRANSMISSION, "diffuse transmission",                                                          \
-    EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION) | EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION_TEXTURES), EXTRA_SLOT(MR_LOBE_DIFFUSE_TRANSMISSION))
+    EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION) | EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION_TEXTURES), EXTRA_SLOT(MR_LOBE_DIFFUSE_TRANSMISSION)) \
+  X(FEATURE_SPECTRAL, "spectral", 0u, 0u)
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

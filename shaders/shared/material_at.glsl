@@ -108,12 +108,14 @@ bool material_needs_no_texture(Material m) {
 
 // The fraction of light a path keeps over a segment of length t inside the
 // volume that material `material` bounds (KHR_materials_volume's
-// Beer-Lambert law, T = exp(-sigma t)), 1 for other materials.
-vec3 volume_transmittance(uint material, float t) {
+// Beer-Lambert law, T = exp(-sigma t)), 1 for other materials; in the
+// spectral mode at the path's wavelengths `lambdas`.
+vec3 volume_transmittance(uint material, float t, vec3 lambdas) {
   Material m = surface_material(load_material(material));
   vec4 v = m.extra[MR_VOLUME];
   if (m.info.x != MAT_METAL_ROUGH || !(v.w > 0.0f)) return vec3(1.0f);
-  return vec3(exp(-v.x * t), exp(-v.y * t), exp(-v.z * t));
+  vec3 sigma = spectral_mode() ? unbounded_spectrum(vec3(v.x, v.y, v.z), lambdas) : vec3(v.x, v.y, v.z);
+  return vec3(exp(-sigma.x * t), exp(-sigma.y * t), exp(-sigma.z * t));
 }
 
 // The shading normal at s under a normal map (FEATURE_NORMAL_MAPS) or the

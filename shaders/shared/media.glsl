@@ -47,6 +47,30 @@ Medium load_medium(uint i) {
   return m;
 }
 
+// The spectral mode (spectral.glsl): medium m's coefficients at the
+// wavelengths (unbounded spectra), its
+// majorant raised where they exceed it.
+Medium medium_at_wavelengths(Medium m, vec3 lambdas) {
+  if (m.info.x == MEDIUM_VACUUM) return m;
+  vec3 sa = unbounded_spectrum(vec3(m.sigmaA.x, m.sigmaA.y, m.sigmaA.z), lambdas);
+  vec3 ss = unbounded_spectrum(vec3(m.sigmaS.x, m.sigmaS.y, m.sigmaS.z), lambdas);
+  vec3 sn = unbounded_spectrum(vec3(m.sigmaN.x, m.sigmaN.y, m.sigmaN.z), lambdas);
+  // Homogeneous: at least sigma_a + sigma_s + sigma_n in each; a grid's:
+  // at least sigma_a + sigma_s per unit density (media.glsl).
+  vec3 t = m.info.x == MEDIUM_HOMOGENEOUS ? sa + ss + sn : sa + ss;
+  float majorant = max(m.sigmaS.w, max(max(t.x, t.y), t.z));
+  m.sigmaA = vec4(sa.x, sa.y, sa.z, m.sigmaA.w);
+  m.sigmaS = vec4(ss.x, ss.y, ss.z, majorant);
+  m.sigmaN = vec4(sn.x, sn.y, sn.z, m.sigmaN.w);
+  return m;
+}
+
+// Medium i as a path of wavelength sample u sees it.
+Medium load_medium_at(uint i, float u) {
+  Medium m = load_medium(i);
+  return spectral_mode() ? medium_at_wavelengths(m, path_wavelengths(u)) : m;
+}
+
 // The media material `material` bounds: x inside, y outside (WP_INVALID:
 // none, the surface is not a boundary).
 uvec2 material_media(uint material) {

@@ -178,8 +178,12 @@ vec3 thin_film_sensitivity(float opd, vec3 shift) {
 // cosine c: the airy sum of the film's two interfaces to its second order,
 // each a Schlick term, integrated against the eye's sensitivity (Belcour and
 // Barla 2017, as KHR_materials_iridescence's README.md:257-377 writes it).
-// Without a film (thickness 0) it is the base's own Schlick term.
-vec3 thin_film_fresnel(float filmIor, float thickness, vec3 baseF0, float c) {
+// Without a film (thickness 0) it is the base's own Schlick term. In the
+// spectral mode (`wavelengths` THIN_FILM_SPECTRAL plus the path's wavelength
+// sample, spectrum.glsl) each component is the reflectance at one of the
+// path's wavelengths: the airy sum's terms are cosines of their phase there,
+// not integrals against the eye's sensitivity.
+vec3 thin_film_fresnel(float filmIor, float thickness, vec3 baseF0, float c, float wavelengths) {
   vec3 f0 = clamp(baseF0, vec3(0.0f), vec3(0.9999f));
   if (!(thickness > 0.0f)) return f0 + (vec3(1.0f) - f0) * schlick_weight(c);
   float r12 = fresnel0_of_iors(filmIor, 1.0f);
@@ -201,9 +205,13 @@ vec3 thin_film_fresnel(float filmIor, float thickness, vec3 baseF0, float c) {
   vec3 rs = r23 * (t121 * t121) / (vec3(1.0f) - r123);
   vec3 intensity = rs + vec3(r12);
   vec3 cm = rs - vec3(t121);
+  bool spectral = wavelengths >= THIN_FILM_SPECTRAL;
+  vec3 lambdas = spectral ? path_wavelengths(wavelengths - THIN_FILM_SPECTRAL) : vec3(1.0f);
   for (int m = 1; m <= 2; ++m) {
     cm = cm * sr123;
-    intensity += cm * thin_film_sensitivity(float(m) * opd, phi * float(m)) * 2.0f;
+    vec3 phase = spectral ? vec3(2.0f * WP_PI * float(m) * opd) / lambdas + phi * float(m) : vec3(0.0f);
+    vec3 sensitivity = spectral ? vec3(cos(phase.x), cos(phase.y), cos(phase.z)) : thin_film_sensitivity(float(m) * opd, phi * float(m));
+    intensity += cm * sensitivity * 2.0f;
   }
   return max(intensity, vec3(0.0f));
 }

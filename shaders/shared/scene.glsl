@@ -8,6 +8,7 @@
 #define WP_SCENE_GLSL
 
 #include "records.glsl"
+#include "spectral.glsl"
 #include "surfaces.glsl"
 #include "textures.glsl"
 #include "traverse_binary.glsl"

@@ -53,8 +53,9 @@ vec3 xyz_to_linear_srgb(vec3 c) {
 
 // CIE standard illuminant D65, relative spectral power at 5 nm steps from
 // 360 to 830 nm (100 at 560 nm): CIE 15:2004 Colorimetry, Table T.1 (also
-// ISO 11664-2). The host's tables (RGB uplift) use it; the kernels will read
-// it from the float tables, as sheen_albedo.glsl's.
+// ISO 11664-2). The table is host only: wavepath-spectra fits the RGB
+// uplift under it and copies it, normalised, into the spectral tables
+// (SPECTRA_D65 below) that the kernels read.
 #define CIE_D65_SAMPLES 95
 #ifdef __cplusplus
 WP_TABLE(CIE_D65, CIE_D65_SAMPLES)
@@ -91,5 +92,44 @@ float sigmoid_polynomial(vec3 c, float lambda) {
   if (isinf(x)) return x > 0.0f ? 1.0f : 0.0f;
   return 0.5f + x / (2.0f * sqrt(1.0f + x * x));
 }
+
+// The wavelengths a path carries in the spectral mode (spectral.glsl): one
+// a component of the kernels' colours.
+#define PATH_WAVELENGTHS 3
+
+// The path's wavelengths (nm) from its sample u in [0, 1): the hero, then u
+// rotated by a third and two thirds, each through the density's inverse CDF
+// (each is distributed by the density; together they stratify it).
+vec3 path_wavelengths(float u) {
+  return vec3(sample_visible_wavelength(u), sample_visible_wavelength(fract(u + (1.0f / 3.0f))),
+              sample_visible_wavelength(fract(u + (2.0f / 3.0f))));
+}
+
+// A thin film's Lobe.extra slot holds, in w, THIN_FILM_SPECTRAL plus the
+// path's wavelength sample in the spectral mode (0 in RGB).
+#define THIN_FILM_SPECTRAL 1.0f
+
+// Measured metals: their ids (METAL_*) and indices of refraction.
+#include "metal_spectra.glsl"
+
+// The spectral mode's tables (BINDING_SPECTRA, RGBA32F texels), from
+// SPECTRA_FILM: the film's white balance (xyz: linear sRGB is divided by
+// it); from SPECTRA_D65 D65 normalised to Y = 1 (x); from
+// SPECTRA_RGB_SCALE the uplift table's brightness values (x), and from
+// SPECTRA_RGB_COEFFICIENTS its coefficients (xyz) of colour (largest
+// component l, brightness k, next components j, i) at ((l * RES + k) * RES
+// + j) * RES + i; from SPECTRA_METALS each metal's eta (x) and k (y) at
+// METAL_SPECTRUM_SAMPLES wavelengths from 360 nm; from SPECTRA_METAL_RGB
+// each metal's eta and k (xyz, two texels) as an RGB render takes them:
+// their spectra's linear sRGB projections (spectrum_to_rgb), as Mitsuba's
+// RGB modes take measured spectra.
+#define RGB_TO_SPECTRUM_RES 64
+#define SPECTRA_FILM 0
+#define SPECTRA_D65 1
+#define SPECTRA_RGB_SCALE (SPECTRA_D65 + CIE_D65_SAMPLES)
+#define SPECTRA_RGB_COEFFICIENTS (SPECTRA_RGB_SCALE + RGB_TO_SPECTRUM_RES)
+#define SPECTRA_METALS (SPECTRA_RGB_COEFFICIENTS + 3 * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES)
+#define SPECTRA_METAL_RGB (SPECTRA_METALS + int(METAL_COUNT) * METAL_SPECTRUM_SAMPLES)
+#define SPECTRA_TEXELS (SPECTRA_METAL_RGB + 2 * int(METAL_COUNT))
 
 #endif  // WP_SPECTRUM_GLSL

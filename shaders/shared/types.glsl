@@ -62,7 +62,8 @@
 #define PATH_SPECULAR 0x10000u  // previous bounce was a delta lobe (or the camera)
 #define PATH_DEAD 0x20000u      // finished; only set by kernels that run without path compaction
 // The colour channel a path carries alone since it entered a dispersive
-// volume (FEATURE_DISPERSION): 0 all three, 1 red, 2 green, 3 blue.
+// volume (FEATURE_DISPERSION): 0 all three, 1 red, 2 green, 3 blue (in the
+// spectral mode: the first, second or third of its wavelengths).
 #define PATH_CHANNEL_SHIFT 18u
 #define PATH_CHANNEL_MASK 0xc0000u
 
@@ -81,6 +82,9 @@
 // The environment map in CS184's lat-long layout (its environment_light.cpp):
 // +X at the centre column, the image mirrored against wavepath's.
 #define SCENE_FLAG_CS184_LATLONG 16u
+// The spectral mode (FEATURE_SPECTRAL, spectral.glsl): each path carries
+// radiance at PATH_WAVELENGTHS wavelengths, and RGB inputs are uplifted.
+#define SCENE_FLAG_SPECTRAL 32u
 
 // Counters[] slots written by the kernels (see CounterSlot in src/gpu).
 #define COUNTER_QUEUE0 0u
@@ -174,7 +178,7 @@ struct WideNode {
 // Work-buffer records the kernels read through texel views (kernel.glsl).
 #define PATH_STATE_TEXELS 5
 #define PATH_RADIANCE_TEXEL 3  // radiance and bsdfPdf: the texel connect adds to
-#define PATH_MEDIUM_TEXEL 4    // the medium and the way since the last scattering vertex (FEATURE_MEDIA only)
+#define PATH_MEDIUM_TEXEL 4    // the medium, the way since the last scattering vertex, the wavelengths (FEATURE_MEDIA, FEATURE_SPECTRAL only)
 #define HIT_TEXELS 1
 #define SHADOW_RAY_TEXELS 3
 
@@ -402,7 +406,7 @@ struct PathState {
   uint medium;      // the medium the ray travels in (index into the media; 0 the vacuum)
   float travelled;  // the way from the last scattering vertex to origin: interfaces passed since (media.glsl)
   uint crossings;   // interfaces passed so far (at most MEDIUM_CROSSINGS_MAX)
-  uint pad;
+  float wavelengths;  // the spectral mode's (FEATURE_SPECTRAL): the sample in [0, 1) its wavelengths follow from (path_wavelengths)
 };
 
 // Closest hit of a path's current ray. 32 bytes; the hit buffer holds the

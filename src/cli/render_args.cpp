@@ -19,6 +19,10 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
   app.add_flag("-H,--hemisphere", hemisphere,
                    "uniform hemisphere sampling instead of light sampling: --integrator \"path tracer hemisphere\" (CS184: -H)");
   app.add_option("--sampler", r.sampler, "sampler, overriding the scene's: independent or cmj");
+  app.add_flag("--spectral", r.spectral,
+               "render spectrally: each path carries three wavelengths, RGB inputs are uplifted to smooth spectra, the film "
+               "converts to sRGB (default: the scene's integrator \"spectral\" key, else RGB)");
+  app.add_flag("--rgb", r.rgb, "render in RGB, overriding a scene's \"spectral\": true");
   app.add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));
   app.add_option("-d,--focus-distance", r.focusDistance, "thin-lens focus distance, overriding the scene's (CS184: -d)")
       ->check(CLI::PositiveNumber);
@@ -100,6 +104,8 @@ std::string render_command_line(const RenderArgs& a) {
   if (!a.cell.empty()) line += " -p" + ints(a.cell);
   add("--integrator", a.integrator);
   add("--sampler", a.sampler);
+  if (a.spectral) line += " --spectral";
+  if (a.rgb) line += " --rgb";
   if (a.lightSamples > 1) add("-l", std::to_string(a.lightSamples));
   if (a.aperture >= 0.0f) add("-b", number(a.aperture));
   if (a.focusDistance > 0.0f) add("-d", number(a.focusDistance));

@@ -57,11 +57,12 @@ uint32_t render_cpu(const CompiledScene& cs, int threads, ImageStats& image, Sam
             AovSample aov;
             PathState p = view.trace_sample(pixel, s, rays, aov);
             localTruncated += rays.truncated;
-            if (!view.radiance_is_finite(p.radiance)) {
+            const glm::vec3 l = view.sample_rgb(p);
+            if (!view.radiance_is_finite(l)) {
               ++localNonFinite;
               continue;
             }
-            add_to_pixel(image, pixel, view.sample_moments(p.radiance));
+            add_to_pixel(image, pixel, view.sample_moments(l));
             if (!aovLayout.empty()) add_aovs_to_pixel(image, aovLayout, pixel, view.aov_moments(aov));
           }
         }

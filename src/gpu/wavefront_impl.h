@@ -111,10 +111,15 @@ struct WavefrontRenderer::Impl {
 
   template <typename T>
   void add_texels(uint32_t binding, const std::vector<T>& data, const char* what, vk::Format format = vk::Format::eR32G32B32A32Uint) {
-    const uint64_t texelBytes = format == vk::Format::eR32G32B32A32Uint ? 16 : format == vk::Format::eR32G32Uint ? 8 : 4;
+    add_texels(binding, data.data(), data.size(), what, format);
+  }
+  template <class T>
+  void add_texels(uint32_t binding, const T* data, size_t count, const char* what, vk::Format format = vk::Format::eR32G32B32A32Uint) {
+    const bool wide = format == vk::Format::eR32G32B32A32Uint || format == vk::Format::eR32G32B32A32Sfloat;
+    const uint64_t texelBytes = wide ? 16 : format == vk::Format::eR32G32Uint ? 8 : 4;
     static_assert(sizeof(T) % 4 == 0);
     if (sizeof(T) % texelBytes != 0) throw RenderError("internal error: a record is not a whole number of texels");
-    uint64_t bytes = data.size() * sizeof(T);
+    uint64_t bytes = count * sizeof(T);
     uint64_t maxBytes = ctx.info().maxTexelBufferElements * texelBytes;
     if (bytes > maxBytes) {
       throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
@@ -122,7 +127,7 @@ struct WavefrontRenderer::Impl {
     }
     make_buffer(buffers[binding], bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
     if (measured) return;
-    ctx.upload(*buffers[binding], data.data(), bytes);
+    ctx.upload(*buffers[binding], data, bytes);
     views[binding] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),
                                                                                   format, 0, VK_WHOLE_SIZE));
   }

@@ -34,6 +34,8 @@ RenderOptions options_from(const RenderArgs& a, uint32_t seed) {
   }
   options.lightSamples = a.lightSamples;
   options.aovs = a.aovs;
+  if (a.spectral && a.rgb) throw InputError("--spectral and --rgb contradict each other");
+  if (a.spectral || a.rgb) options.spectral = a.spectral;
   if (!a.adaptive.empty()) {
     double batch = a.adaptive[0], tolerance = a.adaptive[1];
     if (!(batch >= 1.0 && batch <= 65536.0 && batch == std::floor(batch)))

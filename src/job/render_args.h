@@ -49,6 +49,8 @@ struct RenderArgs {
   std::vector<double> adaptive;  // batch, tolerance (CS184 -a)
   int lightSamples = 1;          // NEE samples per vertex (CS184 -l)
   std::vector<std::string> aovs;  // AOV layers (layers.glsl names)
+  bool spectral = false;  // render spectrally, whatever the scene says (--spectral)
+  bool rgb = false;       // render in RGB, whatever the scene says (--rgb)
   // Partial renders (render.cpp): a sample range "A:B", a time budget, a
   // checkpoint file and how often to write it, a partial file to resume.
   std::string samples;

@@ -13,6 +13,7 @@
 #include "image/image.h"
 #include "render/compile_parts.h"
 #include "render/shader_cpp.h"
+#include "scene/kinds.h"
 #include "scene/transform.h"
 #include "util/error.h"
 
@@ -67,6 +68,16 @@ void set_render_params(const Scene& scene, const RenderOptions& options, size_t 
   }
   p.mode = glm::uvec4(mode, sampler == SamplerKind::Cmj ? SAMPLER_CMJ : SAMPLER_INDEPENDENT, uint32_t(out.spp),
                       uint32_t(options.lightSamples));
+  // The spectral mode, for the integrators that carry light (a preview's
+  // normals or occlusion are no radiance).
+  out.spectral = (options.spectral ? *options.spectral : scene.integrator.spectral) && mode != INTEGRATOR_NORMALS && mode != INTEGRATOR_AO;
+  out.spectra = out.spectral ? spectra_texels() : spectra_placeholder();
+  if (out.spectral) {
+    if (mode == INTEGRATOR_PHOTONS)
+      throw InputError(scene.sourcePath + ": the spectral mode does not trace photon maps yet; render this scene in RGB");
+    flags |= SCENE_FLAG_SPECTRAL;
+    p.kinds.w |= KIND_BIT(FEATURE_SPECTRAL);
+  }
   p.counts = glm::uvec4(uint32_t(emitters), options.seed, options.traversalStepCap, flags);
   if (sampler == SamplerKind::Cmj) p.kinds.w |= KIND_BIT(FEATURE_CMJ);
   if ((flags & SCENE_FLAG_HEMISPHERE) != 0u) p.kinds.w |= KIND_BIT(FEATURE_UNIFORM_HEMISPHERE);
@@ -121,6 +132,7 @@ shader::SceneView CompiledScene::view() const {
   v.photonTexels = texels_of(photons);
   v.imageTexels = texels.data();
   v.floatTables = floatTables.data();
+  v.spectrumTexels = spectra.texels;
   return v;
 }
 
@@ -144,7 +156,7 @@ size_t CompiledScene::gpu_bytes() const {
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
          pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + volumeWords.size() * sizeof(uint32_t) + photons.size() * sizeof(shader::Photon) +
-         floatTables.size() * sizeof(float);
+         floatTables.size() * sizeof(float) + spectra.count * sizeof(glm::vec4);
 }
 
 void set_camera_params(const Camera& cam, shader::SceneParams& p) {

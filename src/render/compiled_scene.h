@@ -12,6 +12,7 @@
 #include "bvh/bvh.h"
 #include "bvh/wide_bvh.h"
 #include "render/adaptive.h"
+#include "render/spectra.h"
 #include "scene/scene.h"
 #include "shader/types.h"
 
@@ -54,6 +55,9 @@ struct RenderOptions {
   std::optional<SamplerKind> sampler;
   // AOV layers to record beside the colour (layers.glsl names).
   std::vector<std::string> aovs;
+  // The spectral mode (spectral.glsl): overrides the scene file's choice
+  // where set (the command line's --spectral / --rgb).
+  std::optional<bool> spectral;
   // The photon mapper's photons: traced while compiling, on the host, or
   // left to the GPU renderer, which traces them with its kernels
   // (CompiledScene::photonMapLeftToDevice).
@@ -100,6 +104,10 @@ struct CompiledScene {
   bool photonMapLeftToDevice = false;
   double photonPassSeconds = 0.0;  // the host's trace and balance, where it built the map
   std::vector<float> floatTables;  // BINDING_FLOAT_TABLES: the sheen's albedo, the environment map's distribution
+  // BINDING_SPECTRA: the spectral mode's tables (linked into the program,
+  // render/spectra.h), or one placeholder texel in RGB.
+  SpectraTexels spectra;
+  bool spectral = false;
   std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)
   EightBitCurve eightBitCurve = EightBitCurve::Srgb;  // Scene::eightBitCurve
   int cs184Skeleton = 0;                              // Scene::cs184Skeleton

@@ -113,6 +113,7 @@ std::string render_settings(const CompiledScene& cs) {
   s << "; view=" << view;
   if (p.counts.w & SCENE_FLAG_CS184) s << "; estimator=cs184";
   if (p.counts.w & SCENE_FLAG_CS184_LATLONG) s << "; latlong=cs184";
+  if (p.counts.w & SCENE_FLAG_SPECTRAL) s << "; colour=spectral";
   if (cs.eightBitCurve != EightBitCurve::Srgb) s << "; png=" << eight_bit_curve_name(cs.eightBitCurve);
   if (cs.cs184Skeleton == 32) s << "; skeleton=cs184-3-2";  // the scene as that skeleton builds it
   return s.str();

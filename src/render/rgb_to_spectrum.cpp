@@ -31,10 +31,10 @@ struct Integration {
   std::array<glm::dvec3, kSamples> rgbWeight, xyzWeight;
   std::array<double, kSamples> unitLambda;  // the sample's wavelength mapped to [0, 1]
   glm::dvec3 white{0.0}, gains{0.0};
+  double norm = 0.0;  // the sum of D65 times y bar (trapezoid weights)
 
   Integration() {
     shader::ShaderMath m;
-    double norm = 0.0;
     for (int i = 0; i < kSamples; ++i) {
       const double lambda = kMinNm + 5.0 * i;
       const double w = (i == 0 || i == kSamples - 1) ? 2.5 : 5.0;
@@ -122,13 +122,16 @@ double smoothstep(double x) {
 
 }  // namespace
 
-glm::dvec3 spectrum_to_rgb(glm::vec3 c) {
+glm::dvec3 spectrum_to_rgb(const std::function<double(double)>& s) {
   const Integration& in = integration();
-  shader::ShaderMath m;
   glm::dvec3 rgb(0.0);
-  for (int i = 0; i < kSamples; ++i)
-    rgb += double(m.sigmoid_polynomial(c, float(kMinNm + 5.0 * i))) * in.rgbWeight[size_t(i)];
+  for (int i = 0; i < kSamples; ++i) rgb += s(kMinNm + 5.0 * i) * in.rgbWeight[size_t(i)];
   return rgb;
+}
+
+glm::dvec3 spectrum_to_rgb(glm::vec3 c) {
+  shader::ShaderMath m;
+  return spectrum_to_rgb([&](double lambda) { return double(m.sigmoid_polynomial(c, float(lambda))); });
 }
 
 RgbToSpectrumTable make_rgb_to_spectrum_table(int res) {
@@ -171,36 +174,12 @@ RgbToSpectrumTable make_rgb_to_spectrum_table(int res) {
   return t;
 }
 
-const RgbToSpectrumTable& rgb_to_spectrum_table() {
-  static const RgbToSpectrumTable table = make_rgb_to_spectrum_table(64);
-  return table;
+glm::dvec3 film_white_gains() {
+  return integration().gains;
 }
 
-glm::vec3 rgb_to_spectrum(const RgbToSpectrumTable& t, glm::vec3 rgb) {
-  rgb = glm::clamp(rgb, glm::vec3(0.0f), glm::vec3(1.0f));
-  if (rgb.x == rgb.y && rgb.y == rgb.z) {
-    // A grey: the constant spectrum, sigmoid(c2) = v.
-    const float v = rgb.x;
-    if (v <= 0.0f) return glm::vec3(0.0f, 0.0f, -INFINITY);
-    if (v >= 1.0f) return glm::vec3(0.0f, 0.0f, INFINITY);
-    return glm::vec3(0.0f, 0.0f, (v - 0.5f) / std::sqrt(v * (1.0f - v)));
-  }
-  const int l = rgb.x >= rgb.y && rgb.x >= rgb.z ? 0 : rgb.y >= rgb.z ? 1 : 2;
-  const float z = rgb[l];
-  const float x = rgb[(l + 1) % 3] / z * float(t.res - 1), y = rgb[(l + 2) % 3] / z * float(t.res - 1);
-  const int res = t.res;
-  const int xi = std::min(int(x), res - 2), yi = std::min(int(y), res - 2);
-  const int zi = int(std::clamp<ptrdiff_t>(std::upper_bound(t.scale.begin(), t.scale.end(), z) - t.scale.begin() - 1, 0, res - 2));
-  const float dx = x - float(xi), dy = y - float(yi);
-  const float dz = (z - t.scale[size_t(zi)]) / (t.scale[size_t(zi) + 1] - t.scale[size_t(zi)]);
-  glm::vec3 c(0.0f);
-  for (int corner = 0; corner < 8; ++corner) {
-    const int ci = xi + (corner & 1), cj = yi + ((corner >> 1) & 1), ck = zi + (corner >> 2);
-    const float w = ((corner & 1) ? dx : 1.0f - dx) * ((corner & 2) ? dy : 1.0f - dy) * ((corner & 4) ? dz : 1.0f - dz);
-    const float* p = &t.coefficients[((size_t(l * res + ck) * res + size_t(cj)) * res + size_t(ci)) * 3];
-    c += w * glm::vec3(p[0], p[1], p[2]);
-  }
-  return c;
+double d65_to_unit_luminance() {
+  return double(CIE_Y_INTEGRAL) / integration().norm;
 }
 
 }  // namespace wp

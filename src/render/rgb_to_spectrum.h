@@ -6,10 +6,12 @@
 // (cie_xyz_bar), is that RGB. The coefficients come from a table the
 // optimizer below fills once for a grid of colours (Gauss-Newton in CIELAB,
 // each colour started from its darker neighbour's solution); a colour
-// between grid points takes the trilinear blend of theirs.
+// between grid points takes the trilinear blend of theirs (spectral.glsl's
+// rgb_to_spectrum_coefficients, on the kernels and the CPU alike).
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -28,17 +30,24 @@ struct RgbToSpectrumTable {
 };
 
 // Fills the table on a res^3 grid per largest component (res >= 4).
+// wavepath-spectra (src/tools/make_spectra.cpp) runs it at build time for
+// the tables the renderer links (spectra.h); it takes seconds.
 RgbToSpectrumTable make_rgb_to_spectrum_table(int res);
-
-// The table the renderer uses (64^3 per component), made on first use.
-const RgbToSpectrumTable& rgb_to_spectrum_table();
-
-// The coefficients of the spectrum of a reflectance rgb (clamped to [0, 1]).
-glm::vec3 rgb_to_spectrum(const RgbToSpectrumTable& table, glm::vec3 rgb);
 
 // The linear sRGB of the reflectance spectrum with coefficients c under D65,
 // by the sums the optimizer matches (5 nm steps, 360-830 nm): what uplifting
 // is measured against.
 glm::dvec3 spectrum_to_rgb(glm::vec3 c);
+// The same for any spectrum s (a function of the wavelength in nm): its
+// projection on linear sRGB, (v, v, v) for a constant v.
+glm::dvec3 spectrum_to_rgb(const std::function<double(double)>& s);
+
+// The film's constants, from the sums the optimizer matches: the linear
+// sRGB of D65 white (Y = 1) by the film's matching functions, which the film
+// divides by so that it renders as (1, 1, 1); and the factor that takes D65
+// (100 at 560 nm) to Y = 1 under them (CIE_Y_INTEGRAL over its integral
+// with y bar).
+glm::dvec3 film_white_gains();
+double d65_to_unit_luminance();
 
 }  // namespace wp

@@ -29,6 +29,7 @@ inline bool isinf(float x) { return std::isinf(x); }
 inline glm::uvec4 texelFetch(const glm::uvec4* texels, int i) { return texels[i]; }
 inline glm::uvec4 texelFetch(const glm::uvec2* texels, int i) { return glm::uvec4(texels[i].x, texels[i].y, 0u, 1u); }
 inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texels[i], 0.0f, 0.0f, 1.0f); }
+inline glm::vec4 texelFetch(const glm::vec4* texels, int i) { return texels[i]; }
 
 // The CPU takes the real branches only; compiling out the kinds a scene
 // lacks is the kernels' optimization (kernel.glsl), so here every kind and
@@ -71,6 +72,7 @@ struct SceneView : ShaderMath {
   const uvec4* photonTexels = nullptr;  // BINDING_PHOTONS
   const uvec2* imageTexels = nullptr;
   const float* floatTables = nullptr;
+  const vec4* spectrumTexels = nullptr;  // BINDING_SPECTRA (spectral.glsl)
 
 #define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: specialization constants (kernel.glsl)
 #define LIGHT_SAMPLES_OF_SCENE scene.mode.w
@@ -121,6 +123,12 @@ struct SceneView : ShaderMath {
     return ::wp::shader::texelFetch(texels, i);
   }
 #define WP_NOTE_STEP() note_step()
+  // Where set below [0, 1), the spectral mode's wavelength samples (the
+  // hero's; path_wavelengths) lie in this band of the unit interval: the
+  // tests check the integrator band by band.
+  glm::vec2 wavelengthBand{0.0f, 1.0f};
+  float wavelength_sample(float u) const { return wavelengthBand.x + u * (wavelengthBand.y - wavelengthBand.x); }
+#define WP_WAVELENGTH_SAMPLE(u) wavelength_sample(u)
 #define WP_NOTE_PHASE(phase) note_phase(phase)
 #define WP_NOTE_STACK_READ(entry) note_stack(WalkMemory::StackRead, entry)
 #define WP_NOTE_STACK_WRITE(entry) note_stack(WalkMemory::StackWrite, entry)

@@ -150,15 +150,17 @@ void DartsImporter::parse_integrator(const JsonCursor& j) {
   if (s.kind == IntegratorKind::PhotonMapper) {
     // wavepath's photon mapper (darts leaves the integrator to the final
     // project); the search keys are those of darts' photon map test.
-    j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power", "photons", "search radius", "search count", "photon seed"});
+    j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power", "photons", "search radius", "search count", "photon seed", "spectral"});
     s.photons = uint32_t(j.integer_or("photons", int(s.photons), 1, 1 << 22));
     s.searchRadius = j.number_or("search radius", s.searchRadius);
     if (!(s.searchRadius > 0.0f && std::isfinite(s.searchRadius))) j["search radius"].fail("the search radius must be positive");
     s.searchCount = uint32_t(j.integer_or("search count", int(s.searchCount), 0, int(PHOTON_SEARCH_MAX)));
     s.photonSeed = uint32_t(j.integer_or("photon seed", int(s.photonSeed), 0, 1 << 30));
   } else {
-    j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power"});
+    j.allow_only({"type", "max bounces", "russian roulette", "recursive", "power", "spectral"});
   }
+  // wavepath's own key: render spectrally (spectral.glsl).
+  if (j.has("spectral")) s.spectral = j["spectral"].boolean();
   s.maxBounces = j.integer_or("max bounces", s.maxBounces, 0, 1024);
   if (j.has("russian roulette")) {
     const nlohmann::json& rr = j["russian roulette"].json();
@@ -173,7 +175,7 @@ void DartsImporter::parse_integrator(const JsonCursor& j) {
   }
   // "recursive" picks darts' recursive or iterative implementation; both
   // estimate the same image, and wavepath is always iterative.
-  if (j.has("recursive") && !j["recursive"].json().is_boolean()) j["recursive"].fail("expected true or false");
+  if (j.has("recursive")) j["recursive"].boolean();
 }
 
 }  // namespace darts_import

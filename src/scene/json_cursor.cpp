@@ -181,6 +181,11 @@ std::string JsonCursor::string() const {
   return value_.get<std::string>();
 }
 
+bool JsonCursor::boolean() const {
+  if (!value_.is_boolean()) fail("expected true or false, got " + json_type_name(value_));
+  return value_.get<bool>();
+}
+
 glm::vec3 JsonCursor::vec3() const {
   if (value_.is_number()) return glm::vec3(number());
   if (!value_.is_array() || value_.size() != 3) {

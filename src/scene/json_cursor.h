@@ -44,6 +44,7 @@ class JsonCursor {
   float positive_number() const;
   int integer(int min, int max) const;
   std::string string() const;
+  bool boolean() const;
   glm::vec3 vec3() const;  // [x, y, z] or one number for all three
   glm::vec3 color() const { return vec3(); }
 

@@ -97,6 +97,8 @@ struct IntegratorSettings {
   float searchRadius = 0.1f;
   uint32_t searchCount = 50;
   uint32_t photonSeed = 0;
+  // Render spectrally (spectral.glsl): the darts integrator's "spectral".
+  bool spectral = false;
 };
 
 struct SceneTriangle {

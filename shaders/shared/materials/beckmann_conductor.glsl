@@ -69,7 +69,8 @@ vec3 beckmann_conductor_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   if (cosO <= 0.0f || cosI <= 0.0f) return vec3(0.0f);
   float alpha = l.params.x;
   vec3 h = normalize(wo + wi);
-  bool skeleton = l.params2.w > 0.5f;
+  // (params2.w above CONDUCTOR_NAMED names a metal: kinds.glsl.)
+  bool skeleton = l.params2.w - CONDUCTOR_NAMED * floor(l.params2.w / CONDUCTOR_NAMED) > 0.5f;
   float g = 1.0f / (1.0f + cs184_lambda(alpha, cosI, skeleton) + cs184_lambda(alpha, cosO, skeleton));
   vec3 fresnel = cs184_fresnel(vec3(l.params.y, l.params.z, l.params.w), vec3(l.params2.x, l.params2.y, l.params2.z), cosI);
   return l.color * fresnel * (g * beckmann_d(alpha, dot(h, ns)) / (4.0f * cosO));  // f cos_i

@@ -68,8 +68,9 @@ vec3 metal_rough_dielectric_fresnel(Lobe l, float w) {
 // and wo.h is where the microfacet model takes its Fresnel terms).
 void metal_rough_iridescence(Lobe l, float c, INOUT(vec3) fd, INOUT(vec3) fm) {
   if (!FEATURE_COMPILED(FEATURE_IRIDESCENCE) || !(l.extra[MR_LOBE_FILM].x > 0.0f)) return;
-  vec3 filmD = thin_film_fresnel(l.extra[MR_LOBE_FILM].y, l.extra[MR_LOBE_FILM].z, metal_rough_dielectric_fresnel(l, 0.0f), c);
-  vec3 filmM = thin_film_fresnel(l.extra[MR_LOBE_FILM].y, l.extra[MR_LOBE_FILM].z, l.color, c);
+  vec4 film = l.extra[MR_LOBE_FILM];
+  vec3 filmD = thin_film_fresnel(film.y, film.z, metal_rough_dielectric_fresnel(l, 0.0f), c, film.w);
+  vec3 filmM = thin_film_fresnel(film.y, film.z, l.color, c, film.w);
   fd = fd + (filmD - fd) * l.extra[MR_LOBE_FILM].x;
   fm = fm + (filmM - fm) * l.extra[MR_LOBE_FILM].x;
 }

@@ -1,5 +1,7 @@
 #include "scene/materials/pack_helpers.h"
 
+#include "render/spectra.h"
+
 namespace wp::materials {
 
 uint32_t surface_part(const MaterialInputs& in, const std::string& key) {
@@ -20,6 +22,26 @@ uint32_t layer_base(const MaterialInputs& in, bool sheen) {
     in.fail("layers may lie at most " + std::to_string(LAYERS_MAX) + " deep over a base material");
   if (sheen && material_sheens(s, base) > 0) in.fail("a material may hold at most one sheen");
   return base;
+}
+
+std::vector<ParamSpec> conductor_params() {
+  return {ParamSpec::colour("eta", glm::vec3(0.0f), Range{0.0f, 1e3f, true, true}), ParamSpec::colour("k", glm::vec3(0.0f), Range{0.0f, 1e3f, false, true}),
+          ParamSpec::choice("metal", "none|" + metal_names())};
+}
+
+void pack_conductor_index(const MaterialInputs& in, glm::vec3& eta, glm::vec3& k, float& named) {
+  const std::string& metal = in.choice("metal");
+  if (metal == "none") {
+    if (!in.given("eta") || !in.given("k")) in.fail("a conductor needs \"eta\" and \"k\", or \"metal\": one of " + metal_names(", "));
+    eta = in.colour("eta");
+    k = in.colour("k");
+    named = 0.0f;
+    return;
+  }
+  if (in.given("eta") || in.given("k")) in.fail("metal", "a named metal brings its measured eta and k: give \"metal\" or \"eta\" and \"k\", not both");
+  const uint32_t id = *metal_named(metal);
+  metal_rgb(id, eta, k);
+  named = CONDUCTOR_NAMED * float(id + 1u);
 }
 
 }  // namespace wp::materials

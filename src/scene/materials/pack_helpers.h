@@ -18,4 +18,12 @@ uint32_t surface_part(const MaterialInputs& in, const std::string& key);
 // sheens once the layer (a sheen if `sheen`) lies over it.
 uint32_t layer_base(const MaterialInputs& in, bool sheen);
 
+// A conductor's index of refraction and absorption (params "eta" and "k",
+// or "metal", a measured metal by name: spectra.h) into eta, k, and the
+// value of params2.w that names its metal (CONDUCTOR_NAMED, kinds.glsl;
+// 0 for RGB given). Both kinds of conductor take these three params
+// (conductor_params).
+void pack_conductor_index(const MaterialInputs& in, glm::vec3& eta, glm::vec3& k, float& named);
+std::vector<ParamSpec> conductor_params();
+
 }  // namespace wp::materials

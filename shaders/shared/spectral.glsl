@@ -1,0 +1,229 @@
+// spectral.glsl — the spectral mode (FEATURE_SPECTRAL, SCENE_FLAG_SPECTRAL).
+//
+// A path carries radiance at PATH_WAVELENGTHS wavelengths in the three
+// components of its colours: a hero wavelength and two more a third of the
+// way round the visible range, each drawn by the density of
+// visible_wavelength_pdf (spectrum.glsl). The kernels' colours stay vec3, so
+// the RGB mode pays nothing for this one; three wavelengths, not pbrt-v4's
+// four, is the price (docs/architecture.md, "Spectral mode"). Inputs stay RGB
+// where the scene gives RGB and are uplifted where the path meets them:
+// reflectances by Jakob and Hanika's (2019) smooth spectra, emitters the
+// same times D65 (white light is D65), indices of refraction and absorption
+// unbounded (pbrt-v4's RGBUnboundedSpectrum: 2m times the reflectance
+// spectrum of rgb / 2m, m its largest component). A dispersive boundary
+// keeps one wavelength (integrator.glsl's disperse). The film converts each
+// sample to linear sRGB once, when it is accumulated (sample_rgb): the sum
+// over the wavelengths of radiance times the colour matching functions over
+// the density, to XYZ, to sRGB, white balanced, so partial sums, merges,
+// variance and adaptive sampling see RGB as ever.
+//
+// The tables (BINDING_SPECTRA, RGBA32F, laid out as spectrum.glsl's
+// SPECTRA_* say) are made at build time by wavepath-spectra
+// (src/tools/make_spectra.cpp).
+#ifndef WP_SPECTRAL_GLSL
+#define WP_SPECTRAL_GLSL
+
+bool spectral_mode() {
+  return FEATURE_COMPILED(FEATURE_SPECTRAL) && (scene.counts.w & SCENE_FLAG_SPECTRAL) != 0u;
+}
+
+// D65 at lambda, normalised so that its Y is 1: the spectrum of RGB white light.
+float illuminant_d65(float lambda) {
+  float x = clamp((lambda - SPECTRUM_MIN_NM) * 0.2f, 0.0f, float(CIE_D65_SAMPLES - 1));
+  int i = min(int(x), CIE_D65_SAMPLES - 2);
+  float f = x - float(i);
+  return (1.0f - f) * texelFetch(spectrumTexels, SPECTRA_D65 + i).x + f * texelFetch(spectrumTexels, SPECTRA_D65 + i + 1).x;
+}
+
+// smoothstep's inverse on [0, 1]: the x with 3x^2 - 2x^3 = y.
+float inverse_smoothstep(float y) {
+  return 0.5f - sin(asin(clamp(1.0f - 2.0f * y, -1.0f, 1.0f)) * (1.0f / 3.0f));
+}
+
+float rgb_to_spectrum_scale(int k) {
+  return texelFetch(spectrumTexels, SPECTRA_RGB_SCALE + k).x;
+}
+
+// The sigmoid-polynomial coefficients of reflectance rgb (clamped to [0, 1]):
+// the trilinear blend of the table's at the grid colours around it. The
+// grid is indexed by the largest component l (its brightness z, on the
+// table's scale, dense near 0 and 1) and the next two over z.
+vec3 rgb_to_spectrum_coefficients(vec3 rgb) {
+  rgb = clamp(rgb, vec3(0.0f), vec3(1.0f));
+  if (rgb.x == rgb.y && rgb.y == rgb.z) {
+    // A grey: the constant spectrum, sigmoid(c2) = v.
+    float v = rgb.x;
+    // (1e18: its square is still finite, so the sigmoid saturates to 0 or 1.)
+    if (v <= 0.0f) return vec3(0.0f, 0.0f, -1e18f);
+    if (v >= 1.0f) return vec3(0.0f, 0.0f, 1e18f);
+    return vec3(0.0f, 0.0f, (v - 0.5f) / sqrt(v * (1.0f - v)));
+  }
+  int l = rgb.x >= rgb.y && rgb.x >= rgb.z ? 0 : rgb.y >= rgb.z ? 1 : 2;
+  float z = l == 0 ? rgb.x : l == 1 ? rgb.y : rgb.z;
+  float a = l == 0 ? rgb.y : l == 1 ? rgb.z : rgb.x;
+  float b = l == 0 ? rgb.z : l == 1 ? rgb.x : rgb.y;
+  const int res = RGB_TO_SPECTRUM_RES;
+  float x = a / z * float(res - 1);
+  float y = b / z * float(res - 1);
+  int xi = min(int(x), res - 2);
+  int yi = min(int(y), res - 2);
+  // The scale is smoothstep(smoothstep(k / (res - 1))): inverted, then the
+  // cell whose scale values bracket z (rounding may land one off).
+  int zi = clamp(int(inverse_smoothstep(inverse_smoothstep(z)) * float(res - 1)), 0, res - 2);
+  for (int step = 0; step < 2; ++step) {
+    if (zi > 0 && z < rgb_to_spectrum_scale(zi)) zi -= 1;
+    if (zi < res - 2 && z >= rgb_to_spectrum_scale(zi + 1)) zi += 1;
+  }
+  float z0 = rgb_to_spectrum_scale(zi);
+  float dx = x - float(xi);
+  float dy = y - float(yi);
+  float dz = (z - z0) / (rgb_to_spectrum_scale(zi + 1) - z0);
+  vec3 c = vec3(0.0f);
+  for (int corner = 0; corner < 8; ++corner) {
+    int ci = xi + (corner & 1);
+    int cj = yi + ((corner >> 1) & 1);
+    int ck = zi + (corner >> 2);
+    float w = ((corner & 1) != 0 ? dx : 1.0f - dx) * ((corner & 2) != 0 ? dy : 1.0f - dy) * ((corner & 4) != 0 ? dz : 1.0f - dz);
+    vec4 t = texelFetch(spectrumTexels, SPECTRA_RGB_COEFFICIENTS + ((l * res + ck) * res + cj) * res + ci);
+    c += w * vec3(t.x, t.y, t.z);
+  }
+  return c;
+}
+
+vec3 sigmoid_polynomial3(vec3 c, vec3 lambdas) {
+  return vec3(sigmoid_polynomial(c, lambdas.x), sigmoid_polynomial(c, lambdas.y), sigmoid_polynomial(c, lambdas.z));
+}
+
+// A reflectance (an albedo, a tint) at the wavelengths. Greys are constant;
+// a colour brighter than 1 (a lobe's colour carrying its blend's weight or
+// its sheen's normalisation) is its largest component times the spectrum of
+// the colour scaled to 1.
+vec3 reflectance_spectrum(vec3 rgb, vec3 lambdas) {
+  rgb = max(rgb, vec3(0.0f));
+  float m = max(max(rgb.x, rgb.y), rgb.z);
+  if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return rgb;
+  float scale = max(m, 1.0f);
+  return scale * sigmoid_polynomial3(rgb_to_spectrum_coefficients(rgb / scale), lambdas);
+}
+
+// An unbounded quantity given in RGB (radiance, an index of refraction or of
+// absorption, an attenuation coefficient) at the wavelengths.
+vec3 unbounded_spectrum(vec3 rgb, vec3 lambdas) {
+  rgb = max(rgb, vec3(0.0f));
+  float m = max(max(rgb.x, rgb.y), rgb.z);
+  if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return rgb;
+  return 2.0f * m * sigmoid_polynomial3(rgb_to_spectrum_coefficients(rgb * (0.5f / m)), lambdas);
+}
+
+// Radiance given in RGB at the wavelengths: its unbounded spectrum times
+// D65, so that RGB white is D65 and renders as white.
+vec3 illuminant_spectrum(vec3 rgb, vec3 lambdas) {
+  return unbounded_spectrum(rgb, lambdas) * vec3(illuminant_d65(lambdas.x), illuminant_d65(lambdas.y), illuminant_d65(lambdas.z));
+}
+
+// Radiance in the path's terms: as given in RGB, uplifted in the spectral mode.
+vec3 path_radiance(vec3 rgb, PathState p) {
+  return spectral_mode() ? illuminant_spectrum(rgb, path_wavelengths(p.wavelengths)) : rgb;
+}
+
+// The index of refraction (and absorption) of metal `metal` (METAL_*,
+// spectrum.glsl) at lambda, linear between its table's samples.
+vec2 metal_index(uint metal, float lambda) {
+  float x = clamp((lambda - SPECTRUM_MIN_NM) / METAL_SPECTRUM_STEP_NM, 0.0f, float(METAL_SPECTRUM_SAMPLES - 1));
+  int i = min(int(x), METAL_SPECTRUM_SAMPLES - 2);
+  float f = x - float(i);
+  int at = SPECTRA_METALS + int(metal) * METAL_SPECTRUM_SAMPLES + i;
+  vec4 a = texelFetch(spectrumTexels, at);
+  vec4 b = texelFetch(spectrumTexels, at + 1);
+  return vec2((1.0f - f) * a.x + f * b.x, (1.0f - f) * a.y + f * b.y);
+}
+
+// A conductor's eta (params.yzw) and k (params2.xyz) at the wavelengths:
+// a named metal's from its measured table (params2.w, kinds.glsl's
+// CONDUCTOR_NAMED, kinds.glsl), else uplifted from their RGB.
+void conductor_at_wavelengths(INOUT(vec3) eta, INOUT(vec4) k, vec3 lambdas) {
+  if (k.w >= CONDUCTOR_NAMED) {
+    uint metal = uint(k.w / CONDUCTOR_NAMED) - 1u;
+    vec2 a = metal_index(metal, lambdas.x);
+    vec2 b = metal_index(metal, lambdas.y);
+    vec2 c = metal_index(metal, lambdas.z);
+    eta = vec3(a.x, b.x, c.x);
+    k = vec4(a.y, b.y, c.y, k.w);
+    return;
+  }
+  eta = unbounded_spectrum(eta, lambdas);
+  vec3 kk = unbounded_spectrum(vec3(k.x, k.y, k.z), lambdas);
+  k = vec4(kk.x, kk.y, kk.z, k.w);
+}
+
+// The BSDF's colours at the wavelengths of sample u (path_wavelengths):
+// each lobe's colour, and the parameters its kind reads as colours; a thin
+// film learns the sample, as it interferes per wavelength.
+void bsdf_at_wavelengths(INOUT(Bsdf) b, float u) {
+  vec3 lambdas = path_wavelengths(u);
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (i >= b.lobeCount) continue;
+    b.lobeColor[i] = reflectance_spectrum(b.lobeColor[i], lambdas);
+    uint kind = b.lobeType[i];
+    if ((MATERIAL_COMPILED(MAT_ROUGH_CONDUCTOR) && kind == MAT_ROUGH_CONDUCTOR) ||
+        (MATERIAL_COMPILED(MAT_BECKMANN_CONDUCTOR) && kind == MAT_BECKMANN_CONDUCTOR)) {
+      vec3 eta = b.lobeParamYzw[i];
+      vec4 k = b.lobeParams2[i];
+      conductor_at_wavelengths(eta, k, lambdas);
+      b.lobeParamYzw[i] = eta;
+      b.lobeParams2[i] = k;
+    }
+    if (MATERIAL_COMPILED(MAT_CS184_GLASS) && kind == MAT_CS184_GLASS) {
+      vec4 p = b.lobeParams2[i];
+      vec3 r = reflectance_spectrum(vec3(p.x, p.y, p.z), lambdas);
+      b.lobeParams2[i] = vec4(r.x, r.y, r.z, p.w);
+    }
+    if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && kind == MAT_METAL_ROUGH) {
+      if (FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) {
+        // params2.xyz: the specular colour less 1.
+        vec4 p = b.lobeParams2[i];
+        vec3 tint = reflectance_spectrum(vec3(1.0f + p.x, 1.0f + p.y, 1.0f + p.z), lambdas);
+        b.lobeParams2[i] = vec4(tint.x - 1.0f, tint.y - 1.0f, tint.z - 1.0f, p.w);
+      }
+      if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) {
+        vec4 dt = bsdf_extra(b, i, MR_LOBE_DIFFUSE_TRANSMISSION);
+        vec3 c = reflectance_spectrum(vec3(dt.x, dt.y, dt.z), lambdas);
+        bsdf_set_extra(b, i, MR_LOBE_DIFFUSE_TRANSMISSION, vec4(c.x, c.y, c.z, dt.w));
+      }
+      if (FEATURE_COMPILED(FEATURE_IRIDESCENCE)) {
+        vec4 film = bsdf_extra(b, i, MR_LOBE_FILM);
+        bsdf_set_extra(b, i, MR_LOBE_FILM, vec4(film.x, film.y, film.z, THIN_FILM_SPECTRAL + u));
+      }
+    }
+  }
+}
+
+// The index of refraction at lambda (nm) of a glass of index ior at the
+// d line (587.56 nm) and dispersion 20 / V (V its Abbe number): the Cauchy
+// fit through the F, d and C lines that KHR_materials_dispersion gives.
+float dispersed_ior_at(float ior, float dispersion, float lambda) {
+  float n = ior + (ior - 1.0f) * dispersion * (1.0f / 20.0f) * (523655.0f / (lambda * lambda) - 1.5168f);
+  return max(n, METAL_ROUGH_MIN_IOR);
+}
+
+// The sample's linear sRGB: radiance l at the wavelengths of sample u,
+// through the colour matching functions, each over its wavelength's
+// density, averaged (a path that kept one wavelength carries it at three
+// times its weight: disperse), to XYZ and to white-balanced sRGB (the
+// film's gains put D65 at (1, 1, 1), as the uplift's table assumes).
+vec3 spectral_sample_rgb(vec3 l, float u) {
+  vec3 lambdas = path_wavelengths(u);
+  vec3 xyz = l.x / visible_wavelength_pdf(lambdas.x) * cie_xyz_bar(lambdas.x) +
+             l.y / visible_wavelength_pdf(lambdas.y) * cie_xyz_bar(lambdas.y) +
+             l.z / visible_wavelength_pdf(lambdas.z) * cie_xyz_bar(lambdas.z);
+  vec3 rgb = xyz_to_linear_srgb(xyz * (1.0f / (float(PATH_WAVELENGTHS) * CIE_Y_INTEGRAL)));
+  vec4 gains = texelFetch(spectrumTexels, SPECTRA_FILM);
+  return vec3(rgb.x / gains.x, rgb.y / gains.y, rgb.z / gains.z);
+}
+
+// What a finished path adds to its pixel: its radiance, in linear sRGB.
+vec3 sample_rgb(PathState p) {
+  return spectral_mode() ? spectral_sample_rgb(p.radiance, p.wavelengths) : p.radiance;
+}
+
+#endif  // WP_SPECTRAL_GLSL
