@@ -76,8 +76,8 @@ TEST(MaterialModules, DefaultsFillWhatIsNotGiven) {
 // A conductor's "metal" names a measured metal (metal_spectra.glsl): an RGB
 // render takes its eta and k as their spectra's sRGB projections, and
 // params2.w names it for the spectral mode (CONDUCTOR_NAMED), beside CS184's
-// shadowing choice.
-TEST(MaterialModules, NamedMetalsBringTheirMeasuredIndices) {
+// shadowing choice. A dielectric's "glass" names a glass (glasses.glsl).
+TEST(MaterialModules, NamedMetalsAndGlassesBringTheirMeasuredIndices) {
   Scene s;
   const uint32_t gold = add_material(s, MaterialParams(MAT_ROUGH_CONDUCTOR, "gold", thrower("gold")).choice("metal", "Au"));
   const shader::Material& g = s.materials[gold].record;
@@ -94,6 +94,16 @@ TEST(MaterialModules, NamedMetalsBringTheirMeasuredIndices) {
                                               .choice("metal", "Cu")
                                               .choice("shadowing", "cs184"));
   EXPECT_EQ(s.materials[copper].record.params2.w, CONDUCTOR_NAMED * float(METAL_CU + 1u) + 1.0f);
+  // A named glass: its index at the d line, its name in params.w, dispersion compiled in.
+  const uint32_t bk7 = add_material(s, MaterialParams(MAT_DIELECTRIC, "bk7", thrower("bk7")).choice("glass", "BK7"));
+  EXPECT_NEAR(s.materials[bk7].record.params.x, 1.5168f, 1e-4f);
+  EXPECT_EQ(s.materials[bk7].record.params.w, float(GLASS_BK7 + 1u));
+  EXPECT_EQ(material_module(MAT_DIELECTRIC).features(s.materials[bk7].record), KIND_BIT(FEATURE_DISPERSION));
+  const uint32_t water = add_material(s, MaterialParams(MAT_ROUGH_DIELECTRIC, "water", thrower("water")).choice("glass", "water").number("roughness", 0.1f));
+  EXPECT_NEAR(s.materials[water].record.params.x, 1.3333f, 2e-4f);
+  EXPECT_EQ(s.materials[water].record.params.w, float(GLASS_WATER + 1u));
+  EXPECT_EQ(error_of([&] { add_material(s, MaterialParams(MAT_DIELECTRIC, "g", thrower("g")).number("ior", 1.6f).choice("glass", "BK7", thrower("g/glass"))); }),
+            "g/glass: a named glass brings its own index of refraction: give \"glass\" or \"ior\", not both");
   EXPECT_EQ(error_of([&] { add_material(s, MaterialParams(MAT_ROUGH_CONDUCTOR, "x", thrower("x")).choice("metal", "Zn", thrower("x/metal"))); }),
             "x/metal: metal must be \"none\", \"Au\", \"Ag\", \"Cu\", \"Al\", \"Cr\", \"Ni\", \"Ti\", \"W\" or \"Pt\"");
 }

@@ -324,5 +324,75 @@ TEST(Spectral, DirectLightAgreesWithRgbWithinTheRoundTrip) {
   EXPECT_FALSE(compare_images(spectral, rgb).passed()) << "a planted bias of 2 %";
 }
 
+// A glass's index by Sellmeier's equation in double precision, from the
+// coefficients glasses.glsl takes from its sources.
+double sellmeier(uint32_t glass, double lambdaNm) {
+  const double l2 = lambdaNm * lambdaNm * 1e-6;
+  double n2 = 1.0;
+#define WP_GLASS_TERMS(id, name, b1, b2, b3, b4, c1, c2, c3, c4)                                                            \
+  if (glass == id)                                                                                                         \
+    n2 += double(b1) * l2 / (l2 - double(c1)) + double(b2) * l2 / (l2 - double(c2)) + double(b3) * l2 / (l2 - double(c3)) + \
+          double(b4) * l2 / (l2 - double(c4));
+  WP_GLASSES(WP_GLASS_TERMS)
+#undef WP_GLASS_TERMS
+  return std::sqrt(n2);
+}
+
+// A 60-degree prism of each named glass (24 degrees of diamond, which
+// reflects the steeper one's light totally), in the spectral mode: a ray
+// enters one face at half the apex angle and leaves by the other, refracted both times by
+// the kernels' dielectric lobe at the index disperse gives the wavelength
+// the path keeps. Band by band over the wavelengths, its deviation is what
+// Snell's law gives with the glass's Sellmeier index, D = t1 + asin(n sin(A
+// - asin(sin t1 / n))) - A (the indices at the d line: BK7 1.5168, fused
+// silica 1.4585, water 1.3333, diamond 2.4173); blue bends more than red.
+// Taking another glass's index (a planted error) misses by degrees.
+TEST(Spectral, PrismDeviationFollowsEachGlassSellmeierIndex) {
+  SceneView v = spectral_view();
+  EXPECT_NEAR(sellmeier(GLASS_BK7, 587.56), 1.5168, 1e-4);
+  EXPECT_NEAR(sellmeier(GLASS_FUSED_SILICA, 587.56), 1.4585, 1e-4);
+  EXPECT_NEAR(sellmeier(GLASS_WATER, 587.56), 1.3333, 2e-4);
+  EXPECT_NEAR(sellmeier(GLASS_DIAMOND, 587.56), 2.4173, 1e-3);
+  const glm::vec3 d(1.0f, 0.0f, 0.0f);
+  for (uint32_t glass = 0; glass < GLASS_COUNT; ++glass) {
+    const double apex = (glass == GLASS_DIAMOND ? 24.0 : 60.0) * WP_PI / 180.0, t1 = apex / 2.0;
+    const glm::vec3 n1(-std::cos(float(t1)), std::sin(float(t1)), 0.0f), n2(std::cos(float(t1)), std::sin(float(t1)), 0.0f);
+    auto analytic = [&](double n) { return t1 + std::asin(n * std::sin(apex - std::asin(std::sin(t1) / n))) - apex; };
+    double lastLambda = 0.0, lastDeviation = 0.0;
+    for (int band = 0; band < 10; ++band) {
+      PathState p{};
+      p.rng = 7u + uint32_t(band);
+      p.wavelengths = (float(band) + 0.5f) / 10.0f;
+      ShaderMath::Bsdf b{};
+      b.lobeCount = 1u;
+      b.lobeType[0] = MAT_DIELECTRIC;
+      b.lobeParam[0] = float(sellmeier(glass, 587.56));
+      b.lobeDispersion[0] = -float(glass + 1u);
+      const glm::vec3 lambdas = v.path_wavelengths(p.wavelengths);
+      v.disperse(p, b, lambdas);
+      const uint32_t channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
+      ASSERT_GE(channel, 1u);
+      const double lambda = lambdas[int(channel) - 1];
+      ShaderMath::Lobe in = v.lobe_with_params(glm::vec4(b.lobeParam[0], 0.0f, 0.0f, 0.0f), glm::vec4(0.0f));
+      in.color = glm::vec3(1.0f);
+      in.front = true;
+      glm::vec3 inside, out;
+      ASSERT_GT(v.dielectric_sample_delta(in, n1, n1, -d, 0.99999f, inside).x, 0.0f);
+      ShaderMath::Lobe leave = in;
+      leave.front = false;
+      ASSERT_GT(v.dielectric_sample_delta(leave, -n2, -n2, -inside, 0.99999f, out).x, 0.0f);
+      const double deviation = std::acos(std::clamp(double(glm::dot(d, out)), -1.0, 1.0));
+      const double n = sellmeier(glass, lambda);
+      EXPECT_NEAR(deviation, analytic(n), 2e-4) << "glass " << glass << " at " << lambda << " nm";
+      const double other = sellmeier(glass == GLASS_BK7 ? GLASS_FUSED_SILICA : GLASS_BK7, lambda);
+      EXPECT_GT(std::fabs(deviation - analytic(other)), 0.02) << "a planted wrong glass";
+      if (lastLambda > 0.0 && std::fabs(lambda - lastLambda) > 5.0)
+        EXPECT_EQ(lambda < lastLambda, deviation > lastDeviation) << "shorter waves bend more";
+      lastLambda = lambda;
+      lastDeviation = deviation;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace wp::test

@@ -39,7 +39,9 @@ struct Bsdf {
   vec4 lobeExtra0[BSDF_MAX_LOBES];
   vec4 lobeExtra1[BSDF_MAX_LOBES];
   vec4 lobeExtra2[BSDF_MAX_LOBES];
-  float lobeDispersion[BSDF_MAX_LOBES]; // a metal-rough lobe's dispersion, 20 / Abbe number (FEATURE_DISPERSION)
+  // A lobe's dispersion (FEATURE_DISPERSION): a metal-rough lobe's 20 /
+  // Abbe number (> 0), or a dielectric's named glass, -(GLASS_* + 1) (< 0).
+  float lobeDispersion[BSDF_MAX_LOBES];
   float lobeWeight[BSDF_MAX_LOBES];
   // A sheen layer (MAT_SHEEN): x max3 of its colour (0: none), y its
   // roughness, z x times its bounded albedo at wo; and the lobes under it

@@ -162,13 +162,14 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
 // which the path carries alone from then on, three times as strong (the
 // other channels' light is estimated by the paths that picked them); its
 // lobes, and every dispersive lobe after, take that channel's index: in RGB
-// the red, green or blue of dispersed_ior, in the spectral mode the index
-// at the channel's wavelength (pbrt-v4 keeps the hero wavelength alone; any
-// one of the three, picked uniformly, is as unbiased).
+// the red, green or blue of dispersed_ior (a named glass's at the C, d and F
+// lines), in the spectral mode the index at the channel's wavelength
+// (pbrt-v4 keeps the hero wavelength alone; any one of the three, picked
+// uniformly, is as unbiased).
 void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
   bool dispersive = false;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && b.lobeDispersion[i] > 0.0f) dispersive = true;
+    if (i < b.lobeCount && b.lobeDispersion[i] != 0.0f) dispersive = true;
   }
   if (!dispersive) return;
   uint channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
@@ -178,10 +179,15 @@ void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
     p.throughput *= vec3(channel == 1u ? 3.0f : 0.0f, channel == 2u ? 3.0f : 0.0f, channel == 3u ? 3.0f : 0.0f);
   }
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (!(i < b.lobeCount && b.lobeDispersion[i] > 0.0f)) continue;
-    float lambda = channel == 1u ? lambdas.x : channel == 2u ? lambdas.y : lambdas.z;
-    b.lobeParamYzw[i].y = spectral_mode() ? dispersed_ior_at(b.lobeParamYzw[i].y, b.lobeDispersion[i], lambda)
-                                          : dispersed_ior(b.lobeParamYzw[i].y, b.lobeDispersion[i], channel);
+    if (!(i < b.lobeCount && b.lobeDispersion[i] != 0.0f)) continue;
+    float lambda = spectral_mode() ? (channel == 1u ? lambdas.x : channel == 2u ? lambdas.y : lambdas.z)
+                                   : (channel == 1u ? FRAUNHOFER_C_NM : channel == 2u ? FRAUNHOFER_D_NM : FRAUNHOFER_F_NM);
+    float d = b.lobeDispersion[i];
+    if (d < 0.0f) {
+      b.lobeParam[i] = glass_ior(uint(-d) - 1u, lambda);  // the dielectric kinds' ior: params.x
+    } else {
+      b.lobeParamYzw[i].y = spectral_mode() ? dispersed_ior_at(b.lobeParamYzw[i].y, d, lambda) : dispersed_ior(b.lobeParamYzw[i].y, d, channel);
+    }
   }
 }
 

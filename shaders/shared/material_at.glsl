@@ -45,6 +45,9 @@ void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, Surfa
   Lobe l = lobe_with_params(m.params, m.params2);
   float dispersion = 0.0f;
   if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && m.info.x == MAT_METAL_ROUGH) metal_rough_at(l, dispersion, m, s, b.ns);
+  // A dielectric of a named glass (params.w: GLASS_* + 1) disperses by it.
+  if (FEATURE_COMPILED(FEATURE_DISPERSION) && (m.info.x == MAT_DIELECTRIC || m.info.x == MAT_ROUGH_DIELECTRIC) && m.params.w > 0.0f)
+    dispersion = -m.params.w;
   bsdf_store_params(b, k, l);
   if (FEATURE_COMPILED(FEATURE_DISPERSION)) b.lobeDispersion[k] = dispersion;
 }

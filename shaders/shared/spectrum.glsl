@@ -109,8 +109,10 @@ vec3 path_wavelengths(float u) {
 // path's wavelength sample in the spectral mode (0 in RGB).
 #define THIN_FILM_SPECTRAL 1.0f
 
-// Measured metals: their ids (METAL_*) and indices of refraction.
+// Measured metals: their ids (METAL_*) and indices of refraction; named
+// glasses (GLASS_*).
 #include "metal_spectra.glsl"
+#include "glasses.glsl"
 
 // The spectral mode's tables (BINDING_SPECTRA, RGBA32F texels), from
 // SPECTRA_FILM: the film's white balance (xyz: linear sRGB is divided by

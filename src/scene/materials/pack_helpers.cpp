@@ -1,5 +1,6 @@
 #include "scene/materials/pack_helpers.h"
 
+#include "render/shader_cpp.h"
 #include "render/spectra.h"
 
 namespace wp::materials {
@@ -42,6 +43,37 @@ void pack_conductor_index(const MaterialInputs& in, glm::vec3& eta, glm::vec3& k
   const uint32_t id = *metal_named(metal);
   metal_rgb(id, eta, k);
   named = CONDUCTOR_NAMED * float(id + 1u);
+}
+
+namespace {
+
+#define WP_GLASS_NAME(id, name, b1, b2, b3, b4, c1, c2, c3, c4) name,
+const char* const kGlassNames[] = {WP_GLASSES(WP_GLASS_NAME)};
+#undef WP_GLASS_NAME
+
+}  // namespace
+
+std::vector<ParamSpec> dielectric_params() {
+  std::string glasses = "none";
+  for (const char* g : kGlassNames) glasses += std::string("|") + g;
+  return {ParamSpec::number("ior", 1.5f, positive_range()), ParamSpec::choice("glass", glasses)};
+}
+
+float pack_dielectric_ior(const MaterialInputs& in, float& glass) {
+  const std::string& name = in.choice("glass");
+  glass = 0.0f;
+  if (name == "none") return in.number("ior");
+  if (in.given("ior")) in.fail("glass", "a named glass brings its own index of refraction: give \"glass\" or \"ior\", not both");
+  for (uint32_t g = 0; g < GLASS_COUNT; ++g) {
+    if (name != kGlassNames[g]) continue;
+    glass = float(g + 1u);
+    return shader::ShaderMath().glass_ior(g, FRAUNHOFER_D_NM);
+  }
+  in.fail("glass", "unknown glass \"" + name + "\"");
+}
+
+uint32_t dielectric_features(const shader::Material& record) {
+  return record.params.w > 0.0f ? KIND_BIT(FEATURE_DISPERSION) : 0u;
 }
 
 }  // namespace wp::materials

@@ -26,4 +26,13 @@ uint32_t layer_base(const MaterialInputs& in, bool sheen);
 void pack_conductor_index(const MaterialInputs& in, glm::vec3& eta, glm::vec3& k, float& named);
 std::vector<ParamSpec> conductor_params();
 
+// A dielectric's index of refraction: param "ior", or "glass", a named
+// glass (glasses.glsl), whose index at the d line it takes; `glass` is
+// GLASS_* + 1, or 0 for an ior given (the dielectric kinds' params.w). Both
+// dielectric kinds take these two params (dielectric_params), and a named
+// glass needs FEATURE_DISPERSION (dielectric_features).
+float pack_dielectric_ior(const MaterialInputs& in, float& glass);
+std::vector<ParamSpec> dielectric_params();
+uint32_t dielectric_features(const shader::Material& record);
+
 }  // namespace wp::materials
