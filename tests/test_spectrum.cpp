@@ -198,19 +198,19 @@ glm::dvec3 film_rgb(SceneView& v, F spectrum, int n = 20000) {
 TEST(Spectral, TheFilmRendersWhiteLightWhiteAndColoursAsTheyAre) {
   SceneView v = spectral_view();
   auto d65 = [&](glm::vec3 l) { return glm::vec3(v.illuminant_d65(l.x), v.illuminant_d65(l.y), v.illuminant_d65(l.z)); };
-  const glm::dvec3 white = film_rgb(v, [&](glm::vec3 l) { return v.illuminant_spectrum(glm::vec3(1.0f), l); });
+  const glm::dvec3 white = film_rgb(v, [&](glm::vec3 l) { return v.light_spectrum(glm::vec3(1.0f), l); });
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(white[c], 1.0, 2e-3) << "channel " << c;
-  const glm::dvec3 flat = film_rgb(v, [&](glm::vec3) { return glm::vec3(1.0f); });
+  const glm::dvec3 flat = film_rgb(v, [&](glm::vec3 l) { return glm::vec3(1.0f) / d65(l); });
   EXPECT_GT(glm::length(flat / flat.y - glm::dvec3(1.0)), 0.05) << "a planted equal-energy white";
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (int trial = 0; trial < 24; ++trial) {
     const glm::vec3 rgb(u(rng), u(rng), u(rng));
-    const glm::dvec3 got = film_rgb(v, [&](glm::vec3 l) { return v.reflectance_spectrum(rgb, l) * d65(l); });
+    const glm::dvec3 got = film_rgb(v, [&](glm::vec3 l) { return v.reflectance_spectrum(rgb, l) * v.light_spectrum(glm::vec3(1.0f), l); });
     const double largest = std::max({rgb.x, rgb.y, rgb.z});
     EXPECT_LT(glm::length(got - glm::dvec3(rgb)), 0.01 * largest + 2e-3) << rgb.x << " " << rgb.y << " " << rgb.z;
     // Emitted colours (unbounded) too, at any brightness.
-    const glm::dvec3 lit = film_rgb(v, [&](glm::vec3 l) { return v.illuminant_spectrum(rgb * 7.0f, l); });
+    const glm::dvec3 lit = film_rgb(v, [&](glm::vec3 l) { return v.light_spectrum(rgb * 7.0f, l); });
     EXPECT_LT(glm::length(lit / 7.0 - glm::dvec3(rgb)), 0.01 * largest + 2e-3) << rgb.x << " " << rgb.y << " " << rgb.z;
   }
 }
@@ -239,7 +239,8 @@ TEST(Spectral, GoldAtNormalIncidenceReflectsAsMeasured) {
 
 // The furnace box (grey walls of albedo 1/2 that emit white 1/2), rendered
 // spectrally with the wavelengths confined to each tenth of the sampler's
-// range in turn: at every wavelength a path carries, its radiance over D65
+// range in turn: at every wavelength a path carries, its radiance (over D65,
+// which the film applies: light_spectrum)
 // has the RGB render's mean, 1 - 1/2^3 at two bounces. `plant` scales the
 // radiance (a planted bias); returns the largest |z| over the bands.
 double furnace_band_z(double plant) {
@@ -261,9 +262,8 @@ double furnace_band_z(double plant) {
         AovSample aov;
         const PathState p = v.trace_sample(pixel, s, rays, aov);
         EXPECT_TRUE(p.wavelengths >= v.wavelengthBand.x && p.wavelengths <= v.wavelengthBand.y) << p.wavelengths;
-        const glm::vec3 l = v.path_wavelengths(p.wavelengths);
         for (int c = 0; c < 3; ++c) {
-          const double x = plant * double(p.radiance[c]) / double(v.illuminant_d65(l[c]));
+          const double x = plant * double(p.radiance[c]);  // (over D65: light_spectrum)
           sum += x;
           sumSq += x * x;
           ++n;

@@ -302,7 +302,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   // Emission, seen from the front side only.
   vec3 le = emitted_radiance(s, wo);
   if (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f) {
-    if (spectral_mode()) le = illuminant_spectrum(le, lambdas);
+    if (spectral_mode()) le = light_spectrum(le, lambdas);
     float w = 1.0f;
     if ((p.flags & PATH_SPECULAR) == 0u && s.emitter == WP_INVALID) {
       // Outside the light table (CS184's emissive meshes): only BSDF sampling
@@ -328,7 +328,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (j >= lightSamples) break;
     vec3 uLight = rng_next3(p.rng);
     if (!(useNee && hasSmooth && sample_emitter(s.p, uLight, ls))) continue;
-    if (spectral_mode()) ls.radiance = illuminant_spectrum(ls.radiance, lambdas);
+    if (spectral_mode()) ls.radiance = light_spectrum(ls.radiance, lambdas);
     vec3 f = bsdf_eval(b, wo, ls.wi);
     if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
     float nPdf = float(lightSamples) * ls.pdf;

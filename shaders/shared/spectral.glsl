@@ -8,7 +8,7 @@
 // four, is the price (docs/architecture.md, "Spectral mode"). Inputs stay RGB
 // where the scene gives RGB and are uplifted where the path meets them:
 // reflectances by Jakob and Hanika's (2019) smooth spectra, emitters the
-// same times D65 (white light is D65), indices of refraction and absorption
+// same times D65 (white light is D65; the film applies the factor), indices of refraction and absorption
 // unbounded (pbrt-v4's RGBUnboundedSpectrum: 2m times the reflectance
 // spectrum of rgb / 2m, m its largest component). A dispersive boundary
 // keeps one wavelength (integrator.glsl's disperse). The film converts each
@@ -40,8 +40,13 @@ float inverse_smoothstep(float y) {
   return 0.5f - sin(asin(clamp(1.0f - 2.0f * y, -1.0f, 1.0f)) * (1.0f / 3.0f));
 }
 
+// The table's brightness values, smoothstep(smoothstep(k / (res - 1))):
+// computed, not fetched (the table holds them too, for the host; within an
+// ulp of these).
 float rgb_to_spectrum_scale(int k) {
-  return texelFetch(spectrumTexels, SPECTRA_RGB_SCALE + k).x;
+  float t = float(k) * (1.0f / float(RGB_TO_SPECTRUM_RES - 1));
+  t = t * t * (3.0f - 2.0f * t);
+  return t * t * (3.0f - 2.0f * t);
 }
 
 // The sigmoid-polynomial coefficients of reflectance rgb (clamped to [0, 1]):
@@ -70,14 +75,20 @@ vec3 rgb_to_spectrum_coefficients(vec3 rgb) {
   // The scale is smoothstep(smoothstep(k / (res - 1))): inverted, then the
   // cell whose scale values bracket z (rounding may land one off).
   int zi = clamp(int(inverse_smoothstep(inverse_smoothstep(z)) * float(res - 1)), 0, res - 2);
-  for (int step = 0; step < 2; ++step) {
-    if (zi > 0 && z < rgb_to_spectrum_scale(zi)) zi -= 1;
-    if (zi < res - 2 && z >= rgb_to_spectrum_scale(zi + 1)) zi += 1;
-  }
   float z0 = rgb_to_spectrum_scale(zi);
+  float z1 = rgb_to_spectrum_scale(zi + 1);
+  if (zi > 0 && z < z0) {
+    zi -= 1;
+    z1 = z0;
+    z0 = rgb_to_spectrum_scale(zi);
+  } else if (zi < res - 2 && z >= z1) {
+    zi += 1;
+    z0 = z1;
+    z1 = rgb_to_spectrum_scale(zi + 1);
+  }
   float dx = x - float(xi);
   float dy = y - float(yi);
-  float dz = (z - z0) / (rgb_to_spectrum_scale(zi + 1) - z0);
+  float dz = (z - z0) / (z1 - z0);
   vec3 c = vec3(0.0f);
   for (int corner = 0; corner < 8; ++corner) {
     int ci = xi + (corner & 1);
@@ -115,15 +126,18 @@ vec3 unbounded_spectrum(vec3 rgb, vec3 lambdas) {
   return 2.0f * m * sigmoid_polynomial3(rgb_to_spectrum_coefficients(rgb * (0.5f / m)), lambdas);
 }
 
-// Radiance given in RGB at the wavelengths: its unbounded spectrum times
-// D65, so that RGB white is D65 and renders as white.
-vec3 illuminant_spectrum(vec3 rgb, vec3 lambdas) {
-  return unbounded_spectrum(rgb, lambdas) * vec3(illuminant_d65(lambdas.x), illuminant_d65(lambdas.y), illuminant_d65(lambdas.z));
+// Radiance given in RGB at the wavelengths, over D65: every light's
+// spectrum is D65 times its unbounded spectrum (RGB white is D65 and renders
+// white), and since every path's light comes from lights, the film applies
+// the D65 factor once per sample (spectral_sample_rgb), not each light at
+// each vertex.
+vec3 light_spectrum(vec3 rgb, vec3 lambdas) {
+  return unbounded_spectrum(rgb, lambdas);
 }
 
 // Radiance in the path's terms: as given in RGB, uplifted in the spectral mode.
 vec3 path_radiance(vec3 rgb, PathState p) {
-  return spectral_mode() ? illuminant_spectrum(rgb, path_wavelengths(p.wavelengths)) : rgb;
+  return spectral_mode() ? light_spectrum(rgb, path_wavelengths(p.wavelengths)) : rgb;
 }
 
 // The index of refraction (and absorption) of metal `metal` (METAL_*,
@@ -206,16 +220,17 @@ float dispersed_ior_at(float ior, float dispersion, float lambda) {
   return max(n, METAL_ROUGH_MIN_IOR);
 }
 
-// The sample's linear sRGB: radiance l at the wavelengths of sample u,
-// through the colour matching functions, each over its wavelength's
-// density, averaged (a path that kept one wavelength carries it at three
-// times its weight: disperse), to XYZ and to white-balanced sRGB (the
-// film's gains put D65 at (1, 1, 1), as the uplift's table assumes).
+// The sample's linear sRGB: radiance l over D65 (light_spectrum) at the
+// wavelengths of sample u, times D65, through the colour matching
+// functions, each over its wavelength's density, averaged (a path that kept
+// one wavelength carries it at three times its weight: disperse), to XYZ
+// and to white-balanced sRGB (the film's gains put D65 at (1, 1, 1), as the
+// uplift's table assumes).
 vec3 spectral_sample_rgb(vec3 l, float u) {
   vec3 lambdas = path_wavelengths(u);
-  vec3 xyz = l.x / visible_wavelength_pdf(lambdas.x) * cie_xyz_bar(lambdas.x) +
-             l.y / visible_wavelength_pdf(lambdas.y) * cie_xyz_bar(lambdas.y) +
-             l.z / visible_wavelength_pdf(lambdas.z) * cie_xyz_bar(lambdas.z);
+  vec3 xyz = l.x * illuminant_d65(lambdas.x) / visible_wavelength_pdf(lambdas.x) * cie_xyz_bar(lambdas.x) +
+             l.y * illuminant_d65(lambdas.y) / visible_wavelength_pdf(lambdas.y) * cie_xyz_bar(lambdas.y) +
+             l.z * illuminant_d65(lambdas.z) / visible_wavelength_pdf(lambdas.z) * cie_xyz_bar(lambdas.z);
   vec3 rgb = xyz_to_linear_srgb(xyz * (1.0f / (float(PATH_WAVELENGTHS) * CIE_Y_INTEGRAL)));
   vec4 gains = texelFetch(spectrumTexels, SPECTRA_FILM);
   return vec3(rgb.x / gains.x, rgb.y / gains.y, rgb.z / gains.z);

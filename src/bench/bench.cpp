@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 
 #include <tbb/blocked_range.h>
@@ -64,11 +65,27 @@ struct SceneResult {
   std::vector<VariantResult> variants;
 };
 
+// A timed renderer: a kernel variant, in RGB or (a name ending in
+// ":spectral") in the spectral mode, so that one run times both modes
+// interleaved (the spectral mode's cost, docs/benchmarks.md).
+struct BenchVariant {
+  const KernelVariant* kernel;
+  bool spectral;
+  std::string label;
+};
+
+BenchVariant bench_variant(const std::string& name) {
+  const size_t colon = name.find(':');
+  if (colon != std::string::npos && name.substr(colon) != ":spectral")
+    throw InputError("--variants: \"" + name + "\": a variant may end in :spectral, nothing else");
+  return BenchVariant{&kernel_variant(name.substr(0, colon)), colon != std::string::npos, name};
+}
+
 }  // namespace
 
 int run_bench(const BenchOptions& o) {
-  std::vector<const KernelVariant*> variants;
-  for (const std::string& name : o.variants) variants.push_back(&kernel_variant(name));
+  std::vector<BenchVariant> variants;
+  for (const std::string& name : o.variants) variants.push_back(bench_variant(name));
   std::vector<Scene> scenes;
   for (const std::string& path : o.scenes) scenes.push_back(load_scene(path));  // all input errors before any work
 
@@ -90,7 +107,16 @@ int run_bench(const BenchOptions& o) {
     RenderOptions ref;
     ref.spp = o.checkSpp;
     ref.seed = 1;
-    ImageStats reference = render_cpu(compile_scene(small, reference_options(ref)), 0, quiet);
+    // One reference a colour mode, rendered where a variant needs it.
+    std::map<bool, ImageStats> references;
+    auto reference_of = [&](bool spectral) -> const ImageStats& {
+      if (!references.count(spectral)) {
+        RenderOptions r = ref;
+        r.spectral = spectral;
+        references.emplace(spectral, render_cpu(compile_scene(small, reference_options(r)), 0, quiet));
+      }
+      return references.at(spectral);
+    };
 
     // Check every variant first; keep a renderer (scene uploaded, pipelines
     // built, warmed up) for each that agrees.
@@ -101,10 +127,13 @@ int run_bench(const BenchOptions& o) {
       std::vector<double> seconds, rates, stages[StageTimes::kStages], closestRates, shadowRates;
     };
     std::vector<Timed> timedVariants;
-    for (const KernelVariant* v : variants) {
+    for (const BenchVariant& bv : variants) {
+      const KernelVariant* v = bv.kernel;
       VariantResult vr;
-      vr.variant = v->name;
-      auto cs = std::make_unique<CompiledScene>(compile_scene(scene, variant_options(timed, v->name)));
+      vr.variant = bv.label;
+      RenderOptions mode = timed;
+      mode.spectral = bv.spectral;
+      auto cs = std::make_unique<CompiledScene>(compile_scene(scene, variant_options(mode, v->name)));
       vr.bvh = bvh_figures(*cs, sr.primitives);
       sr.width = cs->width;
       sr.height = cs->height;
@@ -112,18 +141,19 @@ int run_bench(const BenchOptions& o) {
       sr.maxBounces = int(cs->params.image.z);
       RenderOptions check = ref;
       check.seed = 2;
+      check.spectral = bv.spectral;
       {
         WavefrontRenderer checker(ctx, compile_scene(small, variant_options(check, v->name)), v->settings);
         ImageStats checked = checker.render(quiet);
         if (o.plantedBias != 1.0f) plant_bias(checked, o.plantedBias);
-        CompareResult c = compare_images(checked, reference);
+        CompareResult c = compare_images(checked, reference_of(bv.spectral));
         vr.checked = c.passed();
         vr.check = c.summary();
       }
       sr.variants.push_back(vr);
       if (!vr.checked) {
         allChecked = false;
-        std::fprintf(stderr, "wavepath: %s on %s disagrees with the CPU reference; not timed:\n  %s\n", v->name.c_str(),
+        std::fprintf(stderr, "wavepath: %s on %s disagrees with the CPU reference; not timed:\n  %s\n", bv.label.c_str(),
                      sr.scene.c_str(), vr.check.c_str());
         continue;
       }

@@ -13,7 +13,9 @@ Command add_bench(CLI::App& app) {
   CLI::App* benchCmd = app.add_subcommand(
       "bench", "time kernel variants side by side on scenes; a variant is timed only after it agrees with the CPU reference");
   benchCmd->add_option("--scenes", bench->scenes, "scene files, separated by commas (default scenes/cornell-box.json)")->delimiter(',');
-  benchCmd->add_option("--variants", bench->variants, "kernel variants (default: all; wavepath devices lists them)")->delimiter(',');
+  benchCmd->add_option("--variants", bench->variants,
+                       "kernel variants (default: all; wavepath devices lists them); NAME:spectral renders in the spectral mode")
+      ->delimiter(',');
   benchCmd->add_option("--spp", bench->spp, "samples per pixel of each timed render (default 4)")->check(CLI::Range(1, 1 << 20));
   benchCmd->add_option("--repeats", bench->repeats, "timed renders per variant, after one warm-up (default 3)")->check(CLI::Range(1, 1000));
   benchCmd->add_option("--resolution", bench->resolution, "image size W H, overriding the scenes'")->expected(2)->check(CLI::Range(1, MAX_IMAGE_SIZE));
