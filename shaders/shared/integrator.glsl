@@ -85,9 +85,15 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.medium = FEATURE_COMPILED(FEATURE_MEDIA) ? scene.media.x : 0u;
   p.travelled = 0.0f;
   p.crossings = 0u;
-  // The spectral mode's wavelengths, drawn after the camera's numbers so
-  // that an RGB render's stay as they were.
-  p.wavelengths = spectral_mode() ? WP_WAVELENGTH_SAMPLE(rng_next(p.rng)) : 0.0f;
+  // The spectral mode's wavelengths: a pixel's samples take them from its
+  // own randomly shifted golden-ratio sequence (in 32-bit fixed point, exact
+  // at any sample index), so that each sample's are uniform and unbiased
+  // while a pixel's spread over the range far more evenly than independent
+  // draws: most of the colour noise a few samples show is the luck of their
+  // wavelengths.
+  uint shift = pcg_hash(pixel ^ pcg_hash(scene.counts.y ^ 0x5bd1e995u));
+  float u = float((shift + sampleIndex * 2654435769u) >> 8) * (1.0f / 16777216.0f);
+  p.wavelengths = spectral_mode() ? WP_WAVELENGTH_SAMPLE(u) : 0.0f;
 }
 
 // A shadow ray that adds `contribution` to the path's pixel when the segment
@@ -158,14 +164,14 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
 }
 
 // A dispersive volume's boundary (FEATURE_DISPERSION) refracts each colour
-// by its own index. The first one a path meets picks one channel uniformly,
-// which the path carries alone from then on, three times as strong (the
-// other channels' light is estimated by the paths that picked them); its
-// lobes, and every dispersive lobe after, take that channel's index: in RGB
-// the red, green or blue of dispersed_ior (a named glass's at the C, d and F
-// lines), in the spectral mode the index at the channel's wavelength
-// (pbrt-v4 keeps the hero wavelength alone; any one of the three, picked
-// uniformly, is as unbiased).
+// by its own index. The first one a path meets picks one channel uniformly
+// (in the spectral mode, always its hero wavelength, as pbrt-v4 does: a
+// pixel's samples spread their heroes evenly, path_begin), which the path
+// carries alone from then on, three times as strong (the other channels'
+// light is estimated by the paths that picked them); its lobes, and every
+// dispersive lobe after, take that channel's index: in RGB the red, green
+// or blue of dispersed_ior (a named glass's at the C, d and F lines), in the
+// spectral mode the index at the hero's wavelength.
 void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
   bool dispersive = false;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
@@ -175,6 +181,7 @@ void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
   uint channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
   if (channel == 0u) {
     channel = 1u + min(uint(rng_next(p.rng) * 3.0f), 2u);
+    if (spectral_mode()) channel = 1u;
     p.flags |= channel << PATH_CHANNEL_SHIFT;
     p.throughput *= vec3(channel == 1u ? 3.0f : 0.0f, channel == 2u ? 3.0f : 0.0f, channel == 3u ? 3.0f : 0.0f);
   }
