@@ -338,8 +338,8 @@ double sellmeier(uint32_t glass, double lambdaNm) {
   return std::sqrt(n2);
 }
 
-// A 60-degree prism of each named glass (24 degrees of diamond, which
-// reflects the steeper one's light totally), in the spectral mode: a ray
+// A 45-degree prism of each named glass (24 degrees of diamond: steeper
+// prisms reflect the violet totally), in the spectral mode: a ray
 // enters one face at half the apex angle and leaves by the other, refracted both times by
 // the kernels' dielectric lobe at the index disperse gives the wavelength
 // the path keeps. Band by band over the wavelengths, its deviation is what
@@ -355,7 +355,7 @@ TEST(Spectral, PrismDeviationFollowsEachGlassSellmeierIndex) {
   EXPECT_NEAR(sellmeier(GLASS_DIAMOND, 587.56), 2.4173, 1e-3);
   const glm::vec3 d(1.0f, 0.0f, 0.0f);
   for (uint32_t glass = 0; glass < GLASS_COUNT; ++glass) {
-    const double apex = (glass == GLASS_DIAMOND ? 24.0 : 60.0) * WP_PI / 180.0, t1 = apex / 2.0;
+    const double apex = (glass == GLASS_DIAMOND ? 24.0 : 45.0) * WP_PI / 180.0, t1 = apex / 2.0;
     const glm::vec3 n1(-std::cos(float(t1)), std::sin(float(t1)), 0.0f), n2(std::cos(float(t1)), std::sin(float(t1)), 0.0f);
     auto analytic = [&](double n) { return t1 + std::asin(n * std::sin(apex - std::asin(std::sin(t1) / n))) - apex; };
     double lastLambda = 0.0, lastDeviation = 0.0;
