@@ -163,8 +163,28 @@ TEST(DartsKeys, TyposGetASuggestionAndOtherWordsTheList) {
   expect_error(R"({"camera": {"zoom": 2}})", {"/camera/zoom", "expected one of: transform, vfov"});
 }
 
+// wavepath's integrator key "spectral" renders the scene spectrally; the
+// command line's --rgb (RenderOptions::spectral false) overrides it, and the
+// preview integrators ignore it.
+TEST(DartsKeys, SpectralIsAnIntegratorKey) {
+  const Scene s = load_scene(write_scene("spectral-key.json", R"({"integrator": {"type": "path tracer mis", "spectral": true},
+    "surfaces": [{"type": "sphere", "material": {"type": "lambertian"}}]})"));
+  EXPECT_TRUE(s.integrator.spectral);
+  EXPECT_TRUE(compile_scene(s, RenderOptions{}).spectral);
+  EXPECT_NE(compile_scene(s, RenderOptions{}).params.counts.w & SCENE_FLAG_SPECTRAL, 0u);
+  RenderOptions rgb;
+  rgb.spectral = false;
+  EXPECT_FALSE(compile_scene(s, rgb).spectral);
+  RenderOptions normals;
+  normals.integrator = IntegratorKind::Normals;
+  EXPECT_FALSE(compile_scene(s, normals).spectral);
+}
+
 TEST(DartsKeys, WhatWavepathCannotHonourIsRefusedWithTheReason) {
   expect_error(R"({"type": "tests", "tests": []})", {"/type", "wavepath test"});
+  expect_error(R"({"integrator": {"type": "path tracer mis", "spectral": "yes"}})", {"/integrator/spectral", "expected true or false"});
+  expect_error(R"({"materials": [{"type": "rough_conductor", "metal": "Zn"}]})", {"/materials/0/metal", "\"Au\""});
+  expect_error(R"({"materials": [{"type": "dielectric", "glass": "BK7", "ior": 1.6}]})", {"/materials/0/glass", "not both"});
   expect_error(R"({"camera": {"transform": {"matrix": 2}}})", {"/camera/transform/matrix", "16 numbers"});
 }
 
