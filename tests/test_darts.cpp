@@ -183,8 +183,8 @@ TEST(DartsKeys, SpectralIsAnIntegratorKey) {
 TEST(DartsKeys, WhatWavepathCannotHonourIsRefusedWithTheReason) {
   expect_error(R"({"type": "tests", "tests": []})", {"/type", "wavepath test"});
   expect_error(R"({"integrator": {"type": "path tracer mis", "spectral": "yes"}})", {"/integrator/spectral", "expected true or false"});
-  expect_error(R"({"materials": [{"type": "rough_conductor", "metal": "Zn"}]})", {"/materials/0/metal", "\"Au\""});
-  expect_error(R"({"materials": [{"type": "dielectric", "glass": "BK7", "ior": 1.6}]})", {"/materials/0/glass", "not both"});
+  expect_error(R"({"materials": [{"type": "rough_conductor", "name": "m", "metal": "Zn"}]})", {"/materials/0/metal", "\"Au\""});
+  expect_error(R"({"materials": [{"type": "dielectric", "name": "g", "glass": "BK7", "ior": 1.6}]})", {"/materials/0/glass", "not both"});
   expect_error(R"({"camera": {"transform": {"matrix": 2}}})", {"/camera/transform/matrix", "16 numbers"});
 }
 
