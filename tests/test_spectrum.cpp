@@ -173,7 +173,7 @@ TEST(Spectrum, UpliftedReflectancesKeepTheirColour) {
 SceneView spectral_view() {
   SceneView v;
   v.spectrumTexels = spectra_texels().texels;
-  v.scene.kinds.w = KIND_BIT(FEATURE_SPECTRAL);
+  v.scene.kinds.w = KIND_BIT(FEATURE_SPECTRAL) | KIND_BIT(FEATURE_SPECTRAL_TABLE);
   v.scene.counts.w = SCENE_FLAG_SPECTRAL;
   return v;
 }
@@ -213,6 +213,66 @@ TEST(Spectral, TheFilmRendersWhiteLightWhiteAndColoursAsTheyAre) {
     const glm::dvec3 lit = film_rgb(v, [&](glm::vec3 l) { return v.light_spectrum(rgb * 7.0f, l); });
     EXPECT_LT(glm::length(lit / 7.0 - glm::dvec3(rgb)), 0.01 * largest + 2e-3) << rgb.x << " " << rgb.y << " " << rgb.z;
   }
+}
+
+// The memo of a scene's constant colours (compile_spectral_colours): the
+// Cornell box computes no colour, so its kernels have no table, and every
+// constant colour of it (its walls' reflectances, its light's radiance) is
+// in the memo, each kind, with the coefficients the table gives it; a
+// colour it does not hold fails the CPU reference's render. A scene that
+// blends colours keeps the table. A memo fitted without regard to the kind
+// (a planted error) is caught.
+TEST(Spectral, ConstantColoursAreMemoisedWithTheTablesCoefficients) {
+  RenderOptions o;
+  o.spectral = true;
+  CompiledScene cs = compile_scene(load_scene(source_path("scenes/cornell-box.json")), o);
+  ASSERT_GT(cs.params.media.y, 0u);
+  ASSERT_EQ(cs.params.kinds.w & KIND_BIT(FEATURE_SPECTRAL_TABLE), 0u);
+  SceneView v = cs.view();
+  SceneView table = cs.view();
+  table.scene.kinds.w |= KIND_BIT(FEATURE_SPECTRAL_TABLE);
+  int found = 0;
+  for (const Texture& t : cs.textures) {
+    if ((t.info.x & TEX_TYPE_MASK) != TEX_CONSTANT) continue;
+    const glm::vec3 rgb(t.color0);
+    if (rgb.x == rgb.y && rgb.y == rgb.z) continue;
+    for (uint32_t kind : {SPECTRAL_COLOUR_REFLECTANCE, SPECTRAL_COLOUR_UNBOUNDED}) {
+      glm::vec3 c(0.0f);
+      ASSERT_TRUE(v.spectral_colour_memo(rgb, kind, c)) << rgb.x << " " << rgb.y << " " << rgb.z << " kind " << kind;
+      float scale = 0.0f;
+      EXPECT_EQ(c, table.colour_coefficients(rgb, kind, scale));
+      ++found;
+    }
+  }
+  EXPECT_GE(found, 8) << "the walls' three colours and the light's, each kind";
+  const glm::vec3 lambdas(450.0f, 550.0f, 650.0f);
+  EXPECT_THROW(v.reflectance_spectrum(glm::vec3(0.3f, 0.2f, 0.1f), lambdas), RenderError);
+  EXPECT_EQ(v.reflectance_spectrum(glm::vec3(0.4f), lambdas), glm::vec3(0.4f)) << "a grey needs no coefficients";
+
+  const std::string blended = write_scene("spectral-blend.json", R"({
+    "camera": { "transform": { "from": [0, 0, 4], "at": [0, 0, 0], "up": [0, 1, 0] }, "vfov": 40, "resolution": [8, 8] },
+    "materials": [
+      { "type": "blend", "name": "mix", "amount": 0.3, "a": { "type": "lambertian", "albedo": [0.8, 0.1, 0.1] },
+        "b": { "type": "lambertian", "albedo": [0.1, 0.1, 0.8] } }
+    ],
+    "surfaces": [ { "type": "sphere", "radius": 1, "material": "mix" } ]
+  })");
+  const CompiledScene withTable = compile_scene(load_scene(blended), o);
+  EXPECT_NE(withTable.params.kinds.w & KIND_BIT(FEATURE_SPECTRAL_TABLE), 0u);
+  EXPECT_EQ(withTable.params.media.y, 0u);
+
+  // Every entry fitted as a reflectance, whatever its kind: the light's
+  // radiance would be uplifted as the reflectance of its colour.
+  std::vector<glm::vec4> planted = cs.spectralColours;
+  for (size_t i = 0; i < planted.size(); i += 2) {
+    if (planted[i].w < 0.0f) continue;
+    float scale = 0.0f;
+    planted[i + 1] = glm::vec4(table.colour_coefficients(glm::vec3(planted[i]), SPECTRAL_COLOUR_REFLECTANCE, scale), 0.0f);
+  }
+  v.spectralColourTexels = planted.data();
+  const glm::vec3 light(17.0f, 12.0f, 4.0f);
+  EXPECT_GT(glm::length(v.unbounded_spectrum(light, lambdas) - table.unbounded_spectrum(light, lambdas)), 0.1f)
+      << "a memo that confuses the kinds";
 }
 
 // Gold at normal incidence, through the kernels' conductor code at three

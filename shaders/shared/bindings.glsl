@@ -39,7 +39,8 @@
 #define BINDING_PHOTONS 30  // the photon map (INTEGRATOR_PHOTONS), RGBA32UI texels
 #define BINDING_INSTANCES 31  // instances of meshes (FEATURE_INSTANCES)
 #define BINDING_SPECTRA 32    // the spectral mode's tables (FEATURE_SPECTRAL; spectral.glsl), RGBA32F texels
-#define BINDING_COUNT 33
+#define BINDING_SPECTRAL_COLOURS 33  // the scene's constant colours' uplift coefficients (spectral.glsl), RGBA32F texels
+#define BINDING_COUNT 34
 
 // Where each table starts in the float tables (BINDING_FLOAT_TABLES).
 #include "sheen_albedo.glsl"
@@ -138,6 +139,9 @@ layout(set = 0, binding = BINDING_FLOAT_TABLES) uniform samplerBuffer floatTable
 // film's white balance, D65, the RGB uplift's coefficients, the metals'
 // indices. One placeholder texel where the render is in RGB.
 layout(set = 0, binding = BINDING_SPECTRA) uniform samplerBuffer spectrumTexels;
+// The scene's constant colours with their uplift coefficients, looked up
+// once on the host (spectral.glsl's spectral_colour_memo), RGBA32F.
+layout(set = 0, binding = BINDING_SPECTRAL_COLOURS) uniform samplerBuffer spectralColourTexels;
 // Work buffers, written by the kernels. Paths, hits and shadow rays are also
 // read through texel-buffer views of the same memory (read_path, read_hit,
 // read_shadow_ray in kernel.glsl): on lavapipe a storage-buffer read at a

@@ -213,7 +213,7 @@ bool survives_roulette(INOUT(PathState) p, uint depth) {
 // A real scattering collision at x inside medium `med` (FEATURE_MEDIA):
 // next-event estimation weighted by the phase function, then a direction
 // from the phase function; MIS as at a surface.
-bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, bool useNee, bool useMis, OUT(ShadowRays) srs) {
+bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, vec3 lambdas, bool useNee, bool useMis, OUT(ShadowRays) srs) {
   uint depth = path_depth(p);
   if (depth >= scene.image.z) return false;
   uint lightSamples = LIGHT_SAMPLES_OF_SCENE;
@@ -222,7 +222,7 @@ bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, bool useNee,
     if (j >= lightSamples) break;
     vec3 uLight = rng_next3(p.rng);
     if (!(useNee && sample_emitter(x, uLight, ls))) continue;
-    ls.radiance = path_radiance(ls.radiance, p);
+    ls.radiance = path_radiance(ls.radiance, lambdas);
     float f = medium_phase(med, p.dir, ls.wi);
     if (ls.pdf <= 0.0f || f <= 0.0f) continue;
     float nPdf = float(lightSamples) * ls.pdf;
@@ -269,14 +269,16 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   bool useNee = !mixture && (scene.counts.w & SCENE_FLAG_NO_NEE) == 0u && scene.counts.x > 0u;
   bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
   bool cs184 = (scene.counts.w & SCENE_FLAG_CS184) != 0u;
+  // The spectral mode: the path's wavelengths, at which it sees every colour.
+  vec3 lambdas = spectral_mode() ? path_wavelengths(p.wavelengths) : vec3(0.0f);
   // The medium between the ray's origin and its hit: the path may scatter
   // (or be absorbed) in it first.
   if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && p.medium != 0u) {
-    Medium med = load_medium_at(p.medium, p.wavelengths);
+    Medium med = load_medium_at(p.medium, lambdas);
     float t;
     uint event = medium_free_flight(med, p.origin, p.dir, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
     if (event == MEDIUM_EVENT_ABSORB) return false;
-    if (event == MEDIUM_EVENT_SCATTER) return path_scatter_in_medium(p, med, p.origin + t * p.dir, useNee, useMis, srs);
+    if (event == MEDIUM_EVENT_SCATTER) return path_scatter_in_medium(p, med, p.origin + t * p.dir, lambdas, useNee, useMis, srs);
   }
   if (h.prim == WP_INVALID) {
     if (preview || (cs184 && path_depth(p) > 0u)) return false;
@@ -286,7 +288,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
       float lightPdf = load_emitter(scene.environment.y).pmf * environment_pdf(p.dir);
       w = useMis ? power_heuristic(p.bsdfPdf, float(lightSamples) * lightPdf, scene.mis.x) : 0.0f;
     }
-    p.radiance += p.throughput * path_radiance(background_radiance(p.dir), p) * w;
+    p.radiance += p.throughput * path_radiance(background_radiance(p.dir), lambdas) * w;
     return false;
   }
   SurfaceHit s = surface_at(p.origin, p.dir, h);
@@ -294,8 +296,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
   // The spectral mode: the BSDF's colours at the path's wavelengths.
-  vec3 lambdas = spectral_mode() ? path_wavelengths(p.wavelengths) : vec3(0.0f);
-  if (spectral_mode()) bsdf_at_wavelengths(b, p.wavelengths);
+  if (spectral_mode()) bsdf_at_wavelengths(b, p.wavelengths, lambdas);
   // A segment that ends on the inside of a volume's boundary crossed the
   // volume, which absorbed some of the light along it.
   if (FEATURE_COMPILED(FEATURE_VOLUME) && !b.front) p.throughput *= volume_transmittance(s.material, h.t, lambdas);
@@ -489,6 +490,7 @@ vec3 shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) trunc
   bool finite = tmax < WP_INF;
   vec3 end = finite ? o + dir * tmax : vec3(0.0f);
   vec3 tr = vec3(1.0f);
+  vec3 lambdas = spectral_mode() ? path_wavelengths(wavelengths) : vec3(0.0f);
   const bool interfaces = MATERIAL_COMPILED(MAT_INTERFACE);
   for (uint k = 0u; k <= MEDIUM_CROSSINGS_MAX; ++k) {
     Hit h;
@@ -498,7 +500,7 @@ vec3 shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) trunc
     }
     if (!interfaces && h.prim != WP_INVALID) return vec3(0.0f);
     float t = h.prim == WP_INVALID ? tmax : h.t;
-    if (medium != 0u) tr *= medium_transmittance(load_medium_at(medium, wavelengths), o, dir, t, rng);
+    if (medium != 0u) tr *= medium_transmittance(load_medium_at(medium, lambdas), o, dir, t, rng);
     if (h.prim == WP_INVALID) return tr;
     SurfaceHit s = surface_at(o, dir, h);
     if (!is_interface(s.material) || !(tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f)) return vec3(0.0f);

@@ -43,6 +43,7 @@ layout(constant_id = SPEC_STACK_SIZE) const uint kStackSize = BVH_STACK_MAX;
 #define WP_NOTE_STACK_DEPTH(sp)  // C++ only: the tests check the stack's size
 #define WP_NOTE_STEP()  // C++ only: the ray-casting benchmark counts the walks' iterations
 #define WP_WAVELENGTH_SAMPLE(u) (u)  // C++ only: tests confine the wavelengths to a band
+#define WP_SPECTRAL_COLOUR_UNLISTED(rgb, kind)  // C++ only: the CPU reference checks the host's memo
 // C++ only: what each iteration of a walk did and which stack entries it
 // touched, for the SIMT model of the walks (src/bench/simt_model.h).
 #define WP_NOTE_PHASE(phase)

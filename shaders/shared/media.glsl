@@ -65,10 +65,10 @@ Medium medium_at_wavelengths(Medium m, vec3 lambdas) {
   return m;
 }
 
-// Medium i as a path of wavelength sample u sees it.
-Medium load_medium_at(uint i, float u) {
+// Medium i as a path of wavelengths lambdas sees it.
+Medium load_medium_at(uint i, vec3 lambdas) {
   Medium m = load_medium(i);
-  return spectral_mode() ? medium_at_wavelengths(m, path_wavelengths(u)) : m;
+  return spectral_mode() ? medium_at_wavelengths(m, lambdas) : m;
 }
 
 // The media material `material` bounds: x inside, y outside (WP_INVALID:

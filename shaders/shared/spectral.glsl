@@ -105,25 +105,87 @@ vec3 sigmoid_polynomial3(vec3 c, vec3 lambdas) {
   return vec3(sigmoid_polynomial(c, lambdas.x), sigmoid_polynomial(c, lambdas.y), sigmoid_polynomial(c, lambdas.z));
 }
 
-// A reflectance (an albedo, a tint) at the wavelengths. Greys are constant;
-// a colour brighter than 1 (a lobe's colour carrying its blend's weight or
-// its sheen's normalisation) is its largest component times the spectrum of
-// the colour scaled to 1.
-vec3 reflectance_spectrum(vec3 rgb, vec3 lambdas) {
+// The kinds of colour the memo below keys: a reflectance (bounded by 1,
+// reflectance_spectrum) and an unbounded quantity (unbounded_spectrum).
+#define SPECTRAL_COLOUR_REFLECTANCE 0u
+#define SPECTRAL_COLOUR_UNBOUNDED 1u
+
+// Whether the kernels uplift colours they compute (a texture's, a blend's,
+// a light's at a distance) through the table (FEATURE_SPECTRAL_TABLE).
+// Without it, every colour they uplift is one of the scene's constants, and
+// the memo below holds them all: a hash and two or three fetches instead of
+// the table's eight texels and its cell search. (On lavapipe, which runs
+// both sides of every branch, a memo in front of the table would only add
+// to it.)
+bool spectral_table() {
+  return FEATURE_COMPILED(FEATURE_SPECTRAL_TABLE) && (scene.kinds.w & KIND_BIT(FEATURE_SPECTRAL_TABLE)) != 0u;
+}
+
+// The memo's first candidate slot for a colour, from its bits (the second:
+// pcg_hash of it).
+uint spectral_colour_hash(vec3 rgb, uint kind) {
+  return pcg_hash(floatBitsToUint(rgb.x) ^ pcg_hash(floatBitsToUint(rgb.y) ^ pcg_hash(floatBitsToUint(rgb.z) ^ kind)));
+}
+
+// The coefficients of colour rgb of a kind, where the scene's memo holds
+// them (compile_spectral_colours on the host): the scene's constant colours
+// (constant textures, media, conductors, punctual lights, the background)
+// with the coefficients the table gives them, in pairs of texels (key: the
+// colour and its kind; value: the coefficients), scene.media.y slots, each
+// colour in one of its two candidates.
+bool spectral_colour_memo(vec3 rgb, uint kind, OUT(vec3) c) {
+  c = vec3(0.0f);
+  uint slots = scene.media.y;
+  if (slots == 0u) return false;
+  uint h = spectral_colour_hash(rgb, kind);
+  for (uint probe = 0u; probe < 2u; ++probe) {
+    int slot = int(probe == 0u ? h & (slots - 1u) : pcg_hash(h) & (slots - 1u));
+    vec4 key = texelFetch(spectralColourTexels, 2 * slot);
+    if (key.x == rgb.x && key.y == rgb.y && key.z == rgb.z && key.w == float(kind)) {
+      vec4 v = texelFetch(spectralColourTexels, 2 * slot + 1);
+      c = vec3(v.x, v.y, v.z);
+      return true;
+    }
+  }
+  return false;
+}
+
+// The sigmoid-polynomial coefficients of colour rgb (>= 0, neither black
+// nor grey) of a kind, and the scale its spectrum takes: a reflectance
+// brighter than 1 (a lobe's colour carrying its blend's weight or its
+// sheen's normalisation) is its largest component m times the spectrum of
+// the colour over m; an unbounded quantity is 2m times the reflectance
+// spectrum of the colour over 2m (pbrt-v4's RGBUnboundedSpectrum).
+vec3 colour_coefficients(vec3 rgb, uint kind, OUT(float) scale) {
+  float m = max(max(rgb.x, rgb.y), rgb.z);
+  bool unbounded = kind == SPECTRAL_COLOUR_UNBOUNDED;
+  scale = unbounded ? 2.0f * m : max(m, 1.0f);
+  if (spectral_table()) return rgb_to_spectrum_coefficients(unbounded ? rgb * (0.5f / m) : rgb / scale);
+  vec3 c;
+  // (The CPU reference fails the render of a colour the host left out.)
+  if (!spectral_colour_memo(rgb, kind, c)) WP_SPECTRAL_COLOUR_UNLISTED(rgb, kind);
+  return c;
+}
+
+// Colour rgb of a kind at the wavelengths; greys (and black) are constant.
+vec3 colour_spectrum(vec3 rgb, uint kind, vec3 lambdas) {
   rgb = max(rgb, vec3(0.0f));
   float m = max(max(rgb.x, rgb.y), rgb.z);
   if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return rgb;
-  float scale = max(m, 1.0f);
-  return scale * sigmoid_polynomial3(rgb_to_spectrum_coefficients(rgb / scale), lambdas);
+  float scale;
+  vec3 c = colour_coefficients(rgb, kind, scale);
+  return scale * sigmoid_polynomial3(c, lambdas);
+}
+
+// A reflectance (an albedo, a tint) at the wavelengths.
+vec3 reflectance_spectrum(vec3 rgb, vec3 lambdas) {
+  return colour_spectrum(rgb, SPECTRAL_COLOUR_REFLECTANCE, lambdas);
 }
 
 // An unbounded quantity given in RGB (radiance, an index of refraction or of
 // absorption, an attenuation coefficient) at the wavelengths.
 vec3 unbounded_spectrum(vec3 rgb, vec3 lambdas) {
-  rgb = max(rgb, vec3(0.0f));
-  float m = max(max(rgb.x, rgb.y), rgb.z);
-  if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return rgb;
-  return 2.0f * m * sigmoid_polynomial3(rgb_to_spectrum_coefficients(rgb * (0.5f / m)), lambdas);
+  return colour_spectrum(rgb, SPECTRAL_COLOUR_UNBOUNDED, lambdas);
 }
 
 // Radiance given in RGB at the wavelengths, over D65: every light's
@@ -135,9 +197,10 @@ vec3 light_spectrum(vec3 rgb, vec3 lambdas) {
   return unbounded_spectrum(rgb, lambdas);
 }
 
-// Radiance in the path's terms: as given in RGB, uplifted in the spectral mode.
-vec3 path_radiance(vec3 rgb, PathState p) {
-  return spectral_mode() ? light_spectrum(rgb, path_wavelengths(p.wavelengths)) : rgb;
+// Radiance in the path's terms (at its wavelengths lambdas): as given in
+// RGB, uplifted in the spectral mode.
+vec3 path_radiance(vec3 rgb, vec3 lambdas) {
+  return spectral_mode() ? light_spectrum(rgb, lambdas) : rgb;
 }
 
 // The index of refraction (and absorption) of metal `metal` (METAL_*,
@@ -170,11 +233,10 @@ void conductor_at_wavelengths(INOUT(vec3) eta, INOUT(vec4) k, vec3 lambdas) {
   k = vec4(kk.x, kk.y, kk.z, k.w);
 }
 
-// The BSDF's colours at the wavelengths of sample u (path_wavelengths):
+// The BSDF's colours at the wavelengths lambdas of sample u (path_wavelengths):
 // each lobe's colour, and the parameters its kind reads as colours; a thin
 // film learns the sample, as it interferes per wavelength.
-void bsdf_at_wavelengths(INOUT(Bsdf) b, float u) {
-  vec3 lambdas = path_wavelengths(u);
+void bsdf_at_wavelengths(INOUT(Bsdf) b, float u, vec3 lambdas) {
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i >= b.lobeCount) continue;
     b.lobeColor[i] = reflectance_spectrum(b.lobeColor[i], lambdas);

@@ -117,21 +117,23 @@ vec3 path_wavelengths(float u) {
 // The spectral mode's tables (BINDING_SPECTRA, RGBA32F texels), from
 // SPECTRA_FILM: the film's white balance (xyz: linear sRGB is divided by
 // it); from SPECTRA_D65 D65 normalised to Y = 1 (x); from
-// SPECTRA_RGB_SCALE the uplift table's brightness values (x), and from
-// SPECTRA_RGB_COEFFICIENTS its coefficients (xyz) of colour (largest
-// component l, brightness k, next components j, i) at ((l * RES + k) * RES
-// + j) * RES + i; from SPECTRA_METALS each metal's eta (x) and k (y) at
-// METAL_SPECTRUM_SAMPLES wavelengths from 360 nm; from SPECTRA_METAL_RGB
-// each metal's eta and k (xyz, two texels) as an RGB render takes them:
-// their spectra's linear sRGB projections (spectrum_to_rgb), as Mitsuba's
-// RGB modes take measured spectra.
+// SPECTRA_RGB_SCALE the uplift table's brightness values (x); from
+// SPECTRA_METALS each metal's eta (x) and k (y) at METAL_SPECTRUM_SAMPLES
+// wavelengths from 360 nm; from SPECTRA_METAL_RGB each metal's eta and k
+// (xyz, two texels) as an RGB render takes them: their spectra's linear
+// sRGB projections (spectrum_to_rgb), as Mitsuba's RGB modes take measured
+// spectra; and last, from SPECTRA_RGB_COEFFICIENTS, the uplift table's
+// coefficients (xyz) of colour (largest component l, brightness k, next
+// components j, i) at ((l * RES + k) * RES + j) * RES + i: 99 % of the
+// texels, which a scene whose kernels have no table
+// (FEATURE_SPECTRAL_TABLE) does not upload.
 #define RGB_TO_SPECTRUM_RES 64
 #define SPECTRA_FILM 0
 #define SPECTRA_D65 1
 #define SPECTRA_RGB_SCALE (SPECTRA_D65 + CIE_D65_SAMPLES)
-#define SPECTRA_RGB_COEFFICIENTS (SPECTRA_RGB_SCALE + RGB_TO_SPECTRUM_RES)
-#define SPECTRA_METALS (SPECTRA_RGB_COEFFICIENTS + 3 * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES)
+#define SPECTRA_METALS (SPECTRA_RGB_SCALE + RGB_TO_SPECTRUM_RES)
 #define SPECTRA_METAL_RGB (SPECTRA_METALS + int(METAL_COUNT) * METAL_SPECTRUM_SAMPLES)
-#define SPECTRA_TEXELS (SPECTRA_METAL_RGB + 2 * int(METAL_COUNT))
+#define SPECTRA_RGB_COEFFICIENTS (SPECTRA_METAL_RGB + 2 * int(METAL_COUNT))
+#define SPECTRA_TEXELS (SPECTRA_RGB_COEFFICIENTS + 3 * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES)
 
 #endif  // WP_SPECTRUM_GLSL

@@ -372,7 +372,8 @@ struct SceneParams {
   vec4 mis;          // x: exponent of the MIS heuristic (darts' "power": 2 the power heuristic, 1 the balance heuristic)
   vec4 camWindow;    // the part of the camera's frame the image covers: its top-left corner and size, as
                      // fractions of the frame ((0, 0, 1, 1): all of it; CS184's -p renders a cell)
-  uvec4 media;       // x: the medium the camera sits in (FEATURE_MEDIA; 0 the vacuum), yzw: unused
+  uvec4 media;       // x: the medium the camera sits in (FEATURE_MEDIA; 0 the vacuum); y: the spectral mode's
+                     // colour memo's slots (spectral.glsl; a power of two, 0: none), zw: unused
   uvec4 photons;     // INTEGRATOR_PHOTONS: x photons in the map, y the search count (0: every photon within the
                      // search radius), z the search radius squared (float bits), w unused
 };

@@ -125,6 +125,7 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
     case BINDING_TEXELS:
     case BINDING_FLOAT_TABLES:
     case BINDING_SPECTRA:
+    case BINDING_SPECTRAL_COLOURS:
     case BINDING_PATH_TEXELS:
     case BINDING_HIT_TEXELS:
     case BINDING_SHADOW_RAY_TEXELS:
@@ -195,6 +196,7 @@ void WavefrontRenderer::Impl::create_scene_buffers() {
   add_texels(BINDING_TEXELS, scene.texels, "image texels", vk::Format::eR32G32Uint);
   add_texels(BINDING_FLOAT_TABLES, scene.floatTables, "float tables", vk::Format::eR32Sfloat);
   add_texels(BINDING_SPECTRA, scene.spectra.texels, scene.spectra.count, "spectral tables", vk::Format::eR32G32B32A32Sfloat);
+  add_texels(BINDING_SPECTRAL_COLOURS, scene.spectralColours, "spectral colour memo", vk::Format::eR32G32B32A32Sfloat);
 }
 
 void WavefrontRenderer::Impl::create_tile_buffers() {

@@ -83,6 +83,16 @@ size_t compile_lights(const Scene& scene, const std::vector<double>& materialRad
 // whose kinds no scene uses.
 void compile_kinds(const Scene& scene, CompiledScene& out);
 
+// ---- the spectral mode (compile_spectral.cpp) -----------------------------
+
+// Where the kernels may uplift colours they compute, FEATURE_SPECTRAL_TABLE;
+// elsewhere the memo of the scene's constant colours with their uplift
+// coefficients (BINDING_SPECTRAL_COLOURS) and its slots (SceneParams.media.y).
+// One placeholder texel and no slots in RGB or with the table. After
+// set_render_params, which chooses the mode, and every part that packs
+// colours or sets kinds.
+void compile_spectral_colours(CompiledScene& out);
+
 // ---- photons (photon_pass.cpp) --------------------------------------------
 
 // The photon mapper's parameters and, where options ask the host for it,

@@ -133,6 +133,7 @@ shader::SceneView CompiledScene::view() const {
   v.imageTexels = texels.data();
   v.floatTables = floatTables.data();
   v.spectrumTexels = spectra.texels;
+  v.spectralColourTexels = spectralColours.data();
   return v;
 }
 
@@ -156,7 +157,8 @@ size_t CompiledScene::gpu_bytes() const {
          texels.size() * sizeof(glm::uvec2) + triangleShading.size() * sizeof(shader::TriangleShading) +
          triangleVertexData.size() * sizeof(shader::TriangleVertexData) +
          pointLights.size() * sizeof(shader::PointLight) + media.size() * sizeof(shader::Medium) + volumeWords.size() * sizeof(uint32_t) + photons.size() * sizeof(shader::Photon) +
-         floatTables.size() * sizeof(float) + spectra.count * sizeof(glm::vec4);
+         floatTables.size() * sizeof(float) + spectra.count * sizeof(glm::vec4) +
+         spectralColours.size() * sizeof(glm::vec4);
 }
 
 void set_camera_params(const Camera& cam, shader::SceneParams& p) {
@@ -178,6 +180,7 @@ CompiledScene compile_scene(const Scene& scene, const RenderOptions& options) {
   compile_kinds(scene, out);
   add_placeholder_elements(out);
   set_render_params(scene, options, emitters, geometry.stackSlots, out);
+  compile_spectral_colours(out);
   if (out.params.mode.x == INTEGRATOR_PHOTONS) compile_photons(scene, options, out);
   return out;
 }

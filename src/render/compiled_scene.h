@@ -108,6 +108,9 @@ struct CompiledScene {
   // render/spectra.h), or one placeholder texel in RGB.
   SpectraTexels spectra;
   bool spectral = false;
+  // BINDING_SPECTRAL_COLOURS: the memo of the scene's constant colours
+  // (compile_spectral_colours), a placeholder texel in RGB.
+  std::vector<glm::vec4> spectralColours;
   std::string cameraName;  // the scene file's camera rendered through, where it has several (a glTF's)
   EightBitCurve eightBitCurve = EightBitCurve::Srgb;  // Scene::eightBitCurve
   int cs184Skeleton = 0;                              // Scene::cs184Skeleton

@@ -13,10 +13,12 @@
 
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 #include "../../shaders/shared/common.glsl"
 #include "shader/pnanovdb.h"
 #include "shader/types.h"
+#include "util/error.h"
 #include "walk_log.h"
 
 namespace wp::shader {
@@ -73,6 +75,7 @@ struct SceneView : ShaderMath {
   const uvec2* imageTexels = nullptr;
   const float* floatTables = nullptr;
   const vec4* spectrumTexels = nullptr;  // BINDING_SPECTRA (spectral.glsl)
+  const vec4* spectralColourTexels = nullptr;  // BINDING_SPECTRAL_COLOURS
 
 #define INTEGRATOR_OF_SCENE scene.mode.x  // GLSL: specialization constants (kernel.glsl)
 #define LIGHT_SAMPLES_OF_SCENE scene.mode.w
@@ -129,6 +132,14 @@ struct SceneView : ShaderMath {
   glm::vec2 wavelengthBand{0.0f, 1.0f};
   float wavelength_sample(float u) const { return wavelengthBand.x + u * (wavelengthBand.y - wavelengthBand.x); }
 #define WP_WAVELENGTH_SAMPLE(u) wavelength_sample(u)
+  // A colour the spectral mode uplifts, missing from the memo of a scene
+  // whose kernels have no table (compile_spectral_colours left it out): the
+  // GPU would render it black.
+  [[noreturn]] static void spectral_colour_unlisted(vec3 rgb, uint32_t kind) {
+    throw RenderError("internal error: the spectral mode's colour memo lacks (" + std::to_string(rgb.x) + ", " + std::to_string(rgb.y) + ", " +
+                      std::to_string(rgb.z) + ") of kind " + std::to_string(kind) + ", and the scene's kernels have no uplift table");
+  }
+#define WP_SPECTRAL_COLOUR_UNLISTED(rgb, kind) spectral_colour_unlisted(rgb, kind)
 #define WP_NOTE_PHASE(phase) note_phase(phase)
 #define WP_NOTE_STACK_READ(entry) note_stack(WalkMemory::StackRead, entry)
 #define WP_NOTE_STACK_WRITE(entry) note_stack(WalkMemory::StackWrite, entry)
