@@ -103,8 +103,6 @@ expect_error "OBJ normal index out of range" 2 "bad-normal-index.obj|normal or t
 expect_error "too many light samples" 2 "light-samples" -- "$wavepath" render "$data/furnace.json" -o "$out" -l 65
 expect_error "-H against another integrator" 2 "-H|contradict" -- "$wavepath" render "$data/furnace.json" -o "$out" -H --integrator "path tracer nee"
 expect_error "--spectral against --rgb" 2 "--spectral|--rgb|contradict" -- "$wavepath" render "$data/furnace.json" -o "$out" --spectral --rgb
-expect_error "the photon mapper in the spectral mode" 2 "photons.json|spectral mode does not trace photon maps" -- \
-  "$wavepath" render "$data/features/photons.json" -o "$out" --spectral
 expect_error "adaptive batch not whole" 2 "--adaptive|batch" -- "$wavepath" render "$data/furnace.json" -o "$out" --adaptive 2.5 0.05
 expect_error "environment map missing" 2 "no-such-sky.hdr|no such file|--env" -- "$wavepath" render "$data/furnace.json" -o "$out" -e "$data/no-such-sky.hdr"
 expect_error "unknown variant for info" 2 "nope" -- "$wavepath" info "$data/furnace.json" --variant nope

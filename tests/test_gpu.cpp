@@ -1021,45 +1021,51 @@ TEST_F(Gpu, MediaAgreeWithTheCpuReferenceAndAPlantedSigmaErrorIsCaught) {
 // by photon the same records, to rounding. A GPU may fuse multiply-adds, so
 // now and then a photon's Russian roulette or a grazing hit goes the other
 // way; every other photon's records agree. Traced with another seed, they
-// do not.
+// do not. In RGB and in the spectral mode (each photon's wavelengths, and
+// its power stored in RGB).
 TEST_F(Gpu, PhotonsTracedByTheKernelsAreTheHostsToRounding) {
-  CompiledScene cs = compile_scene(load_scene(source_path("tests/data/features/photons.json")), RenderOptions{});
-  cs.photonCount = 30000;  // several batches of the renderer's path slots
-  const std::vector<shader::Photon> host = trace_photons(cs);
-  WavefrontRenderer renderer(*ctx_, cs);
-  auto by_photon = [](const std::vector<shader::Photon>& records) {
-    std::map<uint32_t, std::vector<shader::Photon>> m;
-    uint32_t last = 0;
-    for (const shader::Photon& p : records) {
-      EXPECT_GE(p.axis, last) << "records out of photon order";
-      last = p.axis;
-      m[p.axis].push_back(p);
-    }
-    return m;
-  };
-  auto same = [](const std::vector<shader::Photon>& a, const std::vector<shader::Photon>& b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-      if (glm::length(a[i].position - b[i].position) > 1e-3f) return false;
-      if (glm::length(a[i].power - b[i].power) > 1e-4f * glm::length(a[i].power)) return false;
-    }
-    return true;
-  };
-  const auto hostPhotons = by_photon(host);
-  ASSERT_GT(hostPhotons.size(), 1000u);
-  auto agreeing = [&](uint32_t seed) {
-    const auto gpuPhotons = by_photon(renderer.trace_photons(cs.photonCount, seed));
-    size_t agree = 0;
-    for (const auto& [photon, records] : hostPhotons) {
-      auto found = gpuPhotons.find(photon);
-      agree += found != gpuPhotons.end() && same(records, found->second);
-    }
-    return double(agree) / double(hostPhotons.size());
-  };
-  const double sameSeed = agreeing(cs.photonSeed), otherSeed = agreeing(cs.photonSeed + 1);
-  std::printf("photons whose records agree: %.4f (seed + 1: %.4f)\n", sameSeed, otherSeed);
-  EXPECT_GE(sameSeed, 0.995);
-  EXPECT_LT(otherSeed, 0.05) << "photons of another seed agreed";
+  for (bool spectral : {false, true}) {
+    SCOPED_TRACE(spectral ? "spectral" : "RGB");
+    RenderOptions options;
+    options.spectral = spectral;
+    CompiledScene cs = compile_scene(load_scene(source_path("tests/data/features/photons.json")), options);
+    cs.photonCount = 30000;  // several batches of the renderer's path slots
+    const std::vector<shader::Photon> host = trace_photons(cs);
+    WavefrontRenderer renderer(*ctx_, cs);
+    auto by_photon = [](const std::vector<shader::Photon>& records) {
+      std::map<uint32_t, std::vector<shader::Photon>> m;
+      uint32_t last = 0;
+      for (const shader::Photon& p : records) {
+        EXPECT_GE(p.axis, last) << "records out of photon order";
+        last = p.axis;
+        m[p.axis].push_back(p);
+      }
+      return m;
+    };
+    auto same = [](const std::vector<shader::Photon>& a, const std::vector<shader::Photon>& b) {
+      if (a.size() != b.size()) return false;
+      for (size_t i = 0; i < a.size(); ++i) {
+        if (glm::length(a[i].position - b[i].position) > 1e-3f) return false;
+        if (glm::length(a[i].power - b[i].power) > 1e-4f * glm::length(a[i].power)) return false;
+      }
+      return true;
+    };
+    const auto hostPhotons = by_photon(host);
+    ASSERT_GT(hostPhotons.size(), 1000u);
+    auto agreeing = [&](uint32_t seed) {
+      const auto gpuPhotons = by_photon(renderer.trace_photons(cs.photonCount, seed));
+      size_t agree = 0;
+      for (const auto& [photon, records] : hostPhotons) {
+        auto found = gpuPhotons.find(photon);
+        agree += found != gpuPhotons.end() && same(records, found->second);
+      }
+      return double(agree) / double(hostPhotons.size());
+    };
+    const double sameSeed = agreeing(cs.photonSeed), otherSeed = agreeing(cs.photonSeed + 1);
+    std::printf("photons whose records agree: %.4f (seed + 1: %.4f)\n", sameSeed, otherSeed);
+    EXPECT_GE(sameSeed, 0.995);
+    EXPECT_LT(otherSeed, 0.05) << "photons of another seed agreed";
+  }
 }
 
 // A photon map the kernels traced (RenderOptions::photonsOnHost false,

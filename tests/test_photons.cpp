@@ -96,6 +96,46 @@ TEST(Photons, AClosedDiffuseSphereLitInsideMatchesItsClosedForm) {
   EXPECT_GT(std::fabs(mean(cs) - expected), 0.02 * expected) << "photons 5 % too strong went unnoticed";
 }
 
+// The same sphere in the spectral mode, lit in colour: each photon leaves
+// with its own wavelengths and is stored in RGB, and a camera path uplifts
+// what it gathers. A grey wall multiplies every wavelength alike, so each
+// channel's closed form holds within the uplift's round trip (2 %), and
+// photons 5 % too strong in red alone are caught.
+TEST(Photons, TheSpectralModeLightsAColouredSphereAsItsClosedFormSays) {
+  const float a = 0.8f, r = 0.02f;
+  const glm::vec3 le(80.0f, 50.0f, 25.0f);
+  Scene scene = load_scene(write_scene("sphere-spectral.json", R"({
+    "camera": { "transform": { "from": [0, 0, 0.3], "at": [0, 0, 1], "up": [0, 1, 0] }, "vfov": 50, "resolution": [16, 16] },
+    "background": 0,
+    "integrator": { "type": "photon mapper", "max bounces": 64, "photons": 200000, "search radius": 0.2, "search count": 40, "spectral": true },
+    "surfaces": [
+      { "type": "sphere", "radius": 1, "material": { "type": "lambertian", "albedo": 0.8 } },
+      { "type": "sphere", "radius": 0.02, "material": { "type": "diffuse_light", "emit": [80, 50, 25] } }
+    ]
+  })"));
+  RenderOptions o;
+  o.spp = 64;
+  CompiledScene cs = compile_scene(scene, o);
+  ASSERT_TRUE(cs.spectral);
+  ASSERT_GT(cs.photons.size(), 100000u);
+  Progress quiet("", 0, false);
+  auto channel_means = [&](const CompiledScene& c) {
+    const ImageStats img = render_cpu(c, 0, quiet);
+    glm::dvec3 sum(0.0);
+    for (size_t p = 0; p < size_t(img.pixels()); ++p) sum += img.mean(p);
+    return sum / double(img.pixels());
+  };
+  const glm::dvec3 got = channel_means(cs);
+  for (int c = 0; c < 3; ++c) {
+    const double phi = double(le[c]) * M_PI * 4.0 * M_PI * r * r;
+    const double expected = a * phi / (4.0 * M_PI * M_PI * (1.0 - a));
+    EXPECT_NEAR(got[c], expected, 0.02 * expected) << "channel " << c;
+  }
+  for (shader::Photon& p : cs.photons) p.power.x *= 1.05f;
+  const double phiRed = double(le.x) * M_PI * 4.0 * M_PI * r * r, red = a * phiRed / (4.0 * M_PI * M_PI * (1.0 - a));
+  EXPECT_GT(std::fabs(channel_means(cs).x - red), 0.02 * red) << "photons 5 % too strong in red went unnoticed";
+}
+
 TEST(Photons, DartsKeysAndTheScenesThePhotonMapperRefuses) {
   Scene s = load_scene(write_scene("s.json", R"({
     "camera": { "transform": { "from": [0, 0, 5], "at": [0, 0, 0], "up": [0, 1, 0] }, "resolution": [4, 4] },

@@ -173,11 +173,7 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
 // or blue of dispersed_ior (a named glass's at the C, d and F lines), in the
 // spectral mode the index at the hero's wavelength.
 void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
-  bool dispersive = false;
-  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (i < b.lobeCount && b.lobeDispersion[i] != 0.0f) dispersive = true;
-  }
-  if (!dispersive) return;
+  if (!bsdf_disperses(b)) return;
   uint channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
   if (channel == 0u) {
     channel = 1u + min(uint(rng_next(p.rng) * 3.0f), 2u);
@@ -185,17 +181,7 @@ void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
     p.flags |= channel << PATH_CHANNEL_SHIFT;
     p.throughput *= vec3(channel == 1u ? 3.0f : 0.0f, channel == 2u ? 3.0f : 0.0f, channel == 3u ? 3.0f : 0.0f);
   }
-  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
-    if (!(i < b.lobeCount && b.lobeDispersion[i] != 0.0f)) continue;
-    float lambda = spectral_mode() ? (channel == 1u ? lambdas.x : channel == 2u ? lambdas.y : lambdas.z)
-                                   : (channel == 1u ? FRAUNHOFER_C_NM : channel == 2u ? FRAUNHOFER_D_NM : FRAUNHOFER_F_NM);
-    float d = b.lobeDispersion[i];
-    if (d < 0.0f) {
-      b.lobeParam[i] = glass_ior(uint(-d) - 1u, lambda);  // the dielectric kinds' ior: params.x
-    } else {
-      b.lobeParamYzw[i].y = spectral_mode() ? dispersed_ior_at(b.lobeParamYzw[i].y, d, lambda) : dispersed_ior(b.lobeParamYzw[i].y, d, channel);
-    }
-  }
+  disperse_lobes(b, channel, lambdas);
 }
 
 // Russian roulette once the path is long enough (depth: the scattering
@@ -295,6 +281,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && is_interface(s.material)) return path_cross_interface(p, s, h.t);
   vec3 wo = -p.dir;
   Bsdf b = bsdf_at(s, wo);
+  // The photon mapper gathers through the BSDF in RGB: its photons carry
+  // their power in RGB (photon_bounce).
+  Bsdf gatherBsdf = b;
   // The spectral mode: the BSDF's colours at the path's wavelengths.
   if (spectral_mode()) bsdf_at_wavelengths(b, p.wavelengths, lambdas);
   // A segment that ends on the inside of a volume's boundary crossed the
@@ -349,7 +338,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   // Photon mapping: the photons give all but the direct light here, and
   // only a specular bounce goes on (below).
   bool photons = mode == INTEGRATOR_PHOTONS;
-  if (photons && hasSmooth) p.radiance += p.throughput * photon_radiance(s.p, b, wo);
+  if (photons && hasSmooth) p.radiance += p.throughput * path_radiance(photon_radiance(s.p, spectral_mode() ? gatherBsdf : b, wo), lambdas);
 
   // The next direction: from the BSDF, or (mixture) from the one-sample
   // mixture of BSDF and emitter sampling with its exact combined density.

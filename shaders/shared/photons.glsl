@@ -39,8 +39,12 @@ struct PhotonPath {
   uint rng;
   vec3 dir;
   uint bounce;  // surfaces met so far
-  vec3 power;   // its flux, its share of the lights' total power
+  vec3 power;   // its flux, its share of the lights' total power (the spectral mode: at its wavelengths)
   uint alive;   // 0 once absorbed, escaped or past max bounces
+  // The spectral mode: its wavelength sample (path_wavelengths), and 1 once
+  // a dispersive boundary left it its hero wavelength alone.
+  float wavelengths;
+  uint heroOnly;
 };
 
 // Photon `index` of `total` leaves a light picked in proportion to its
@@ -55,6 +59,12 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
   path.origin = vec3(0.0f);
   path.dir = vec3(0.0f, 0.0f, 1.0f);
   path.power = vec3(0.0f);
+  // The spectral mode: each photon's wavelengths, from the map's randomly
+  // shifted golden-ratio sequence (as a pixel's samples take theirs,
+  // path_begin).
+  uint shift = pcg_hash(seed ^ 0x2545f491u);
+  path.wavelengths = spectral_mode() ? float((shift + index * 2654435769u) >> 8) * (1.0f / 16777216.0f) : 0.0f;
+  path.heroOnly = 0u;
   if (scene.counts.x == 0u) return path;
   float pmf;
   Emitter e = load_emitter(pick_emitter(rng_next(path.rng), pmf));
@@ -111,6 +121,7 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
     path.origin = offset_ray(s.p, n);
   }
   path.power /= float(total);
+  if (spectral_mode()) path.power = light_spectrum(path.power, path_wavelengths(path.wavelengths));
   path.alive = path.power.x > 0.0f || path.power.y > 0.0f || path.power.z > 0.0f ? 1u : 0u;
   return path;
 }
@@ -149,8 +160,22 @@ uint photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
   bool stored = path.bounce > 0u && b.lobeCount > 0u && bsdf_has_smooth_lobe(b);
   if (stored) {
     ph.position = s.p;
-    ph.power = path.power;
+    // The spectral mode stores the photon's power in linear sRGB, as the
+    // film takes a sample's (the camera's paths gather it in RGB and uplift
+    // the sum: integrator.glsl).
+    ph.power = spectral_mode() ? spectral_sample_rgb(path.power, path.wavelengths) : path.power;
     ph.from = pack_unit_vector(wo);
+  }
+  if (spectral_mode()) {
+    // Its BSDF at its wavelengths; a dispersive boundary leaves it its hero
+    // alone, three times as strong (integrator.glsl's disperse).
+    vec3 lambdas = path_wavelengths(path.wavelengths);
+    bsdf_at_wavelengths(b, path.wavelengths, lambdas);
+    if (FEATURE_COMPILED(FEATURE_DISPERSION) && bsdf_disperses(b)) {
+      if (path.heroOnly == 0u) path.power *= vec3(3.0f, 0.0f, 0.0f);
+      path.heroOnly = 1u;
+      disperse_lobes(b, 1u, lambdas);
+    }
   }
   path.bounce += 1u;
   if (b.lobeCount == 0u || path.bounce > scene.image.z) {

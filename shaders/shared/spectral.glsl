@@ -282,6 +282,32 @@ float dispersed_ior_at(float ior, float dispersion, float lambda) {
   return max(n, METAL_ROUGH_MIN_IOR);
 }
 
+// Whether b has a dispersive lobe (FEATURE_DISPERSION).
+bool bsdf_disperses(Bsdf b) {
+  bool dispersive = false;
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (i < b.lobeCount && b.lobeDispersion[i] != 0.0f) dispersive = true;
+  }
+  return dispersive;
+}
+
+// b's dispersive lobes at the index of the one channel a path kept (1 to 3):
+// its wavelength in lambdas in the spectral mode (the hero's, channel 1),
+// else the Fraunhofer line of its RGB channel (C, d, F).
+void disperse_lobes(INOUT(Bsdf) b, uint channel, vec3 lambdas) {
+  for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
+    if (!(i < b.lobeCount && b.lobeDispersion[i] != 0.0f)) continue;
+    float lambda = spectral_mode() ? (channel == 1u ? lambdas.x : channel == 2u ? lambdas.y : lambdas.z)
+                                   : (channel == 1u ? FRAUNHOFER_C_NM : channel == 2u ? FRAUNHOFER_D_NM : FRAUNHOFER_F_NM);
+    float d = b.lobeDispersion[i];
+    if (d < 0.0f) {
+      b.lobeParam[i] = glass_ior(uint(-d) - 1u, lambda);  // the dielectric kinds' ior: params.x
+    } else {
+      b.lobeParamYzw[i].y = spectral_mode() ? dispersed_ior_at(b.lobeParamYzw[i].y, d, lambda) : dispersed_ior(b.lobeParamYzw[i].y, d, channel);
+    }
+  }
+}
+
 // The sample's linear sRGB: radiance l over D65 (light_spectrum) at the
 // wavelengths of sample u, times D65, through the colour matching
 // functions, each over its wavelength's density, averaged (a path that kept

@@ -29,7 +29,8 @@ constexpr int kMaxEvictions = 64;
 // a texture's other than a constant's (a checker picks constants), a
 // blend's or a layer's weighted colours, metal-rough's (factors times
 // textures, a volume's attenuation), vertex colours' tints, a light's at a
-// distance or a cosine, an environment map's. Such a scene keeps the table
+// distance or a cosine, an environment map's, the photons' gathered sums.
+// Such a scene keeps the table
 // (FEATURE_SPECTRAL_TABLE).
 bool computes_colours(const shader::SceneParams& p) {
   const uint32_t textures = KIND_BIT(TEX_MARBLE) | KIND_BIT(TEX_IMAGE);
@@ -37,7 +38,8 @@ bool computes_colours(const shader::SceneParams& p) {
   const uint32_t lights = KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_ENVIRONMENT);
   const uint32_t features = KIND_BIT(FEATURE_EMISSION_TEXTURES) | KIND_BIT(FEATURE_VERTEX_DATA) | KIND_BIT(FEATURE_COSINE_EMISSION) |
                             KIND_BIT(FEATURE_SPECULAR_TINT) | KIND_BIT(FEATURE_VOLUME) | KIND_BIT(FEATURE_DIFFUSE_TRANSMISSION);
-  return (p.kinds.x & materials) != 0u || (p.kinds.y & textures) != 0u || (p.kinds.z & lights) != 0u || (p.kinds.w & features) != 0u;
+  // (The photon mapper uplifts its gathers' sums.)
+  return p.mode.x == INTEGRATOR_PHOTONS || (p.kinds.x & materials) != 0u || (p.kinds.y & textures) != 0u || (p.kinds.z & lights) != 0u || (p.kinds.w & features) != 0u;
 }
 
 // The colours the kernels of a scene without the table uplift, as they read

@@ -73,8 +73,6 @@ void set_render_params(const Scene& scene, const RenderOptions& options, size_t 
   out.spectral = (options.spectral ? *options.spectral : scene.integrator.spectral) && mode != INTEGRATOR_NORMALS && mode != INTEGRATOR_AO;
   out.spectra = out.spectral ? spectra_texels() : spectra_placeholder();
   if (out.spectral) {
-    if (mode == INTEGRATOR_PHOTONS)
-      throw InputError(scene.sourcePath + ": the spectral mode does not trace photon maps yet; render this scene in RGB");
     flags |= SCENE_FLAG_SPECTRAL;
     p.kinds.w |= KIND_BIT(FEATURE_SPECTRAL);
   }
