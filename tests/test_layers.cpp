@@ -494,8 +494,7 @@ glm::dvec3 film_reflectance(double filmIor, double thickness, glm::dvec3 baseF0,
       xyz[k] = val[k] * std::sqrt(2.0 * M_PI * var[k]) * std::cos(pos[k] * phase + shift[k]) * std::exp(-phase * phase * var[k]);
     xyz.x += 9.7470e-14 * std::sqrt(2.0 * M_PI * 4.5282e+09) * std::cos(2.2399e+06 * phase + shift.x) * std::exp(-4.5282e+09 * phase * phase);
     xyz /= 1.0685e-7;
-    const glm::dvec3 rgb(3.2404542 * xyz.x - 1.5371385 * xyz.y - 0.4985314 * xyz.z, -0.9692660 * xyz.x + 1.8760108 * xyz.y + 0.0415560 * xyz.z,
-                         0.0556434 * xyz.x - 0.2040259 * xyz.y + 1.0572252 * xyz.z);
+    const glm::dvec3 rgb = WP_XYZ_TO_LINEAR_SRGB(glm::dvec3, xyz.x, xyz.y, xyz.z);
     intensity += cm * 2.0 * rgb;
   }
   return glm::max(intensity, glm::dvec3(0.0));

@@ -51,9 +51,12 @@ TEST(MaterialModules, EveryKindHasOneWellFormedModule) {
         ASSERT_NE(t, nullptr) << p.textureName;
         EXPECT_EQ(t->type, ParamType::Texture);
       }
-      if (p.type == ParamType::Choice) EXPECT_FALSE(p.choices.empty());
-      if (p.type == ParamType::Number && p.presence == Presence::Defaulted && !p.clamp)
+      if (p.type == ParamType::Choice) {
+        EXPECT_FALSE(p.choices.empty());
+      }
+      if (p.type == ParamType::Number && p.presence == Presence::Defaulted && !p.clamp) {
         EXPECT_TRUE(p.range.contains(p.fallback.x)) << p.name << "'s default lies outside its range";
+      }
     }
   }
 }

@@ -446,8 +446,9 @@ TEST(Spectral, PrismDeviationFollowsEachGlassSellmeierIndex) {
       EXPECT_NEAR(deviation, analytic(n), 2e-4) << "glass " << glass << " at " << lambda << " nm";
       const double other = sellmeier(glass == GLASS_BK7 ? GLASS_FUSED_SILICA : GLASS_BK7, lambda);
       EXPECT_GT(std::fabs(deviation - analytic(other)), 0.02) << "a planted wrong glass";
-      if (lastLambda > 0.0 && std::fabs(lambda - lastLambda) > 5.0)
+      if (lastLambda > 0.0 && std::fabs(lambda - lastLambda) > 5.0) {
         EXPECT_EQ(lambda < lastLambda, deviation > lastDeviation) << "shorter waves bend more";
+      }
       lastLambda = lambda;
       lastDeviation = deviation;
     }

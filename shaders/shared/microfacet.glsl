@@ -168,9 +168,7 @@ vec3 thin_film_sensitivity(float opd, vec3 shift) {
   vec3 xyz = val * sqrt(var * (2.0f * WP_PI)) * cos(pos * phase + shift) * exp(-(phase * phase) * var);
   xyz.x += 9.7470e-14f * sqrt(2.0f * WP_PI * 4.5282e+09f) * cos(2.2399e+06f * phase + shift.x) * exp(-4.5282e+09f * phase * phase);
   xyz = xyz * (1.0f / 1.0685e-7f);
-  return vec3(3.2404542f * xyz.x - 1.5371385f * xyz.y - 0.4985314f * xyz.z,
-              -0.9692660f * xyz.x + 1.8760108f * xyz.y + 0.0415560f * xyz.z,
-              0.0556434f * xyz.x - 0.2040259f * xyz.y + 1.0572252f * xyz.z);
+  return xyz_to_linear_srgb(xyz);
 }
 
 // Reflectance of a thin film (index filmIor, thickness nm) over a base of

@@ -45,10 +45,14 @@ vec3 cie_xyz_bar(float lambda) {
 // radiance's Y is divided so that a constant spectrum of 1 has Y = 1.
 #define CIE_Y_INTEGRAL 106.856895f
 
-// CIE XYZ to linear sRGB (Rec. 709 primaries, D65 white; IEC 61966-2-1).
+// CIE XYZ to linear sRGB (Rec. 709 primaries, D65 white; IEC 61966-2-1),
+// as a vector of type V (the host's uplift fit takes it in double:
+// rgb_to_spectrum.cpp).
+#define WP_XYZ_TO_LINEAR_SRGB(V, x, y, z)                                                                          \
+  V(3.2404542f * (x) - 1.5371385f * (y) - 0.4985314f * (z), -0.9692660f * (x) + 1.8760108f * (y) + 0.0415560f * (z), \
+    0.0556434f * (x) - 0.2040259f * (y) + 1.0572252f * (z))
 vec3 xyz_to_linear_srgb(vec3 c) {
-  return vec3(3.2404542f * c.x - 1.5371385f * c.y - 0.4985314f * c.z, -0.9692660f * c.x + 1.8760108f * c.y + 0.0415560f * c.z,
-              0.0556434f * c.x - 0.2040259f * c.y + 1.0572252f * c.z);
+  return WP_XYZ_TO_LINEAR_SRGB(vec3, c.x, c.y, c.z);
 }
 
 // CIE standard illuminant D65, relative spectral power at 5 nm steps from

@@ -48,9 +48,7 @@ struct Integration {
       white += xyzWeight[size_t(i)];
       // spectrum.glsl's xyz_to_linear_srgb, in double.
       const glm::dvec3 x = xyzWeight[size_t(i)];
-      rgbWeight[size_t(i)] = glm::dvec3(3.2404542 * x.x - 1.5371385 * x.y - 0.4985314 * x.z,
-                                        -0.9692660 * x.x + 1.8760108 * x.y + 0.0415560 * x.z,
-                                        0.0556434 * x.x - 0.2040259 * x.y + 1.0572252 * x.z);
+      rgbWeight[size_t(i)] = WP_XYZ_TO_LINEAR_SRGB(glm::dvec3, x.x, x.y, x.z);
       gains += rgbWeight[size_t(i)];
     }
     for (glm::dvec3& w : rgbWeight) w /= gains;

@@ -1,6 +1,6 @@
 # The module against the command line: the same images, merges and
-# messages; Ctrl-C, the arrays' lifetime, renders in two threads, and the
-# SIMT model's rows.
+# messages (the spectral mode's too); Ctrl-C, the arrays' lifetime, renders
+# in two threads, and the SIMT model's rows.
 import gc
 import json
 import os
@@ -35,6 +35,23 @@ def test_render_equals_the_command_lines_exr(small, gpu_render, tmp_path):
         assert not r.partial and r.samples == [(0, 4)]
     other = wavepath.render(small, device="cpu", seed=4)
     assert not np.allclose(other.mean, cpu.mean, rtol=1e-3)
+
+
+def test_a_spectral_render_equals_the_command_lines(tmp_path):
+    # spectral=True is --spectral: the CPU reference's image at the same seed
+    # equals the command line's to float rounding, its settings say so, and
+    # it is not the RGB render's image.
+    scene = wavepath.load(CORNELL, resolution=(24, 24), spp=4, spectral=True)
+    r = wavepath.render(scene, device="cpu", seed=3)
+    out = tmp_path / "spectral.exr"
+    status, err = cli("render", CORNELL, "-r", 24, 24, "--spp", 4, "--seed", 3, "--spectral", "--cpu", "-o", out, "-q")
+    assert status == 0, err
+    exr = wavepath.read(out)
+    np.testing.assert_allclose(r.mean, exr.mean, rtol=2**-23, atol=0)
+    assert "colour=spectral" in r.settings and r.settings == exr.settings
+    rgb = wavepath.render(wavepath.load(CORNELL, resolution=(24, 24), spp=4), device="cpu", seed=3)
+    assert "colour=spectral" not in rgb.settings
+    assert not np.allclose(rgb.mean, r.mean, rtol=1e-3)
 
 
 def test_merge_of_two_sample_ranges_equals_the_whole_render(small, tmp_path):
