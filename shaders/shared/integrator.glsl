@@ -86,13 +86,12 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.travelled = 0.0f;
   p.crossings = 0u;
   // The spectral mode's wavelengths: a pixel's samples take them from its
-  // own randomly shifted golden-ratio sequence (in 32-bit fixed point, exact
-  // at any sample index), so that each sample's are uniform and unbiased
-  // while a pixel's spread over the range far more evenly than independent
-  // draws: most of the colour noise a few samples show is the luck of their
-  // wavelengths.
+  // own randomly shifted sequence (wavelength_sequence), so that each
+  // sample's are uniform and unbiased while a pixel's spread over the range
+  // far more evenly than independent draws: most of the colour noise a few
+  // samples show is the luck of their wavelengths.
   uint shift = pcg_hash(pixel ^ pcg_hash(scene.counts.y ^ 0x5bd1e995u));
-  float u = float((shift + sampleIndex * 2654435769u) >> 8) * (1.0f / 16777216.0f);
+  float u = wavelength_sequence(shift, sampleIndex);
   p.wavelengths = spectral_mode() ? WP_WAVELENGTH_SAMPLE(u) : 0.0f;
 }
 

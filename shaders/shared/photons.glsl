@@ -60,10 +60,8 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
   path.dir = vec3(0.0f, 0.0f, 1.0f);
   path.power = vec3(0.0f);
   // The spectral mode: each photon's wavelengths, from the map's randomly
-  // shifted golden-ratio sequence (as a pixel's samples take theirs,
-  // path_begin).
-  uint shift = pcg_hash(seed ^ 0x2545f491u);
-  path.wavelengths = spectral_mode() ? float((shift + index * 2654435769u) >> 8) * (1.0f / 16777216.0f) : 0.0f;
+  // shifted sequence (as a pixel's samples take theirs, path_begin).
+  path.wavelengths = spectral_mode() ? wavelength_sequence(pcg_hash(seed ^ 0x2545f491u), index) : 0.0f;
   path.heroOnly = 0u;
   if (scene.counts.x == 0u) return path;
   float pmf;
