@@ -173,7 +173,7 @@ TEST(Spectrum, UpliftedReflectancesKeepTheirColour) {
 SceneView spectral_view() {
   SceneView v;
   v.spectrumTexels = spectra_texels().texels;
-  v.scene.kinds.w = KIND_BIT(FEATURE_SPECTRAL) | KIND_BIT(FEATURE_SPECTRAL_TABLE);
+  v.scene.kinds.w = KIND_BIT(FEATURE_SPECTRAL) | KIND_BIT(FEATURE_SPECTRAL_TABLE) | KIND_BIT(FEATURE_SPECTRAL_UNBOUNDED_TABLE);
   v.scene.counts.w = SCENE_FLAG_SPECTRAL;
   return v;
 }
@@ -220,8 +220,9 @@ TEST(Spectral, TheFilmRendersWhiteLightWhiteAndColoursAsTheyAre) {
 // constant colour of it (its walls' reflectances, its light's radiance) is
 // in the memo, each kind, with the coefficients the table gives it; a
 // colour it does not hold fails the CPU reference's render. A scene that
-// blends colours keeps the table. A memo fitted without regard to the kind
-// (a planted error) is caught.
+// blends colours keeps the table for reflectances, one with a point light
+// for radiances. A memo fitted without regard to the kind (a planted
+// error) is caught.
 TEST(Spectral, ConstantColoursAreMemoisedWithTheTablesCoefficients) {
   RenderOptions o;
   o.spectral = true;
@@ -259,7 +260,17 @@ TEST(Spectral, ConstantColoursAreMemoisedWithTheTablesCoefficients) {
   })");
   const CompiledScene withTable = compile_scene(load_scene(blended), o);
   EXPECT_NE(withTable.params.kinds.w & KIND_BIT(FEATURE_SPECTRAL_TABLE), 0u);
-  EXPECT_EQ(withTable.params.media.y, 0u);
+  EXPECT_EQ(withTable.params.kinds.w & KIND_BIT(FEATURE_SPECTRAL_UNBOUNDED_TABLE), 0u) << "its light is constant";
+  EXPECT_EQ(withTable.spectra.count, size_t(SPECTRA_TEXELS));
+  const std::string pointLit = write_scene("spectral-point.json", R"({
+    "camera": { "transform": { "from": [0, 0, 4], "at": [0, 0, 0], "up": [0, 1, 0] }, "vfov": 40, "resolution": [8, 8] },
+    "materials": [ { "type": "lambertian", "name": "red", "albedo": [0.8, 0.1, 0.1] } ],
+    "surfaces": [ { "type": "sphere", "radius": 1, "material": "red" },
+                  { "type": "point_light", "position": [0, 3, 3], "intensity": [4, 3, 2] } ]
+  })");
+  const CompiledScene lightTable = compile_scene(load_scene(pointLit), o);
+  EXPECT_EQ(lightTable.params.kinds.w & KIND_BIT(FEATURE_SPECTRAL_TABLE), 0u) << "its reflectance is constant";
+  EXPECT_NE(lightTable.params.kinds.w & KIND_BIT(FEATURE_SPECTRAL_UNBOUNDED_TABLE), 0u) << "a point light falls off";
 
   // Every entry fitted as a reflectance, whatever its kind: the light's
   // radiance would be uplifted as the reflectance of its colour.

@@ -143,7 +143,8 @@
 #define FEATURE_INSTANCES 17u           // meshes placed by instances: a two-level BVH (Instance; traverse_*.glsl)
 #define FEATURE_DIFFUSE_TRANSMISSION 18u  // metal-rough's diffuse base transmitting too (KHR_materials_diffuse_transmission)
 #define FEATURE_SPECTRAL 19u            // paths carry radiance at sampled wavelengths, RGB inputs uplifted (spectral.glsl)
-#define FEATURE_SPECTRAL_TABLE 20u      // the spectral mode uplifts colours the kernels compute, through the table (spectral.glsl)
+#define FEATURE_SPECTRAL_TABLE 20u      // the spectral mode uplifts reflectances the kernels compute, through the table (spectral.glsl)
+#define FEATURE_SPECTRAL_UNBOUNDED_TABLE 21u  // and radiances or coefficients they compute
 #define EXTRA_SLOT(i) (1u << (i))
 // Metal-rough's slots (materials/metal_rough.glsl says what each holds).
 #define MR_TEXTURES 0     // Material.extra: the extensions' textures
@@ -171,7 +172,8 @@
   X(FEATURE_INSTANCES, "instances", 0u, 0u)                                                                        \
   X(FEATURE_DIFFUSE_TRANSMISSION, "diffuse transmission",                                                          \
     EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION) | EXTRA_SLOT(MR_DIFFUSE_TRANSMISSION_TEXTURES), EXTRA_SLOT(MR_LOBE_DIFFUSE_TRANSMISSION)) \
-  X(FEATURE_SPECTRAL, "spectral", 0u, 0u) X(FEATURE_SPECTRAL_TABLE, "spectral uplift table", 0u, 0u)
+  X(FEATURE_SPECTRAL, "spectral", 0u, 0u) X(FEATURE_SPECTRAL_TABLE, "spectral uplift table", 0u, 0u) \
+  X(FEATURE_SPECTRAL_UNBOUNDED_TABLE, "spectral uplift table for light", 0u, 0u)
 
 // The bit of a kind in its mask, and whether the code being compiled holds a
 // kind. *_KINDS_OF_SCENE are the masks: specialization constants in the

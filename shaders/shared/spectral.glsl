@@ -110,15 +110,17 @@ vec3 sigmoid_polynomial3(vec3 c, vec3 lambdas) {
 #define SPECTRAL_COLOUR_REFLECTANCE 0u
 #define SPECTRAL_COLOUR_UNBOUNDED 1u
 
-// Whether the kernels uplift colours they compute (a texture's, a blend's,
-// a light's at a distance) through the table (FEATURE_SPECTRAL_TABLE).
-// Without it, every colour they uplift is one of the scene's constants, and
-// the memo below holds them all: a hash and two or three fetches instead of
-// the table's eight texels and its cell search. (On lavapipe, which runs
-// both sides of every branch, a memo in front of the table would only add
-// to it.)
-bool spectral_table() {
-  return FEATURE_COMPILED(FEATURE_SPECTRAL_TABLE) && (scene.kinds.w & KIND_BIT(FEATURE_SPECTRAL_TABLE)) != 0u;
+// Whether the kernels uplift colours of a kind that they compute through
+// the table: reflectances (a texture's, a blend's; FEATURE_SPECTRAL_TABLE),
+// unbounded quantities (a light's at a distance, a textured emitter's;
+// FEATURE_SPECTRAL_UNBOUNDED_TABLE). Without it, every colour of that kind
+// they uplift is one of the scene's constants, and the memo below holds
+// them all: a hash and two or three fetches instead of the table's eight
+// texels and its cell search. (On lavapipe, which runs both sides of every
+// branch, a memo in front of the table would only add to it.)
+bool spectral_table(uint kind) {
+  uint feature = kind == SPECTRAL_COLOUR_REFLECTANCE ? FEATURE_SPECTRAL_TABLE : FEATURE_SPECTRAL_UNBOUNDED_TABLE;
+  return FEATURE_COMPILED(feature) && (scene.kinds.w & KIND_BIT(feature)) != 0u;
 }
 
 // The memo's first candidate slot for a colour, from its bits (the second:
@@ -160,7 +162,7 @@ vec3 colour_coefficients(vec3 rgb, uint kind, OUT(float) scale) {
   float m = max(max(rgb.x, rgb.y), rgb.z);
   bool unbounded = kind == SPECTRAL_COLOUR_UNBOUNDED;
   scale = unbounded ? 2.0f * m : max(m, 1.0f);
-  if (spectral_table()) return rgb_to_spectrum_coefficients(unbounded ? rgb * (0.5f / m) : rgb / scale);
+  if (spectral_table(kind)) return rgb_to_spectrum_coefficients(unbounded ? rgb * (0.5f / m) : rgb / scale);
   vec3 c;
   // (The CPU reference fails the render of a colour the host left out.)
   if (!spectral_colour_memo(rgb, kind, c)) WP_SPECTRAL_COLOUR_UNLISTED(rgb, kind);

@@ -25,29 +25,38 @@ struct ColourKey {
 // Moves a colour makes before its placement is given up (and the memo grown).
 constexpr int kMaxEvictions = 64;
 
-// Whether the kernels may uplift a colour they compute rather than read:
-// a texture's other than a constant's (a checker picks constants), a
+// Whether the kernels may uplift a reflectance they compute rather than
+// read: a texture's other than a constant's (a checker picks constants), a
 // blend's or a layer's weighted colours, metal-rough's (factors times
-// textures, a volume's attenuation), vertex colours' tints, a light's at a
-// distance or a cosine, an environment map's, the photons' gathered sums.
-// Such a scene keeps the table
-// (FEATURE_SPECTRAL_TABLE).
-bool computes_colours(const shader::SceneParams& p) {
+// textures), vertex colours' tints. Such a scene keeps the table for
+// reflectances (FEATURE_SPECTRAL_TABLE).
+bool computes_reflectances(const shader::SceneParams& p) {
   const uint32_t textures = KIND_BIT(TEX_MARBLE) | KIND_BIT(TEX_IMAGE);
   const uint32_t materials = KIND_BIT(MAT_BLEND) | KIND_BIT(MAT_CLEARCOAT) | KIND_BIT(MAT_SHEEN) | KIND_BIT(MAT_METAL_ROUGH);
-  const uint32_t lights = KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_ENVIRONMENT);
-  const uint32_t features = KIND_BIT(FEATURE_EMISSION_TEXTURES) | KIND_BIT(FEATURE_VERTEX_DATA) | KIND_BIT(FEATURE_COSINE_EMISSION) |
-                            KIND_BIT(FEATURE_SPECULAR_TINT) | KIND_BIT(FEATURE_VOLUME) | KIND_BIT(FEATURE_DIFFUSE_TRANSMISSION);
-  // (The photon mapper uplifts its gathers' sums.)
-  return p.mode.x == INTEGRATOR_PHOTONS || (p.kinds.x & materials) != 0u || (p.kinds.y & textures) != 0u || (p.kinds.z & lights) != 0u || (p.kinds.w & features) != 0u;
+  const uint32_t features = KIND_BIT(FEATURE_VERTEX_DATA) | KIND_BIT(FEATURE_SPECULAR_TINT) | KIND_BIT(FEATURE_DIFFUSE_TRANSMISSION);
+  return (p.kinds.x & materials) != 0u || (p.kinds.y & textures) != 0u || (p.kinds.w & features) != 0u;
 }
 
-// The colours the kernels of a scene without the table uplift, as they read
-// them: after max(rgb, 0), neither black nor grey (colour_spectrum returns
-// those as they are); one entry per colour and kind, bit for bit.
-std::vector<ColourKey> constant_colours(const CompiledScene& out) {
+// Whether they may uplift a radiance they compute: a point or spot light's
+// at a distance, an environment map's, a textured emitter's, one emitting
+// by the cosine or under a clear coat, the photons' emitted and gathered
+// light. Such a scene keeps the table for unbounded quantities
+// (FEATURE_SPECTRAL_UNBOUNDED_TABLE).
+bool computes_radiances(const shader::SceneParams& p) {
+  const uint32_t lights = KIND_BIT(LIGHT_POINT) | KIND_BIT(LIGHT_SPOT) | KIND_BIT(LIGHT_ENVIRONMENT);
+  const uint32_t features = KIND_BIT(FEATURE_EMISSION_TEXTURES) | KIND_BIT(FEATURE_COSINE_EMISSION);
+  return p.mode.x == INTEGRATOR_PHOTONS || (p.kinds.x & KIND_BIT(MAT_CLEARCOAT)) != 0u || (p.kinds.z & lights) != 0u ||
+         (p.kinds.w & features) != 0u;
+}
+
+// The colours of the kinds the kernels uplift without the table (`memoised`:
+// bit k for kind k), as they read them: after max(rgb, 0), neither black
+// nor grey (colour_spectrum returns those as they are); one entry per
+// colour and kind, bit for bit.
+std::vector<ColourKey> constant_colours(const CompiledScene& out, uint32_t memoised) {
   std::vector<ColourKey> keys;
   auto add = [&](glm::vec3 rgb, uint32_t kind) {
+    if ((memoised & (1u << kind)) == 0u) return;
     rgb = glm::max(rgb, glm::vec3(0.0f));
     const float m = std::max(rgb.x, std::max(rgb.y, rgb.z));
     if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return;
@@ -66,6 +75,8 @@ std::vector<ColourKey> constant_colours(const CompiledScene& out) {
       add(glm::vec3(m.params2), SPECTRAL_COLOUR_UNBOUNDED);                          // k
     }
     if (kind == MAT_CS184_GLASS) add(glm::vec3(m.params2), SPECTRAL_COLOUR_REFLECTANCE);
+    // A glTF volume's attenuation coefficient (volume_transmittance).
+    if (kind == MAT_METAL_ROUGH) add(glm::vec3(m.extra[MR_VOLUME]), SPECTRAL_COLOUR_UNBOUNDED);
   }
   for (const shader::Medium& m : out.media) {
     add(glm::vec3(m.sigmaA), SPECTRAL_COLOUR_UNBOUNDED);
@@ -116,18 +127,21 @@ void compile_spectral_colours(CompiledScene& out) {
   out.spectralColours.assign(1, glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
   out.params.media.y = 0u;
   if (!out.spectral) return;
-  if (computes_colours(out.params)) {
-    out.params.kinds.w |= KIND_BIT(FEATURE_SPECTRAL_TABLE);
-    return;
-  }
-  const std::vector<ColourKey> keys = constant_colours(out);
-  // The kernels read no coefficient from the tables: the device gets the
-  // texels before them (the host's views still read them all).
-  out.spectra.count = size_t(SPECTRA_RGB_COEFFICIENTS);
+  uint32_t memoised = 0u;
+  if (computes_reflectances(out.params)) out.params.kinds.w |= KIND_BIT(FEATURE_SPECTRAL_TABLE);
+  else memoised |= 1u << SPECTRAL_COLOUR_REFLECTANCE;
+  if (computes_radiances(out.params)) out.params.kinds.w |= KIND_BIT(FEATURE_SPECTRAL_UNBOUNDED_TABLE);
+  else memoised |= 1u << SPECTRAL_COLOUR_UNBOUNDED;
+  if (memoised == 0u) return;
+  const std::vector<ColourKey> keys = constant_colours(out, memoised);
+  // Without either table the kernels read no coefficient from the tables:
+  // the device gets the texels before them (the host's views read them all).
+  const uint32_t both = (1u << SPECTRAL_COLOUR_REFLECTANCE) | (1u << SPECTRAL_COLOUR_UNBOUNDED);
+  if (memoised == both) out.spectra.count = size_t(SPECTRA_RGB_COEFFICIENTS);
   if (keys.empty()) return;
   // The coefficients are the table's (the view's kernels still have it).
   shader::SceneView view = out.view();
-  view.scene.kinds.w |= KIND_BIT(FEATURE_SPECTRAL_TABLE);
+  view.scene.kinds.w |= KIND_BIT(FEATURE_SPECTRAL_TABLE) | KIND_BIT(FEATURE_SPECTRAL_UNBOUNDED_TABLE);
   uint32_t slots = 2;
   while (slots < 2 * keys.size()) slots *= 2;
   std::vector<int> entryAt;
