@@ -130,11 +130,11 @@ uint spectral_colour_hash(vec3 rgb, uint kind) {
 }
 
 // The coefficients of colour rgb of a kind, where the scene's memo holds
-// them (compile_spectral_colours on the host): the scene's constant colours
-// (constant textures, media, conductors, punctual lights, the background)
-// with the coefficients the table gives them, in pairs of texels (key: the
-// colour and its kind; value: the coefficients), scene.media.y slots, each
-// colour in one of its two candidates.
+// them: the scene's constant colours of the kinds without their table
+// (compile_spectral.cpp lists them) with the coefficients the table gives
+// them, in pairs of texels (key: the colour and its kind; value: the
+// coefficients), scene.media.y slots, each colour in one of its two
+// candidates.
 bool spectral_colour_memo(vec3 rgb, uint kind, OUT(vec3) c) {
   c = vec3(0.0f);
   uint slots = scene.media.y;
