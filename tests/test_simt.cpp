@@ -120,6 +120,32 @@ TEST(Simt, TheL1KeepsWhatAWarpReadForTheNext) {
   EXPECT_DOUBLE_EQ(spread.l2BytesPerRay, f.l2BytesPerRay * 8.0);
 }
 
+// Node visits, split between the top level and the instances' trees: an
+// iteration visits at most one node; a flat scene has no instance's tree,
+// and rays into a scene of instances walk both levels.
+TEST(Simt, NodeVisitsAreSplitBetweenTheTopLevelAndTheInstances) {
+  for (const char* variant : {"gpu", "gpu-bvh2"}) {
+    SCOPED_TRACE(variant);
+    Scene scene = load_scene(source_path("tests/data/gltf/instances.gltf"));
+    scene.camera.width = scene.camera.height = 24;
+    Scene flat = scene;
+    flatten_instances(flat);
+    for (const Scene* sc : {&scene, &flat}) {
+      const CompiledScene cs = compile_scene(*sc, variant_options(RenderOptions{}, variant));
+      const bench::RaySets sets = bench::make_rays(cs);
+      const SimtFigures f = simulate_walks(cs, sets.bounce, false, simt_walk(variant, cs), gpu_model("h200"), 32);
+      EXPECT_GT(f.nodeVisitsPerRay, 0.0);
+      EXPECT_LE(f.nodeVisitsPerRay, f.stepsPerRay);
+      if (sc == &flat) {
+        EXPECT_EQ(f.instanceNodeVisitsPerRay, 0.0);
+      } else {
+        EXPECT_GT(f.instanceNodeVisitsPerRay, 0.0);
+        EXPECT_LT(f.instanceNodeVisitsPerRay, f.nodeVisitsPerRay);
+      }
+    }
+  }
+}
+
 TEST(Simt, UnknownModelsAndWidthsAreRefused) {
   EXPECT_THROW(gpu_model("h300"), InputError);
   RayCase s = ray_case("gpu", 4);

@@ -187,6 +187,7 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       continue;
     }
     WP_NOTE_PHASE(WALK_PHASE_NODE);
+    WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
     BvhNode n0 = load_node(node.x);
     BvhNode n1 = load_node(node.x + 1u);
     float d0 = intersect_aabb(ro, invDir, n0.bmin, n0.bmax, hit.t);

@@ -59,6 +59,7 @@ if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
 // room to set aside.
 if (!walkDone && (ROOT_AT_ENTRY_OF_SCENE || !enter) && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
   WP_NOTE_PHASE(WALK_PHASE_NODE);
+  WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
   vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
                    uintBitsToFloat(((n.exyzImask >> 16u) & 0xffu) << 23u));
   vec3 scale = cell * invDir;

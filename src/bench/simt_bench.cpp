@@ -105,6 +105,8 @@ nlohmann::json to_json(const SimtFigures& f) {
           {"simd_efficiency", f.simdEfficiency},
           {"phase_efficiency", f.phaseEfficiency},
           {"steps_per_ray", f.stepsPerRay},
+          {"node_visits_per_ray", f.nodeVisitsPerRay},
+          {"instance_node_visits_per_ray", f.instanceNodeVisitsPerRay},
           {"node_sectors_per_iteration", f.nodeSectors},
           {"node_lines_per_iteration", f.nodeLines},
           {"prim_sectors_per_iteration", f.primSectors},
@@ -162,6 +164,7 @@ int run_simt_bench(const BenchOptions& o) {
       if (set.rays.empty()) continue;
       const bool anyHit = set.anyHit;
       std::vector<std::pair<double, std::string>> predicted, seen;
+      std::string nodeVisits;
       for (size_t vi = 0; vi < o.variants.size(); ++vi) {
         const SimtWalk walk = simt_walk(o.variants[vi], compiled[vi]);
         for (int width : o.warpWidths) {
@@ -176,6 +179,12 @@ int run_simt_bench(const BenchOptions& o) {
                       set.name.c_str(), walk.variant.c_str(), width, f.iterationsPerWarp, f.simdEfficiency, f.phaseEfficiency,
                       f.stepsPerRay, f.nodeSectors, f.nodeLines, f.primSectors, f.primLines, f.stackSectors, f.stackLines,
                       f.bytesPerRay, f.l1HitRate, f.deepestStack, pred, predicts ? f.bound.c_str() : "-", measuredText);
+          if (f.instanceNodeVisitsPerRay > 0.0 && width == o.warpWidths.front()) {
+            char text[96];
+            std::snprintf(text, sizeof text, "%s%s %.1f + %.1f", nodeVisits.empty() ? "" : ", ", walk.variant.c_str(),
+                          f.nodeVisitsPerRay - f.instanceNodeVisitsPerRay, f.instanceNodeVisitsPerRay);
+            nodeVisits += text;
+          }
           nlohmann::json row = to_json(f);
           row["scene"] = path;
           row["rays_set"] = set.name;
@@ -190,6 +199,9 @@ int run_simt_bench(const BenchOptions& o) {
           }
         }
       }
+      // In instanced scenes: where the node visits went, which bound the
+      // steps from below (an iteration visits at most one node).
+      if (!nodeVisits.empty()) std::printf("  %-7s node visits a ray, top level + instances' trees (warps of %d): %s\n", set.name.c_str(), o.warpWidths.front(), nodeVisits.c_str());
       if (predicted.size() > 1) std::printf("  %-7s predicted order: %s\n", set.name.c_str(), order_of(predicted).c_str());
       if (seen.size() > 1) std::printf("  %-7s measured order:  %s\n", set.name.c_str(), order_of(seen).c_str());
     }

@@ -162,6 +162,7 @@ struct WarpTrace {
   std::vector<WarpStep> steps;
   std::vector<uint64_t> sectors;
   uint64_t rays = 0, laneIterations = 0;
+  uint64_t nodeVisits = 0, instanceNodeVisits = 0;
   uint32_t deepestStack = 0;
 };
 
@@ -271,6 +272,10 @@ WarpTrace run_warp(const shader::SceneView& view, const std::vector<shader::Shad
     logging.trace_ray(rays[ray].origin, rays[ray].dir, rays[ray].tmax, anyHit, hit);
     trace.deepestStack = std::max(trace.deepestStack, logs[lane].deepestStack);
     trace.rays += 1;
+    for (const WalkIteration& it : logs[lane].iterations) {
+      trace.nodeVisits += (it.phases & WALK_PHASE_NODE) ? 1u : 0u;
+      trace.instanceNodeVisits += (it.phases & WALK_NOTE_NODE_IN_INSTANCE) ? 1u : 0u;
+    }
     position[lane] = 0;
     return true;
   };
@@ -343,6 +348,8 @@ struct Totals {
     f.warps += o.f.warps;
     f.warpIterations += o.f.warpIterations;
     f.laneIterations += o.f.laneIterations;
+    f.nodeVisitsPerRay += o.f.nodeVisitsPerRay;  // sums until simulate_walks divides
+    f.instanceNodeVisitsPerRay += o.f.instanceNodeVisitsPerRay;
     useful += o.useful;
     issuedLaneSlots += o.issuedLaneSlots;
     f.deepestStack = std::max(f.deepestStack, o.f.deepestStack);
@@ -447,6 +454,8 @@ SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::Sh
         warpClocks.push_back(latency[k]);
         t.f.rays += round[k].rays;
         t.f.laneIterations += round[k].laneIterations;
+        t.f.nodeVisitsPerRay += double(round[k].nodeVisits);
+        t.f.instanceNodeVisitsPerRay += double(round[k].instanceNodeVisits);
         t.f.deepestStack = std::max(t.f.deepestStack, round[k].deepestStack);
       }
       t.f.warps += round.size();
@@ -469,6 +478,8 @@ SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::Sh
   f.iterationsPerWarp = f.warps ? double(f.warpIterations) / double(f.warps) : 0.0;
   f.simdEfficiency = f.warpIterations ? double(f.laneIterations) / (double(f.warpIterations) * width) : 0.0;
   f.stepsPerRay = f.rays ? double(f.laneIterations) / double(f.rays) : 0.0;
+  f.nodeVisitsPerRay = f.rays ? f.nodeVisitsPerRay / double(f.rays) : 0.0;
+  f.instanceNodeVisitsPerRay = f.rays ? f.instanceNodeVisitsPerRay / double(f.rays) : 0.0;
   const double iters = double(std::max<uint64_t>(f.warpIterations, 1));
   f.nodeSectors = all.regionSectors[kNodes] / iters;
   f.nodeLines = all.regionLines[kNodes] / iters;

@@ -74,6 +74,10 @@ struct SimtFigures {
   double phaseEfficiency = 0.0; // lanes' instructions / (instructions the warps issued * width)
   double iterationsPerWarp = 0.0;
   double stepsPerRay = 0.0;     // the walk's iterations per ray (bench --raycast's "walk steps")
+  // Of those, the iterations that visited a node, and of these the ones in an
+  // instance's tree. Node visits bound a walk's iterations from below (an
+  // iteration visits at most one).
+  double nodeVisitsPerRay = 0.0, instanceNodeVisitsPerRay = 0.0;
   // Per warp iteration, over its active lanes: distinct 32-byte sectors and
   // 128-byte lines, by what they hold.
   double nodeSectors = 0.0, nodeLines = 0.0;

@@ -16,6 +16,9 @@
 #define WALK_PHASE_LEAF 8u       // the binary walk: took a leaf's range of primitives
 #define WALK_PHASE_INSTANCE 16u  // entered an instance
 #define WALK_PHASES 5
+// Not a phase, a note beside one: the iteration's node lay in an instance's
+// tree (not the top level's). The SIMT model splits node visits by it.
+#define WALK_NOTE_NODE_IN_INSTANCE 32u
 
 namespace wp {
 
