@@ -10,7 +10,8 @@
 # (scripts/bench-majorants.sh), the photon mapper against the path tracer
 # (scripts/bench-photons.sh, the photon pass by the kernels included), an 8K
 # render in tiles (scripts/bench-tiles.sh), a forest of a million instances
-# (scripts/bench-forest.sh), and the 0.1 to 10 M triangle grid. Builds nothing:
+# (scripts/bench-forest.sh), the spectral mode against RGB, and the 0.1 to
+# 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
 # bin folder). About 3 minutes on an H200; on lavapipe about an hour.
 # Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
@@ -94,6 +95,13 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   # gpu walks the forest nearest first; the others lost on lavapipe or are
   # predicted to win on a GPU by the SIMT model (docs/benchmarks.md).
   VARIANTS=gpu,gpu-octant,gpu-enter-root,gpu-bvh2 scripts/bench-forest.sh "$build" 1000000 1000000 -- "${dev[@]}"
+
+  # Issue 58's cost of the spectral mode over RGB, the GPUs' default
+  # (gpu-mega-bvh2) and lavapipe's (gpu), in one interleaved run each.
+  stage "the spectral mode against RGB, 512x512, 64 spp"
+  "$build/wavepath" bench "${dev[@]}" --scenes scenes/cornell-box.json,scenes/cornell-dragon.json \
+    --variants gpu-mega-bvh2,gpu-mega-bvh2:spectral,gpu,gpu:spectral --resolution 512 512 --spp 64 --repeats 3 \
+    --out "$out/spectral.json"
 
   stage "scaling"
   scripts/bench-scale.sh "$build" 1 10 100
