@@ -135,6 +135,47 @@ TEST(Instances, HitsAndSurfacesAreThoseOfTheFlattenedScene) {
   }
 }
 
+// The iteration that enters an instance also visits a node: the top level's
+// node waiting to be visited (nearest first, when the primitive group the
+// instance came from is done), or, with the root at entry, the instance's
+// root. Neither walk takes an iteration of its own to enter, where it can
+// help it (the forest: docs/benchmarks.md).
+TEST(Instances, TheIterationThatEntersAnInstanceVisitsANodeToo) {
+  Scene scene = instances_scene();
+  Scene flat = scene;
+  flatten_instances(flat);
+  const std::vector<ShadowRay> rays = random_rays(flat, 3000, 99);
+  for (bool rootAtEntry : {false, true}) {
+    SCOPED_TRACE(rootAtEntry ? "root at entry" : "nearest first");
+    RenderOptions options;
+    options.rootAtEntry = rootAtEntry;
+    CompiledScene cs = compile_scene(scene, options);
+    SceneView view = cs.view();
+    WalkLog log;
+    view.walkLog = &log;
+    int entries = 0, withTopNode = 0, withRoot = 0;
+    for (const ShadowRay& r : rays) {
+      log.clear();
+      Hit h;
+      ASSERT_EQ(view.trace_ray(r.origin, r.dir, r.tmax, false, h), TRACE_OK);
+      for (const WalkIteration& it : log.iterations) {
+        if (!(it.phases & WALK_PHASE_INSTANCE)) continue;
+        ++entries;
+        if (!(it.phases & WALK_PHASE_NODE)) continue;
+        ++((it.phases & WALK_NOTE_NODE_IN_INSTANCE) ? withRoot : withTopNode);
+      }
+    }
+    ASSERT_GT(entries, 500);
+    if (rootAtEntry) {
+      EXPECT_EQ(withRoot, entries);
+      EXPECT_EQ(withTopNode, 0);
+    } else {
+      EXPECT_EQ(withRoot, 0);
+      EXPECT_GT(withTopNode, 10) << "of " << entries << " entries";  // 31 of 1531 here: a small scene rarely has a node waiting
+    }
+  }
+}
+
 // The irradiance a Lambertian emitter polygon (radiance L, facing x) gives
 // point x of normal n (Lambert's formula: the sum over the edges of the
 // angle each subtends times the cosine of its plane's normal with n).

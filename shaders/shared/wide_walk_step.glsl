@@ -24,40 +24,19 @@ if (primGroup.y != 0u) {
     walkDone = anyHit && hit.prim != WP_INVALID;
   }
 }
-if (FEATURE_COMPILED(FEATURE_INSTANCES) && enter) {
-  WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
-  // Set aside the top level's node group, its node still to visit (as a
-  // group of that one node, its first in either order), its primitive
-  // group, then the way back, which keeps the count of primitive groups set
-  // aside: the instance's walk starts with none.
-  if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
-    WP_WIDE_PUSH(nodeGroup);
-  }
-  if (visit != WP_INVALID) {
-    WP_WIDE_PUSH(uvec2(visit, WP_NEAREST_FIRST ? 1u << 24u : 1u << (24u + xorSlot)));
-  }
-  if (primGroup.y != 0u) {
-    WP_WIDE_PUSH(primGroup);
-    primGroupsSetAside += 1u;
-  }
-  WP_WIDE_PUSH(uvec2(primGroupsSetAside, INSTANCE_RETURN_Y));
-  WP_NOTE_STACK_DEPTH(sp);
-  primGroupsSetAside = 0u;
-  nodeGroup = uvec2(0u, 0u);
-  primGroup = uvec2(0u, 0u);
-  instance = stepTri.shading;
-  Instance inst = load_instance(instance);
-  ro = xform_point(inst.toObject0, inst.toObject1, inst.toObject2, o);
-  rd = xform_vector(inst.toObject0, inst.toObject1, inst.toObject2, d);
-  WP_WIDE_WALK_AIM();
-  visit = inst.root;
-  if (ROOT_AT_ENTRY_OF_SCENE) {
-    n = load_wide_node(visit);
-  }
+// Entering an instance: with its root visited in the same iteration
+// (ROOT_AT_ENTRY_OF_SCENE), before the node phase; otherwise after it, so
+// that the iteration also visits the top level's waiting node, in the world's
+// space, instead of setting it aside for an iteration of its own.
+if (FEATURE_COMPILED(FEATURE_INSTANCES) && ROOT_AT_ENTRY_OF_SCENE && enter) {
+#include "wide_walk_enter.glsl"
 }
 // A node waits while it might bring a primitive group that there is no
-// room to set aside.
-if (!walkDone && (ROOT_AT_ENTRY_OF_SCENE || !enter) && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u)) {
+// room to set aside, and, in an iteration that enters an instance after it,
+// while the instance's primitive group has more to test: that rest must be
+// tested before this node's primitives, so it cannot go under them.
+if (!walkDone && visit != WP_INVALID && (primGroupsSetAside < WIDE_STACK_PRIM_GROUPS || primGroup.y == 0u) &&
+    (!enter || ROOT_AT_ENTRY_OF_SCENE || primGroup.y == 0u)) {
   WP_NOTE_PHASE(WALK_PHASE_NODE);
   WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
   vec3 cell = vec3(uintBitsToFloat((n.exyzImask & 0xffu) << 23u), uintBitsToFloat(((n.exyzImask >> 8u) & 0xffu) << 23u),
@@ -139,6 +118,9 @@ if (!walkDone && (ROOT_AT_ENTRY_OF_SCENE || !enter) && visit != WP_INVALID && (p
   nodeGroup = uvec2(n.childBase, groupBits);
   if (prims != 0u) primGroup = uvec2(n.primBase, prims);
   visit = WP_INVALID;
+}
+if (FEATURE_COMPILED(FEATURE_INSTANCES) && !ROOT_AT_ENTRY_OF_SCENE && enter) {
+#include "wide_walk_enter.glsl"
 }
 // With no node group left, take the top of the stack: a node group at
 // once, a primitive group once the current one is done, the way back out of
