@@ -52,6 +52,7 @@ expect_error "output directory missing" 2 "no-dir/out.png|does not exist" -- "$w
 # Benchmark and convergence results: refused before the (long) runs begin.
 expect_error "bench JSON directory missing" 2 "no-dir/r.json|does not exist" -- "$wavepath" bench --scenes "$data/furnace.json" --out "$work/no-dir/r.json"
 expect_error "ray-casting CSV directory missing" 2 "no-dir/r.csv|does not exist" -- "$wavepath" bench --raycast --scenes "$data/furnace.json" --csv "$work/no-dir/r.csv"
+expect_error "a node stride smaller than a node" 2 "--node-stride 48: a gpu node takes 80 bytes" -- "$wavepath" bench --simt --scenes "$data/furnace.json" --variants gpu --resolution 8 8 --node-stride 48
 expect_error "convergence CSV directory missing" 2 "no-dir/c.csv|does not exist" -- "$wavepath" convergence "$data/furnace.json" --csv "$work/no-dir/c.csv"
 expect_error "bad option value" 2 "spp" -- "$wavepath" render "$data/furnace.json" -o "$out" --spp 0
 expect_error "no Vulkan device" 3 "no Vulkan device" -- env VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json "$wavepath" render "$data/furnace.json" -o "$out" --spp 1

@@ -146,6 +146,23 @@ TEST(Simt, NodeVisitsAreSplitBetweenTheTopLevelAndTheInstances) {
   }
 }
 
+// Nodes modelled a cache line apart (--node-stride 128): every 80-byte wide
+// node lies in one line, in its first three sectors; back to back, some
+// straddle two lines. A warp of one ray's copies loads one node an iteration.
+TEST(Simt, NodesACacheLineApartTakeOneLineEach) {
+  RayCase s = ray_case("gpu");
+  const std::vector<shader::ShadowRay> copies(32, s.sets.bounce[s.sets.bounce.size() / 3]);
+  SimtWalk walk = simt_walk("gpu", s.cs);
+  const SimtFigures plain = simulate_walks(s.cs, copies, false, walk, gpu_model("h200"), 32);
+  walk.nodeStrideBytes = 128;
+  const SimtFigures padded = simulate_walks(s.cs, copies, false, walk, gpu_model("h200"), 32);
+  EXPECT_EQ(padded.warpIterations, plain.warpIterations);
+  EXPECT_DOUBLE_EQ(padded.nodeLines, 1.0);
+  EXPECT_DOUBLE_EQ(padded.nodeSectors, 3.0);
+  EXPECT_GE(plain.nodeSectors, 3.0);
+  EXPECT_GE(plain.nodeLines, 1.0);
+}
+
 TEST(Simt, UnknownModelsAndWidthsAreRefused) {
   EXPECT_THROW(gpu_model("h300"), InputError);
   RayCase s = ray_case("gpu", 4);

@@ -37,6 +37,7 @@ struct BenchOptions {
   std::string gpuModel = "h200";
   std::string measuredPath;
   std::vector<std::string> reorders;  // --simt: bounce and shadow rays also sorted so ("octant", "morton")
+  uint32_t nodeStrideBytes = 0;       // --simt: also model each variant's nodes at this stride (SimtWalk)
 };
 
 // Prints the results table; writes JSON / CSV when asked. Returns 0 when every

@@ -12,6 +12,7 @@
 #include "bench/simt_model.h"
 #include "cpu/reference.h"
 #include "gpu/wavefront.h"
+#include "util/error.h"
 #include "scene/load_scene.h"
 
 namespace wp {
@@ -144,6 +145,13 @@ int run_simt_bench(const BenchOptions& o) {
     const RaySets sets = make_rays(reference);
     std::vector<CompiledScene> compiled;
     for (const std::string& v : o.variants) compiled.push_back(compile_scene(scene, variant_options(RenderOptions{}, v)));
+    for (size_t vi = 0; vi < o.variants.size() && o.nodeStrideBytes != 0; ++vi) {
+      const bool wide = simt_walk(o.variants[vi], compiled[vi]).wide;
+      const size_t nodeBytes = wide ? sizeof(shader::WideNode) : 2 * sizeof(shader::BvhNode);
+      if (o.nodeStrideBytes < nodeBytes || o.nodeStrideBytes % 16 != 0)
+        throw InputError("--node-stride " + std::to_string(o.nodeStrideBytes) + ": a " + o.variants[vi] + (wide ? " node" : " pair of nodes") +
+                         " takes " + std::to_string(nodeBytes) + " bytes, and strides are whole 16-byte texels");
+    }
     std::printf("\n%s: %zu primary, %zu bounce and %zu shadow rays\n", path.c_str(), sets.primary.size(), sets.bounce.size(),
                 sets.shadow.size());
     std::printf("  %-14s %-13s %4s %7s %6s %6s %6s %11s %11s %11s %7s %6s %5s %9s %-8s %9s\n", "rays", "variant", "warp", "it/warp",
@@ -165,8 +173,13 @@ int run_simt_bench(const BenchOptions& o) {
       const bool anyHit = set.anyHit;
       std::vector<std::pair<double, std::string>> predicted, seen;
       std::string nodeVisits;
-      for (size_t vi = 0; vi < o.variants.size(); ++vi) {
-        const SimtWalk walk = simt_walk(o.variants[vi], compiled[vi]);
+      for (size_t row = 0; row < o.variants.size() * (o.nodeStrideBytes ? 2 : 1); ++row) {
+        const size_t vi = row % o.variants.size();
+        SimtWalk walk = simt_walk(o.variants[vi], compiled[vi]);
+        if (row >= o.variants.size()) {  // --node-stride: the same walk over nodes laid out so
+          walk.nodeStrideBytes = o.nodeStrideBytes;
+          walk.variant += "/" + std::to_string(o.nodeStrideBytes) + "B";
+        }
         for (int width : o.warpWidths) {
           const SimtFigures f = simulate_walks(compiled[vi], set.rays, anyHit, walk, gpu, width);
           const auto m = measured.find({file_name(path), set.name, walk.variant});

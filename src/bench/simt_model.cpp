@@ -170,11 +170,18 @@ uint64_t region_base(Region r) { return uint64_t(r + 1) << 44; }
 
 // Lane l's access a as a byte address: a record texel, or a word of a stack
 // entry (both words: the entry is a uvec2).
-void addresses_of(const WalkAccess& a, uint64_t warp, uint32_t lane, int width, std::vector<uint64_t>& out) {
+void addresses_of(const WalkAccess& a, uint64_t warp, uint32_t lane, int width, const SimtWalk& walk, std::vector<uint64_t>& out) {
   const Region r = region_of(a.kind);
   if (r == kStack || r == kStackWrites) {
     for (uint64_t w = 0; w < 2; ++w)
       out.push_back(region_base(kStack) + (((warp * kStackEntries + a.index) * 2 + w) * uint64_t(width) + lane) * 4);
+  } else if (r == kNodes && walk.nodeStrideBytes != 0) {
+    // Records of `texels`, in blocks of `records` (a wide node, or a binary
+    // pair after the root, which takes a block of its own).
+    const uint64_t texels = (walk.wide ? sizeof(shader::WideNode) : sizeof(shader::BvhNode)) / 16;
+    const uint64_t records = walk.wide ? 1 : 2;
+    const uint64_t record = a.index / texels + (walk.wide ? 0 : 1);
+    out.push_back(region_base(r) + record / records * walk.nodeStrideBytes + (record % records * texels + a.index % texels) * 16);
   } else {
     out.push_back(region_base(r) + uint64_t(a.kind) * (uint64_t(1) << 40) + uint64_t(a.index) * 16);
   }
@@ -187,7 +194,8 @@ struct LaneSlice {
   uint32_t begin, end;
 };
 
-void count_accesses(WarpStep& step, WarpTrace& trace, const std::vector<LaneSlice>& slices, uint64_t warp, int width) {
+void count_accesses(WarpStep& step, WarpTrace& trace, const std::vector<LaneSlice>& slices, uint64_t warp, int width,
+                    const SimtWalk& walk) {
   std::array<std::vector<uint64_t>, kRegions> byRegion;
   std::vector<uint64_t> scratch;
   uint32_t longest = 0;
@@ -202,7 +210,7 @@ void count_accesses(WarpStep& step, WarpTrace& trace, const std::vector<LaneSlic
       if (s.begin + k >= s.end) continue;
       const WalkAccess& a = s.log->accesses[s.begin + k];
       scratch.clear();
-      addresses_of(a, warp, s.lane, width, scratch);
+      addresses_of(a, warp, s.lane, width, walk, scratch);
       const Region r = region_of(a.kind);
       if (r != kStack && r != kStackWrites) ++texelLanes;
       for (uint64_t addr : scratch) {
@@ -294,7 +302,7 @@ WarpTrace run_warp(const shader::SceneView& view, const std::vector<shader::Shad
     const double each = walk.raysPerLane > 1 ? costs.rayStart : 0.0;
     step.issued = each;
     step.useful = each * double(slices.size());
-    count_accesses(step, trace, slices, warp, width);
+    count_accesses(step, trace, slices, warp, width, walk);
     trace.steps.push_back(step);
     return true;
   };
@@ -327,7 +335,7 @@ WarpTrace run_warp(const shader::SceneView& view, const std::vector<shader::Shad
       step.activeLanes = uint32_t(slices.size());
       trace.laneIterations += slices.size();
       cost_step(step, phases, costs, walk);
-      count_accesses(step, trace, slices, warp, width);
+      count_accesses(step, trace, slices, warp, width, walk);
       trace.steps.push_back(step);
     }
     if (walk.raysPerLane > 1 && !ended.empty()) starting_pass(ended);

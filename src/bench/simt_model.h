@@ -49,6 +49,12 @@ struct SimtWalk {
   uint32_t raysPerLane = 1;   // 1: one ray per invocation; more: lanes take the next ray as theirs ends (trace_items.glsl)
   bool nearestFirst = false;  // the wide walk sorts a node's hit children by distance (WIDE_ORDER_DISTANCE; closest hits only)
   bool rootAtEntry = false;   // entering an instance loads its root and visits it in the same iteration
+  // The nodes' layout in memory: 0, the records' own (80 bytes a wide node,
+  // 32 a binary one, back to back, the binary root alone before its pairs of
+  // siblings); else each wide node, or each binary pair of siblings (which
+  // the walk loads together), this many bytes apart (128 or 64: one a cache
+  // line, or half of one), a layout modelled before it is built.
+  uint32_t nodeStrideBytes = 0;
 };
 
 // The walk a kernel variant runs on a GPU (where `gpu` picks the indexed

@@ -41,6 +41,9 @@ Command add_bench(CLI::App& app) {
   benchCmd->add_option("--reorder", bench->reorders, "--simt: also model the bounce and shadow rays sorted by direction octant (octant) or octant and origin Morton code (morton)")
       ->delimiter(',')
       ->check(CLI::IsMember({"octant", "morton"}));
+  benchCmd->add_option("--node-stride", bench->nodeStrideBytes,
+                       "--simt: also model each variant with its wide nodes, or binary pairs of sibling nodes, this many bytes apart (128: one a cache line), a layout not built")
+      ->check(CLI::Range(16u, 4096u));
   benchCmd->add_option("--measured", bench->measuredPath, "--simt: a GPU's bench --raycast --out JSON, printed beside the prediction");
 
   return {benchCmd, [bench] {
