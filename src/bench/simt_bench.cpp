@@ -12,8 +12,8 @@
 #include "bench/simt_model.h"
 #include "cpu/reference.h"
 #include "gpu/wavefront.h"
-#include "util/error.h"
 #include "scene/load_scene.h"
+#include "util/error.h"
 
 namespace wp {
 

@@ -349,6 +349,7 @@ struct Totals {
   double regionSectors[kRegions] = {}, regionLines[kRegions] = {};
   double sectorsRequested = 0.0, l1Hits = 0.0, l2Sectors = 0.0;
   double useful = 0.0, issuedLaneSlots = 0.0;  // lanes' instructions; instructions issued x width
+  uint64_t nodeVisits = 0, instanceNodeVisits = 0;
   double bounds[4] = {};   // clocks of issue, L1, L2 and latency (the slowest SM's, once added)
   double smClocks = 0.0;   // the largest bound (the slowest SM's, once added)
   void add(const Totals& o) {
@@ -356,8 +357,8 @@ struct Totals {
     f.warps += o.f.warps;
     f.warpIterations += o.f.warpIterations;
     f.laneIterations += o.f.laneIterations;
-    f.nodeVisitsPerRay += o.f.nodeVisitsPerRay;  // sums until simulate_walks divides
-    f.instanceNodeVisitsPerRay += o.f.instanceNodeVisitsPerRay;
+    nodeVisits += o.nodeVisits;
+    instanceNodeVisits += o.instanceNodeVisits;
     useful += o.useful;
     issuedLaneSlots += o.issuedLaneSlots;
     f.deepestStack = std::max(f.deepestStack, o.f.deepestStack);
@@ -462,8 +463,8 @@ SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::Sh
         warpClocks.push_back(latency[k]);
         t.f.rays += round[k].rays;
         t.f.laneIterations += round[k].laneIterations;
-        t.f.nodeVisitsPerRay += double(round[k].nodeVisits);
-        t.f.instanceNodeVisitsPerRay += double(round[k].instanceNodeVisits);
+        t.nodeVisits += round[k].nodeVisits;
+        t.instanceNodeVisits += round[k].instanceNodeVisits;
         t.f.deepestStack = std::max(t.f.deepestStack, round[k].deepestStack);
       }
       t.f.warps += round.size();
@@ -486,8 +487,8 @@ SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::Sh
   f.iterationsPerWarp = f.warps ? double(f.warpIterations) / double(f.warps) : 0.0;
   f.simdEfficiency = f.warpIterations ? double(f.laneIterations) / (double(f.warpIterations) * width) : 0.0;
   f.stepsPerRay = f.rays ? double(f.laneIterations) / double(f.rays) : 0.0;
-  f.nodeVisitsPerRay = f.rays ? f.nodeVisitsPerRay / double(f.rays) : 0.0;
-  f.instanceNodeVisitsPerRay = f.rays ? f.instanceNodeVisitsPerRay / double(f.rays) : 0.0;
+  f.nodeVisitsPerRay = f.rays ? double(all.nodeVisits) / double(f.rays) : 0.0;
+  f.instanceNodeVisitsPerRay = f.rays ? double(all.instanceNodeVisits) / double(f.rays) : 0.0;
   const double iters = double(std::max<uint64_t>(f.warpIterations, 1));
   f.nodeSectors = all.regionSectors[kNodes] / iters;
   f.nodeLines = all.regionLines[kNodes] / iters;
