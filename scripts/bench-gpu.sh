@@ -13,9 +13,14 @@
 # (scripts/bench-forest.sh), the spectral mode against RGB, and the 0.1 to
 # 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
-# bin folder). About 3 minutes on an H200; on lavapipe about an hour.
-# Usage: scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
-#   (default: build, a temporary folder, the default device)
+# bin folder). On an H200 (2026-11-29) `core` took about 6 minutes and the
+# whole set over 9; on lavapipe about an hour.
+# Usage: [STAGES=core|rest|all] scripts/bench-gpu.sh [BUILD_DIR] [OUT_DIR] [DEVICE]
+#   (default: all, build, a temporary folder, the default device). A lent GPU
+#   has 15 minutes a session, a machine's start included: `core` (the kernel
+#   variants, ray casting on the Cornell dragon and the dragon, the forest,
+#   the spectral mode) fits one call with room for a second,
+#   `rest` is the other stages.
 # Writes log.txt, kernels.txt, render.json/.csv and raycast-*.json to OUT_DIR.
 # The SIMT model's prediction beside the ray casting needs no GPU: run it
 # where the files come back, `wavepath bench --simt --scenes
@@ -26,6 +31,9 @@ build=$(realpath "${1:-build}")
 out=${2:-$(mktemp -d)}
 mkdir -p "$out" && out=$(realpath "$out")
 device=${3:-}
+stages=${STAGES:-all}
+case $stages in core | rest | all) ;; *) echo "STAGES must be core, rest or all" >&2; exit 2 ;; esac
+want() { [ "$stages" = all ] || [ "$stages" = "$1" ]; }
 cd "$(dirname "$0")/.."
 dev=()
 [ -n "$device" ] && dev=(--device "$device")
@@ -44,6 +52,7 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
     nvidia-smi --query-gpu=name,driver_version,clocks.max.sm,clocks.sm,power.draw,temperature.gpu --format=csv
   fi
 
+  if want core; then
   # Registers and spills say which variant is bound by what.
   stage "kernel statistics (the driver's), Cornell dragon"
   for variant in gpu gpu-bvh2 gpu-mega; do
@@ -67,13 +76,26 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json,scenes/dragon.json \
     --variants gpu,gpu-nearest,gpu-bvh2,gpu-regstack,gpu-multiray,gpu-greedy,gpu-clustered --resolution 1024 1024 --repeats 7 \
     --out "$out/raycast-1024.json"
-  for res in 1024 4096; do
-    scenes=$big
-    [ "$res" = 4096 ] && scenes=scenes/cornell-dragon.json
-    stage "ray casting, ${res}x${res} rays per set, $(basename "$scenes")"
-    "$build/wavepath" bench --raycast "${dev[@]}" --scenes "$scenes" \
-      --variants gpu,gpu-bvh2 --resolution "$res" "$res" --repeats 7 --out "$out/raycast-$res-more.json"
-  done
+  stage "ray casting, 4096x4096 rays per set, cornell-dragon.json"
+  "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json \
+    --variants gpu,gpu-bvh2,gpu-multiray --resolution 4096 4096 --repeats 7 --out "$out/raycast-4096-more.json"
+  stage "instancing: a forest of a million trees against the flat Cornell dragon"
+  # gpu walks the forest nearest first; the others lost on lavapipe or are
+  # predicted to win on a GPU by the SIMT model (docs/benchmarks.md).
+  VARIANTS=gpu,gpu-octant,gpu-enter-root,gpu-bvh2 scripts/bench-forest.sh "$build" 1000000 1000000 -- "${dev[@]}"
+
+  # Issue 58's cost of the spectral mode over RGB, the GPUs' default
+  # (gpu-mega-bvh2) and lavapipe's (gpu), in one interleaved run each.
+  stage "the spectral mode against RGB, 512x512, 64 spp"
+  "$build/wavepath" bench "${dev[@]}" --scenes scenes/cornell-box.json,scenes/cornell-dragon.json \
+    --variants gpu-mega-bvh2,gpu-mega-bvh2:spectral,gpu,gpu:spectral --resolution 512 512 --spp 64 --repeats 3 \
+    --out "$out/spectral.json"
+  fi
+
+  if want rest; then
+  stage "ray casting, 1024x1024 rays per set, $(basename "$big")"
+  "$build/wavepath" bench --raycast "${dev[@]}" --scenes "$big" \
+    --variants gpu,gpu-bvh2 --resolution 1024 1024 --repeats 7 --out "$out/raycast-1024-more.json"
   stage "whole renders (wall time, setup included), 512x512, 64 spp, 8 bounces"
   for scene in cornell-box cornell-dragon; do
     for _ in 1 2 3; do
@@ -91,19 +113,8 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
 
   stage "tiles: 2048x2048 against 8K, the Cornell box at 1 spp"
   scripts/bench-tiles.sh "$build" 2048x2048 7680x4320 -- "${dev[@]}"
-  stage "instancing: a forest of a million trees against the flat Cornell dragon"
-  # gpu walks the forest nearest first; the others lost on lavapipe or are
-  # predicted to win on a GPU by the SIMT model (docs/benchmarks.md).
-  VARIANTS=gpu,gpu-octant,gpu-enter-root,gpu-bvh2 scripts/bench-forest.sh "$build" 1000000 1000000 -- "${dev[@]}"
-
-  # Issue 58's cost of the spectral mode over RGB, the GPUs' default
-  # (gpu-mega-bvh2) and lavapipe's (gpu), in one interleaved run each.
-  stage "the spectral mode against RGB, 512x512, 64 spp"
-  "$build/wavepath" bench "${dev[@]}" --scenes scenes/cornell-box.json,scenes/cornell-dragon.json \
-    --variants gpu-mega-bvh2,gpu-mega-bvh2:spectral,gpu,gpu:spectral --resolution 512 512 --spp 64 --repeats 3 \
-    --out "$out/spectral.json"
-
   stage "scaling"
   scripts/bench-scale.sh "$build" 1 10 100
+  fi
   stage "done"
 } 2>&1 | tee "$out/log.txt"

@@ -39,11 +39,17 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
     rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::ShadowRay), vk::BufferUsageFlagBits::eTransferSrc, true);
   // One chunk through `p`: the rays truncated, and the kernel's GPU time added to kernelTime.
   auto run_chunk = [&](const vk::raii::Pipeline& p, uint32_t n, uint32_t perInvocation) {
+    // The rays' upload is submitted and waited for on its own: a timestamp
+    // at the compute stage need not wait for a copy recorded before it, and
+    // on a discrete GPU the copy crosses PCIe (32 bytes a ray), which took as
+    // long as the walks of camera rays (H200, 2026-11-29).
     ctx.run_now([&](vk::CommandBuffer cb) {
       if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::ShadowRay)));
-      cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
       cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
-      stage_barrier(cb);
+    });
+    ctx.run_now([&](vk::CommandBuffer cb) {
+      stage_barrier(cb);  // the upload's writes, visible to the kernel
+      cb.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipelineLayout, 0, *set, {});
       KernelPush push{};
       push.pathCount = n;
       push.capacity = capacity;
