@@ -17,10 +17,9 @@ void set_dispatch(uint slot, uint groups) {
   indirect[slot * 3u + 2u] = 1u;
 }
 
-// Workgroups for a tracing kernel's n rays, kRaysPerInvocation to an
-// invocation (trace_items.glsl).
+// Workgroups for a tracing kernel's n rays (trace_items.glsl).
 uint tracing_groups(uint n) {
-  return groups_for((n + kRaysPerInvocation - 1u) / kRaysPerInvocation);
+  return groups_for(TRACING_INVOCATIONS(n, kRaysPerInvocation, kTracingFill));
 }
 
 void main() {

@@ -68,7 +68,8 @@
 #define SPEC_AOVS 15
 #define SPEC_WIDE_CHILD_ORDER 16
 #define SPEC_ROOT_AT_ENTRY 17
-#define SPEC_COUNT 18
+#define SPEC_TRACING_FILL 18
+#define SPEC_COUNT 19
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).

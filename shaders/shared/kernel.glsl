@@ -64,6 +64,9 @@ layout(constant_id = SPEC_SORT_BY_MATERIAL) const bool kSortByMaterial = false;
 // their group. A constant, not a push constant: a kernel holding both loops
 // ran single rays 10 % slower.
 layout(constant_id = SPEC_RAYS_PER_INVOCATION) const uint kRaysPerInvocation = 1u;
+// The fewest invocations such a kernel is dispatched with, rays permitting:
+// TRACING_INVOCATIONS_ON_GPUS on GPUs, 0 on CPU devices (TRACING_INVOCATIONS).
+layout(constant_id = SPEC_TRACING_FILL) const uint kTracingFill = 0u;
 // Workgroup interleave (dispatch_item below): 1, or for kernels that take
 // work in image order on CPU devices, the number of columns a dispatch's
 // workgroups are dealt to.

@@ -38,6 +38,15 @@
 // in total; a traversal capped here stays below that, and the megakernel
 // shares it among a whole path's traversals.
 #define TRAVERSAL_STEP_BUDGET 60000u
+// Invocations a tracing dispatch that shares rays among a subgroup's lanes
+// (trace_items.glsl) has at least on a GPU, rays permitting: an H200's 132
+// SMs hold about 30 warps each of the tracing kernels (68 registers), and
+// sixteen rays to an invocation left most of them empty.
+#define TRACING_INVOCATIONS_ON_GPUS 131072u
+// The invocations of a tracing dispatch of n rays, `rays` to an invocation,
+// and at least `fill` (or n) of them.
+#define TRACING_INVOCATIONS(n, rays, fill) \
+  ((n) < (fill) ? (n) : (((n) + (rays) - 1u) / (rays) > (fill) ? ((n) + (rays) - 1u) / (rays) : (fill)))
 // Most emitters the mixture integrator allows: its exact light density visits
 // every emitter at every bounce.
 #define MAX_MIXTURE_EMITTERS 16384u

@@ -388,9 +388,10 @@ SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::Sh
   const uint64_t n = rays.size();
   // Warps as the kernels launch them: one ray per invocation, warp w the
   // invocations [w * width, (w + 1) * width); or, with several rays a lane,
-  // as many warps as the dispatch of n / raysPerLane invocations holds, warp
-  // sg taking entry q as item (sg + (q / width) * S) * width + q % width.
-  const uint64_t invocations = (n + walk.raysPerLane - 1) / walk.raysPerLane;
+  // as many warps as the dispatch holds (n / raysPerLane invocations, and at
+  // least a GPU's fill), warp sg taking entry q as item (sg + (q / width) * S)
+  // * width + q % width.
+  const uint64_t invocations = TRACING_INVOCATIONS(n, uint64_t(walk.raysPerLane), uint64_t(walk.fillInvocations));
   const uint64_t groups = (invocations + kWorkgroupSize - 1) / kWorkgroupSize;
   const uint64_t warpsPerGroup = uint64_t(kWorkgroupSize / width);
   const uint64_t warps = walk.raysPerLane > 1 ? groups * warpsPerGroup : (n + width - 1) / width;

@@ -312,8 +312,10 @@ uint32_t WavefrontRenderer::Impl::interleaved_groups(uint32_t n) const {
   return (groups_for(n) + t - 1) / t * t;
 }
 
+uint32_t WavefrontRenderer::Impl::tracing_fill() const { return cpu_device() ? 0u : TRACING_INVOCATIONS_ON_GPUS; }
+
 uint32_t WavefrontRenderer::Impl::tracing_groups(uint32_t n, uint32_t perInvocation) const {
-  return perInvocation > 1 ? groups_for((n + perInvocation - 1) / perInvocation) : interleaved_groups(n);
+  return perInvocation > 1 ? groups_for(TRACING_INVOCATIONS(n, perInvocation, tracing_fill())) : interleaved_groups(n);
 }
 
 std::vector<std::pair<std::string, const vk::raii::Pipeline*>> WavefrontRenderer::Impl::kernels() const {
@@ -352,6 +354,7 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_COMPACTION] = settings.compaction ? 1u : 0u;  // bools are 32-bit 0 or 1
   values[SPEC_SORT_BY_MATERIAL] = sorting ? 1u : 0u;
   values[SPEC_RAYS_PER_INVOCATION] = o.single ? 1u : tracingRays;
+  values[SPEC_TRACING_FILL] = tracing_fill();
   values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
   values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
   values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp

@@ -214,6 +214,9 @@ struct WavefrontRenderer::Impl {
   // interleave; probe, which does not interleave, takes the extra
   // workgroups' items as out of range.
   uint32_t tracing_groups(uint32_t n, uint32_t perInvocation) const;
+  // The fewest invocations of a tracing dispatch that shares rays among a
+  // subgroup's lanes: 0 on CPU devices (TRACING_INVOCATIONS_ON_GPUS).
+  uint32_t tracing_fill() const;
 
   // Queues of paths in the queue buffer: the two that alternate between
   // bounces and, sorting, the sort keys' (the misses and each class).
