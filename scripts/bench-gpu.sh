@@ -74,11 +74,12 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   # and two variants alone.
   stage "ray casting, 1024x1024 rays per set"
   "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json,scenes/dragon.json \
-    --variants gpu,gpu-nearest,gpu-bvh2,gpu-regstack,gpu-multiray,gpu-greedy,gpu-clustered --resolution 1024 1024 --repeats 7 \
+    --variants gpu,gpu-nearest,gpu-bvh2,gpu-regstack,gpu-multiray,gpu-greedy,gpu-clustered,gpu-loads,gpu-bvh2-loads \
+    --resolution 1024 1024 --repeats 7 \
     --out "$out/raycast-1024.json"
   stage "ray casting, 4096x4096 rays per set, cornell-dragon.json"
   "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json \
-    --variants gpu,gpu-bvh2,gpu-multiray --resolution 4096 4096 --repeats 7 --out "$out/raycast-4096-more.json"
+    --variants gpu,gpu-bvh2,gpu-multiray,gpu-bvh2-loads --resolution 4096 4096 --repeats 7 --out "$out/raycast-4096-more.json"
   stage "instancing: a forest of a million trees against the flat Cornell dragon"
   # gpu walks the forest nearest first; the others lost on lavapipe or are
   # predicted to win on a GPU by the SIMT model (docs/benchmarks.md).

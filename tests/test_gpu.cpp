@@ -458,7 +458,8 @@ TEST_F(Gpu, EveryKernelVariantAgreesWithTheCpuReference) {
 // the two-level trees find the CPU walks' hits, instance included, for both
 // layouts, several rays per invocation and one, the wide stack in registers
 // and in its indexed array, nearest first and in octant order, an
-// instance's root visited in the iteration that enters it or the next; and the
+// instance's root visited in the iteration that enters it or the next, the
+// records read through the texture unit or by loads; and the
 // kernel variants render the instanced scene as the CPU reference renders its
 // flattened copy.
 TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
@@ -473,12 +474,15 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
     bool indexedStack, coherent;
     WideChildOrder order = WideChildOrder::Auto;  // nearest first, in a scene with instances
     bool rootAtEntry = false;
+    bool walkLoads = false;
   };
   for (const Case& c : {Case{"wide, register stack", BvhLayout::Wide, false, false}, Case{"wide, indexed stack", BvhLayout::Wide, true, false},
                         Case{"wide, one ray per invocation", BvhLayout::Wide, false, true},
                         Case{"wide, octant order", BvhLayout::Wide, false, false, WideChildOrder::Octant},
                         Case{"wide, an instance's root visited as it is entered", BvhLayout::Wide, false, false, WideChildOrder::Auto, true},
-                        Case{"binary", BvhLayout::Binary, false, false}}) {
+                        Case{"binary", BvhLayout::Binary, false, false},
+                        Case{"wide, loads", BvhLayout::Wide, false, false, WideChildOrder::Auto, false, true},
+                        Case{"binary, loads", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, true}}) {
     SCOPED_TRACE(c.name);
     RenderOptions options;
     options.bvhLayout = c.layout;
@@ -487,7 +491,9 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
     CompiledScene cs = compile_scene(scene, options);
     if (c.indexedStack) cs.params.accel.z = WIDE_REGISTER_STACK + 1u;
     SceneView view = cs.view();
-    WavefrontRenderer renderer(*ctx_, cs);
+    WavefrontSettings settings;
+    settings.walkLoads = c.walkLoads;
+    WavefrontRenderer renderer(*ctx_, cs, settings);
     uint64_t truncated = 0;
     std::vector<Hit> hits = renderer.cast_rays(rays, &truncated, nullptr, c.coherent);
     EXPECT_EQ(truncated, 0u);

@@ -177,5 +177,26 @@ TEST(Simt, UnknownModelsAndWidthsAreRefused) {
   EXPECT_THROW(simulate_walks(s.cs, s.sets.primary, false, simt_walk("gpu", s.cs), gpu_model("h200"), 48), InputError);
 }
 
+// Nodes and primitives read by loads (the *-loads variants) skip the texture
+// unit's quads: 32 lanes reading one texel take one L1 wavefront, not eight.
+// The walk, its sectors and its lines are the same.
+TEST(Simt, LoadsTakeALineAClockWhereTexelFetchesTakeAQuad) {
+  RayCase s = ray_case("gpu-bvh2");
+  GpuModel oneSm = gpu_model("h200");
+  oneSm.sms = 1;
+  const std::vector<shader::ShadowRay> copies(32 * 96, s.sets.bounce[s.sets.bounce.size() / 2]);
+  const SimtWalk texels = simt_walk("gpu-bvh2", s.cs);
+  const SimtWalk loads = simt_walk("gpu-bvh2-loads", s.cs);
+  ASSERT_FALSE(texels.walkLoads);
+  ASSERT_TRUE(loads.walkLoads);
+  const SimtFigures a = simulate_walks(s.cs, copies, false, texels, oneSm, 32);
+  const SimtFigures b = simulate_walks(s.cs, copies, false, loads, oneSm, 32);
+  EXPECT_EQ(a.warpIterations, b.warpIterations);
+  EXPECT_DOUBLE_EQ(a.nodeLines, b.nodeLines);
+  EXPECT_DOUBLE_EQ(a.bytesPerRay, b.bytesPerRay);
+  EXPECT_EQ(a.bound, "L1");
+  EXPECT_GT(b.predictedRaysPerSecond, a.predictedRaysPerSecond * 1.5);
+}
+
 }  // namespace
 }  // namespace wp::test

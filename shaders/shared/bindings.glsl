@@ -40,7 +40,12 @@
 #define BINDING_INSTANCES 31  // instances of meshes (FEATURE_INSTANCES)
 #define BINDING_SPECTRA 32    // the spectral mode's tables (FEATURE_SPECTRAL; spectral.glsl), RGBA32F texels
 #define BINDING_SPECTRAL_COLOURS 33  // the scene's constant colours' uplift coefficients (spectral.glsl), RGBA32F texels
-#define BINDING_COUNT 34
+// The walks' records again, as storage buffers over the same memory
+// (WALK_RECORD below; variants *-loads).
+#define BINDING_NODE_WORDS 34
+#define BINDING_WIDE_NODE_WORDS 35
+#define BINDING_TRIANGLE_WORDS 36
+#define BINDING_COUNT 37
 
 // Where each table starts in the float tables (BINDING_FLOAT_TABLES).
 #include "sheen_albedo.glsl"
@@ -69,7 +74,8 @@
 #define SPEC_WIDE_CHILD_ORDER 16
 #define SPEC_ROOT_AT_ENTRY 17
 #define SPEC_TRACING_FILL 18
-#define SPEC_COUNT 19
+#define SPEC_WALK_LOADS 19
+#define SPEC_COUNT 20
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).
@@ -128,6 +134,15 @@ layout(set = 0, binding = BINDING_POINT_LIGHTS) uniform usamplerBuffer pointLigh
 layout(set = 0, binding = BINDING_MEDIA) uniform usamplerBuffer mediumTexels;
 layout(set = 0, binding = BINDING_VOLUMES) uniform usamplerBuffer volumeWords;
 layout(set = 0, binding = BINDING_PHOTONS) uniform usamplerBuffer photonTexels;
+// On a GPU a storage-buffer load takes the load path rather than the texture
+// unit's: the variants *-loads (SPEC_WALK_LOADS) read the walks' nodes and
+// primitives that way (records.glsl's WALK_RECORD), from views of the same
+// buffers, within the device's storage-buffer range.
+layout(constant_id = SPEC_WALK_LOADS) const bool kWalkLoads = false;
+layout(std430, set = 0, binding = BINDING_NODE_WORDS) restrict readonly buffer NodeWords { uvec4 nodeWords[]; };
+layout(std430, set = 0, binding = BINDING_WIDE_NODE_WORDS) restrict readonly buffer WideNodeWords { uvec4 wideNodeWords[]; };
+layout(std430, set = 0, binding = BINDING_TRIANGLE_WORDS) restrict readonly buffer TriangleWords { uvec4 triangleWords[]; };
+#define WALK_RECORD(words, texels, at) (kWalkLoads ? words[at] : texelFetch(texels, at))
 // Image texels, RG32UI: RGBA half floats (linear), all images back to back
 // (lavapipe has no descriptor indexing, so one buffer holds every image).
 layout(set = 0, binding = BINDING_TEXELS) uniform usamplerBuffer imageTexels;

@@ -129,7 +129,7 @@ nlohmann::json to_json(const SimtFigures& f) {
 std::vector<std::string> simt_variants() {
   // gpu-memstack and gpu-oneray walk as gpu does on a GPU; the megakernels,
   // sorting and compaction change what is traced, not the walk.
-  return {"gpu", "gpu-bvh2", "gpu-regstack", "gpu-multiray", "gpu-greedy", "gpu-clustered"};
+  return {"gpu", "gpu-bvh2", "gpu-regstack", "gpu-multiray", "gpu-greedy", "gpu-clustered", "gpu-loads", "gpu-bvh2-loads"};
 }
 
 int run_simt_bench(const BenchOptions& o) {

@@ -43,6 +43,7 @@ SimtWalk simt_walk(const std::string& variant, const CompiledScene& cs) {
   w.raysPerLane = w.wide && v.settings.raysPerInvocation > 1 ? v.settings.raysPerInvocation : 1u;
   w.nearestFirst = w.wide && cs.params.accel.y == WIDE_ORDER_DISTANCE;
   w.rootAtEntry = w.wide && cs.params.accel.w != 0u;
+  w.walkLoads = v.settings.walkLoads;
   return w;
 }
 
@@ -203,6 +204,7 @@ void count_accesses(WarpStep& step, WarpTrace& trace, const std::vector<LaneSlic
   // The k-th access of each lane stands for one load instruction of the
   // warp. L1 handles a load one 128-byte line a clock (a "wavefront"); a
   // texel fetch also goes through the texture unit a quad of lanes a clock.
+  // (The texture path's longer latency is not modelled.)
   for (uint32_t k = 0; k < longest; ++k) {
     std::vector<uint64_t> lines;
     uint32_t texelLanes = 0;
@@ -212,7 +214,7 @@ void count_accesses(WarpStep& step, WarpTrace& trace, const std::vector<LaneSlic
       scratch.clear();
       addresses_of(a, warp, s.lane, width, walk, scratch);
       const Region r = region_of(a.kind);
-      if (r != kStack && r != kStackWrites) ++texelLanes;
+      if (!walk.walkLoads && r != kStack && r != kStackWrites) ++texelLanes;
       for (uint64_t addr : scratch) {
         lines.push_back(addr / kLineBytes);
         byRegion[r].push_back(addr);

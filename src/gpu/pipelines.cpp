@@ -136,6 +136,19 @@ bool WavefrontRenderer::Impl::is_texel_binding(uint32_t binding) {
   }
 }
 
+uint32_t WavefrontRenderer::Impl::walk_records_of(uint32_t binding) {
+  switch (binding) {
+    case BINDING_NODE_WORDS:
+      return BINDING_NODES;
+    case BINDING_WIDE_NODE_WORDS:
+      return BINDING_WIDE_NODES;
+    case BINDING_TRIANGLE_WORDS:
+      return BINDING_TRIANGLES;
+    default:
+      return binding;
+  }
+}
+
 vk::DescriptorType WavefrontRenderer::Impl::descriptor_type(uint32_t binding) {
   if (binding == BINDING_SCENE) return vk::DescriptorType::eUniformBuffer;
   return is_texel_binding(binding) ? vk::DescriptorType::eUniformTexelBuffer : vk::DescriptorType::eStorageBuffer;
@@ -355,6 +368,7 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_SORT_BY_MATERIAL] = sorting ? 1u : 0u;
   values[SPEC_RAYS_PER_INVOCATION] = o.single ? 1u : tracingRays;
   values[SPEC_TRACING_FILL] = tracing_fill();
+  values[SPEC_WALK_LOADS] = settings.walkLoads ? 1u : 0u;
   values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
   values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
   values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp
@@ -398,6 +412,14 @@ void WavefrontRenderer::Impl::create_tracing_pipelines() {
 }
 
 void WavefrontRenderer::Impl::create_pipelines() {
+  if (settings.walkLoads) {
+    for (uint32_t b : {BINDING_NODES, BINDING_WIDE_NODES, BINDING_TRIANGLES}) {
+      if (buffers[b]->size() > ctx.info().maxStorageBufferRange)
+        throw RenderError("the *-loads variants read the scene's BVH and primitives as storage buffers, and " + ctx.info().name + " allows " +
+                          std::to_string(ctx.info().maxStorageBufferRange >> 20) + " MiB in one; this scene needs " +
+                          std::to_string(buffers[b]->size() >> 20) + " MiB: use a variant without -loads");
+    }
+  }
   std::vector<vk::DescriptorSetLayoutBinding> bindings;
   uint32_t texelBindings = 0;
   for (uint32_t b = 0; b < BINDING_COUNT; ++b) {
@@ -422,7 +444,17 @@ void WavefrontRenderer::Impl::create_pipelines() {
       writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, nullptr, &texelViews[b]);
       continue;
     }
-    infos[b] = vk::DescriptorBufferInfo(buffers[b]->handle(), 0, VK_WHOLE_SIZE);
+    const uint32_t records = walk_records_of(b);
+    if (records != b) {
+      // The walks' records as a storage buffer: within the device's range
+      // (the kernels read it only in the *-loads variants, which check that
+      // the records fit; walk_records_fit).
+      const Buffer& texels = *buffers[records];
+      const uint64_t maxRange = ctx.info().maxStorageBufferRange;
+      infos[b] = vk::DescriptorBufferInfo(texels.handle(), 0, texels.size() > maxRange ? maxRange : VK_WHOLE_SIZE);
+    } else {
+      infos[b] = vk::DescriptorBufferInfo(buffers[b]->handle(), 0, VK_WHOLE_SIZE);
+    }
     writes.emplace_back(*set, b, 0, 1, bindings[b].descriptorType, nullptr, &infos[b]);
   }
   ctx.device().updateDescriptorSets(writes, {});

@@ -22,6 +22,10 @@ const std::vector<KernelVariant>& kernel_variants() {
     oneRay.raysPerInvocation = 1;
     WavefrontSettings multiRay;
     multiRay.raysPerInvocation = 16;
+    WavefrontSettings loads;
+    loads.walkLoads = true;
+    WavefrontSettings megaLoads = megakernel;
+    megaLoads.walkLoads = true;
     std::vector<KernelVariant> v{
         {"gpu", "wavefront kernels, 8-wide compressed BVH, workgroups of 64", WavefrontSettings{}, BvhLayout::Wide},
         {"gpu-greedy", "wavefront kernels, wide BVH collapsed greedily (largest child opened first) instead of by SAH",
@@ -50,7 +54,13 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu-oneray", "wavefront kernels, one ray per invocation of the tracing kernels (gpu: 16 on CPU devices, for trees of depth 4 or more)",
          oneRay, BvhLayout::Wide},
         {"gpu-multiray", "wavefront kernels, 16 rays per invocation of the tracing kernels (shared within subgroups) on every device and tree", multiRay,
-         BvhLayout::Wide}};
+         BvhLayout::Wide},
+        {"gpu-loads", "wavefront kernels, the walk reading nodes and primitives by storage-buffer loads instead of texel fetches", loads,
+         BvhLayout::Wide},
+        {"gpu-bvh2-loads", "wavefront kernels, binary BVH, its walk reading nodes and primitives by storage-buffer loads", loads,
+         BvhLayout::Binary},
+        {"gpu-mega-bvh2-loads", "one kernel per path over the binary BVH, its walk reading nodes and primitives by storage-buffer loads",
+         megaLoads, BvhLayout::Binary}};
     return v;
   }();
   return variants;

@@ -108,6 +108,9 @@ struct WavefrontRenderer::Impl {
   static bool is_texel_binding(uint32_t binding);
 
   static vk::DescriptorType descriptor_type(uint32_t binding);
+  // The texel binding whose buffer a storage binding of the walks' records
+  // (BINDING_*_WORDS) views, or `binding` itself.
+  static uint32_t walk_records_of(uint32_t binding);
 
   template <typename T>
   void add_texels(uint32_t binding, const std::vector<T>& data, const char* what, vk::Format format = vk::Format::eR32G32B32A32Uint) {
@@ -125,7 +128,11 @@ struct WavefrontRenderer::Impl {
       throw RenderError(std::string("the scene's ") + what + " need " + std::to_string(bytes >> 20) + " MiB but " +
                         ctx.info().name + " allows " + std::to_string(maxBytes >> 20) + " MiB per texel buffer");
     }
-    make_buffer(buffers[binding], bytes, vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eTransferDst, false);
+    // Every scene buffer may also be viewed as a storage buffer (the walks'
+    // records are, in the *-loads variants).
+    make_buffer(buffers[binding], bytes,
+                vk::BufferUsageFlagBits::eUniformTexelBuffer | vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferDst,
+                false);
     if (measured) return;
     ctx.upload(*buffers[binding], data, bytes);
     views[binding] = vk::raii::BufferView(ctx.device(), vk::BufferViewCreateInfo({}, buffers[binding]->handle(),

@@ -32,6 +32,9 @@ inline glm::uvec4 texelFetch(const glm::uvec4* texels, int i) { return texels[i]
 inline glm::uvec4 texelFetch(const glm::uvec2* texels, int i) { return glm::uvec4(texels[i].x, texels[i].y, 0u, 1u); }
 inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texels[i], 0.0f, 0.0f, 1.0f); }
 inline glm::vec4 texelFetch(const glm::vec4* texels, int i) { return texels[i]; }
+// The kernels' choice of a texel fetch or a storage-buffer load
+// (bindings.glsl); the host has the texels.
+#define WALK_RECORD(words, texels, at) texelFetch(texels, at)
 
 // The CPU takes the real branches only; compiling out the kinds a scene
 // lacks is the kernels' optimization (kernel.glsl), so here every kind and
