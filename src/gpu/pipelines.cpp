@@ -448,7 +448,7 @@ void WavefrontRenderer::Impl::create_pipelines() {
     if (records != b) {
       // The walks' records as a storage buffer: within the device's range
       // (the kernels read it only in the *-loads variants, which check that
-      // the records fit; walk_records_fit).
+      // the records fit, above).
       const Buffer& texels = *buffers[records];
       const uint64_t maxRange = ctx.info().maxStorageBufferRange;
       infos[b] = vk::DescriptorBufferInfo(texels.handle(), 0, texels.size() > maxRange ? maxRange : VK_WHOLE_SIZE);
