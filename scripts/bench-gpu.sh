@@ -62,8 +62,11 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   grep -E "^--|registers|spill" "$out/kernels.txt" | head -60 || true
 
   # The variants first: which one should be the default on GPUs is the open question.
+  # All but gpu-octant, gpu-memstack and gpu-oneray, which render flat
+  # scenes on a GPU as gpu does.
   stage "kernel variants, full renders 512x512, 64 spp"
   "$build/wavepath" bench "${dev[@]}" --scenes scenes/cornell-box.json,scenes/cornell-dragon.json \
+    --variants gpu,gpu-mega-bvh2,gpu-mega,gpu-mega-bvh2-loads,gpu-bvh2,gpu-bvh2-loads,gpu-loads,gpu-multiray,gpu-nearest,gpu-enter-root,gpu-nocompact,gpu-clustered,gpu-sort,gpu-greedy,gpu-regstack \
     --resolution 512 512 --spp 64 --repeats 3 --out "$out/render.json" --csv "$out/render.csv"
 
   # Every walk the SIMT model ranks (bench --simt's variants) on the mesh

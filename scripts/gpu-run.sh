@@ -7,11 +7,11 @@
 # finish in 110 s) and scripts/bench-gpu.sh's STAGES (default core), each
 # within its time (0 skips it), and prints the devices, the tests' verdicts
 # and the benchmark's log.
-# Usage: [STAGES=core|rest|all] scripts/gpu-run.sh OUT_DIR [TEST_SECONDS] [BENCH_SECONDS]   (default 120 400)
+# Usage: [STAGES=core|rest|all] scripts/gpu-run.sh OUT_DIR [TEST_SECONDS] [BENCH_SECONDS]   (default 90 360)
 set -uo pipefail
 out=${1:?usage: scripts/gpu-run.sh OUT_DIR [TEST_SECONDS] [BENCH_SECONDS]}
-tests=${2:-120}
-bench=${3:-400}
+tests=${2:-90}
+bench=${3:-360}
 shards=4
 mkdir -p "$out" && out=$(realpath "$out")
 cd "$(dirname "$0")/.."
