@@ -198,5 +198,19 @@ TEST(Simt, LoadsTakeALineAClockWhereTexelFetchesTakeAQuad) {
   EXPECT_GT(b.predictedRaysPerSecond, a.predictedRaysPerSecond * 1.5);
 }
 
+// The invocations of a dispatch of several rays a lane (limits.glsl, used by
+// prepare.comp, the host and the model): every ray its own lane below the
+// fill, the fill up to fill x rays, then the rays over rays a lane.
+TEST(Simt, TracingDispatchesFillTheGpuBeforeTheyShareLanes) {
+  const uint64_t fill = TRACING_INVOCATIONS_ON_GPUS;
+  EXPECT_EQ(TRACING_INVOCATIONS(uint64_t(0), uint64_t(16), fill), 0u);
+  EXPECT_EQ(TRACING_INVOCATIONS(uint64_t(1000), uint64_t(16), fill), 1000u);
+  EXPECT_EQ(TRACING_INVOCATIONS(fill + 1, uint64_t(16), fill), fill);
+  EXPECT_EQ(TRACING_INVOCATIONS(fill * 16, uint64_t(16), fill), fill);
+  EXPECT_EQ(TRACING_INVOCATIONS(fill * 16 + 1, uint64_t(16), fill), fill + 1);
+  // Without a fill (CPU devices), the rays over rays a lane, rounded up.
+  EXPECT_EQ(TRACING_INVOCATIONS(uint64_t(1000), uint64_t(16), uint64_t(0)), 63u);
+}
+
 }  // namespace
 }  // namespace wp::test
