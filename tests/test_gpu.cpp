@@ -319,10 +319,10 @@ TEST_F(Gpu, TraversalPastTheCapIsReportedNotSilent) {
 }
 
 // The megakernel traces all the rays of a path in one invocation, so on
-// lavapipe each gets a share of its loop budget (here 3 traversals: 20,000 steps each). A
-// path whose camera ray needs more must fail the render, never come back as a
-// silently truncated image; the wavefront kernels, one ray per invocation,
-// render the same scene.
+// lavapipe each gets a share of its loop budget (here 3 traversals: 20,000
+// steps each). A path whose camera ray needs more must fail the render, never
+// come back as a silently truncated image; the wavefront kernels, one ray per
+// invocation, render the same scene.
 TEST_F(Gpu, MegakernelReportsRaysPastItsShareOfTheBudget) {
   SliverCase c = sliver_stack_taking(25000, 40000, BvhLayout::Wide);
   ASSERT_GT(c.steps, 0u);

@@ -47,8 +47,8 @@ struct SimtWalk {
   bool indexedStack = true;   // the stack in an indexed array (local memory), else in registers
   uint32_t stackSlots = 0;    // the register stack's entries (TRAVERSAL_STACK_SLOTS)
   uint32_t raysPerLane = 1;   // 1: one ray per invocation; more: lanes take the next ray as theirs ends (trace_items.glsl)
-  uint32_t fillInvocations = TRACING_INVOCATIONS_ON_GPUS;
-  bool walkLoads = false;     // nodes and primitives read by loads (variants *-loads), not through the texture unit  // with raysPerLane > 1, the dispatch's fewest invocations, rays permitting
+  uint32_t fillInvocations = TRACING_INVOCATIONS_ON_GPUS;  // with raysPerLane > 1, the dispatch's fewest invocations, rays permitting
+  bool walkLoads = false;     // nodes and primitives read by loads (variants *-loads), not through the texture unit
   bool nearestFirst = false;  // the wide walk sorts a node's hit children by distance (WIDE_ORDER_DISTANCE; closest hits only)
   bool rootAtEntry = false;   // entering an instance loads its root and visits it in the same iteration
   // The nodes' layout in memory: 0, the records' own (80 bytes a wide node,
