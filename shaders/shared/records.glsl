@@ -1,7 +1,7 @@
 // records.glsl — the scene's records, decoded from the RGBA32UI texels they
 // are read through (bindings.glsl), field by field as the structs in
-// types.glsl lay them out (the walks' nodes and primitives through
-// WALK_RECORD: a texel fetch, or a storage-buffer load); on the host the same
+// types.glsl lay them out (the walks' nodes and primitives through walk_node_texel
+// and its kin: a texel fetch, or a storage-buffer load); on the host the same
 // code reads the uploaded arrays through texelFetch on plain pointers. Unused
 // fields cost nothing: a texel fetch whose result is not used is removed by
 // the compiler.
@@ -14,8 +14,8 @@ vec3 texel_xyz(uvec4 t) {
 
 BvhNode load_node(uint i) {
   int at = int(i) * BVH_NODE_TEXELS;
-  uvec4 a = WALK_RECORD(nodeWords, nodeTexels, at);
-  uvec4 b = WALK_RECORD(nodeWords, nodeTexels, at + 1);
+  uvec4 a = walk_node_texel(at);
+  uvec4 b = walk_node_texel(at + 1);
   BvhNode n;
   n.bmin = texel_xyz(a);
   n.leftFirst = a.w;
@@ -26,8 +26,8 @@ BvhNode load_node(uint i) {
 
 WideNode load_wide_node(uint i) {
   int at = int(i) * WIDE_NODE_TEXELS;
-  uvec4 a = WALK_RECORD(wideNodeWords, wideNodeTexels, at);
-  uvec4 b = WALK_RECORD(wideNodeWords, wideNodeTexels, at + 1);
+  uvec4 a = walk_wide_node_texel(at);
+  uvec4 b = walk_wide_node_texel(at + 1);
   WideNode n;
   n.origin = texel_xyz(a);
   n.exyzImask = a.w;
@@ -35,17 +35,17 @@ WideNode load_wide_node(uint i) {
   n.primBase = b.y;
   n.meta0123 = b.z;
   n.meta4567 = b.w;
-  n.qlo = WALK_RECORD(wideNodeWords, wideNodeTexels, at + 2);
-  n.qloZqhiX = WALK_RECORD(wideNodeWords, wideNodeTexels, at + 3);
-  n.qhi = WALK_RECORD(wideNodeWords, wideNodeTexels, at + 4);
+  n.qlo = walk_wide_node_texel(at + 2);
+  n.qloZqhiX = walk_wide_node_texel(at + 3);
+  n.qhi = walk_wide_node_texel(at + 4);
   return n;
 }
 
 Triangle load_triangle(uint i) {
   int at = int(i) * TRIANGLE_TEXELS;
-  uvec4 a = WALK_RECORD(triangleWords, triangleTexels, at);
-  uvec4 b = WALK_RECORD(triangleWords, triangleTexels, at + 1);
-  uvec4 c = WALK_RECORD(triangleWords, triangleTexels, at + 2);
+  uvec4 a = walk_triangle_texel(at);
+  uvec4 b = walk_triangle_texel(at + 1);
+  uvec4 c = walk_triangle_texel(at + 2);
   Triangle t;
   t.v0 = texel_xyz(a);
   t.material = a.w;

@@ -34,7 +34,9 @@ inline glm::vec4 texelFetch(const float* texels, int i) { return glm::vec4(texel
 inline glm::vec4 texelFetch(const glm::vec4* texels, int i) { return texels[i]; }
 // The kernels' choice of a texel fetch or a storage-buffer load
 // (bindings.glsl); the host has the texels.
-#define WALK_RECORD(words, texels, at) texelFetch(texels, at)
+#define walk_node_texel(at) texelFetch(nodeTexels, at)
+#define walk_wide_node_texel(at) texelFetch(wideNodeTexels, at)
+#define walk_triangle_texel(at) texelFetch(triangleTexels, at)
 
 // The CPU takes the real branches only; compiling out the kinds a scene
 // lacks is the kernels' optimization (kernel.glsl), so here every kind and
