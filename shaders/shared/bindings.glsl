@@ -136,15 +136,15 @@ layout(set = 0, binding = BINDING_VOLUMES) uniform usamplerBuffer volumeWords;
 layout(set = 0, binding = BINDING_PHOTONS) uniform usamplerBuffer photonTexels;
 // On a GPU a storage-buffer load takes the load path rather than the texture
 // unit's: the variants *-loads (SPEC_WALK_LOADS) read the walks' nodes and
-// primitives that way (records.glsl's *_record), from views of the same
+// primitives that way (walk_*_texel below), from views of the same
 // buffers, within the device's storage-buffer range.
 layout(constant_id = SPEC_WALK_LOADS) const bool kWalkLoads = false;
 layout(std430, set = 0, binding = BINDING_NODE_WORDS) restrict readonly buffer NodeWords { uvec4 nodeWords[]; };
 layout(std430, set = 0, binding = BINDING_WIDE_NODE_WORDS) restrict readonly buffer WideNodeWords { uvec4 wideNodeWords[]; };
 layout(std430, set = 0, binding = BINDING_TRIANGLE_WORDS) restrict readonly buffer TriangleWords { uvec4 triangleWords[]; };
 // One function a buffer, with a branch: the host's specialization removes a
-// branch on a constant, where a ternary became a select that lavapipe ran
-// both loads of (bounce rays 7-10 % slower).
+// branch on a constant, whereas a ternary becomes a select, whose unused
+// storage load lavapipe would still run in every other variant.
 uvec4 walk_node_texel(int at) {
   if (kWalkLoads) return nodeWords[at];
   return texelFetch(nodeTexels, at);

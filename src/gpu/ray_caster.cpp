@@ -41,8 +41,8 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
   auto run_chunk = [&](const vk::raii::Pipeline& p, uint32_t n, uint32_t perInvocation) {
     // The rays' upload is submitted and waited for on its own: a timestamp
     // at the compute stage need not wait for a copy recorded before it, and
-    // on a discrete GPU the copy crosses PCIe (32 bytes a ray), which took as
-    // long as the walks of camera rays (H200, 2026-11-29).
+    // on a discrete GPU the copy crosses PCIe (32 bytes a ray), which can
+    // take longer than the walks of camera rays.
     ctx.run_now([&](vk::CommandBuffer cb) {
       if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::ShadowRay)));
       cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
