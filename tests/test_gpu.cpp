@@ -363,6 +363,38 @@ TEST_F(Gpu, MegakernelReportsRaysPastItsShareOfTheBudget) {
   EXPECT_THROW(WavefrontRenderer(*ctx_, deep, kernel_variant("gpu-mega").settings), RenderError);
 }
 
+// The regenerating megakernel (gpu-mega-bvh2-regen: an invocation renders
+// four samples of its pixel, a lane beginning its next path as one ends)
+// renders the plain megakernel's paths: the same sums to the bit, AOV
+// layers (each path's first hit) and adaptive sampling's pixel lists
+// included, with submissions of 1, 2, 4 and 3 samples, so waves of fewer
+// samples than an invocation takes. A planted fault is caught: another seed.
+TEST_F(Gpu, RegeneratingMegakernelRendersThePlainMegakernelsPaths) {
+  for (bool adaptive : {false, true}) {
+    SCOPED_TRACE(adaptive ? "adaptive" : "every pixel");
+    Scene scene = cornell_box(24);
+    RenderOptions o;
+    o.spp = 10;
+    o.aovs = {"albedo", "normal"};
+    if (adaptive) o.adaptive = AdaptiveSampling{4, 0.05f};
+    CompiledScene cs = compile_scene(scene, variant_options(o, "gpu-mega-bvh2"));
+    WavefrontSettings plain = kernel_variant("gpu-mega-bvh2").settings;
+    WavefrontSettings regen = kernel_variant("gpu-mega-bvh2-regen").settings;
+    ASSERT_GT(regen.megakernelSamples, 1u);
+    plain.targetSubmitSeconds = regen.targetSubmitSeconds = 1e9;
+    Progress quiet("", 0, false);
+    WavefrontRenderer a(*ctx_, cs, plain), b(*ctx_, cs, regen);
+    ImageStats ia = a.render(quiet), ib = b.render(quiet);
+    EXPECT_EQ(ia.sum, ib.sum);
+    EXPECT_EQ(ia.sumSq, ib.sumSq);
+    EXPECT_EQ(ia.count, ib.count);
+    EXPECT_EQ(a.stage_times().closestHitRays, b.stage_times().closestHitRays);
+    EXPECT_EQ(a.stage_times().shadowRays, b.stage_times().shadowRays);
+    o.seed = 3;
+    EXPECT_NE(WavefrontRenderer(*ctx_, compile_scene(scene, variant_options(o, "gpu-mega-bvh2")), regen).render(quiet).sum, ia.sum);
+  }
+}
+
 TEST_F(Gpu, FurnaceBoxIsAnalytic) {
   expect_furnace_is_analytic([](const CompiledScene& cs) { return render(cs); });
 }
@@ -475,6 +507,7 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
     WideChildOrder order = WideChildOrder::Auto;  // nearest first, in a scene with instances
     bool rootAtEntry = false;
     bool walkLoads = false;
+    bool binaryFused = false;
   };
   for (const Case& c : {Case{"wide, register stack", BvhLayout::Wide, false, false}, Case{"wide, indexed stack", BvhLayout::Wide, true, false},
                         Case{"wide, one ray per invocation", BvhLayout::Wide, false, true},
@@ -482,12 +515,14 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
                         Case{"wide, an instance's root visited as it is entered", BvhLayout::Wide, false, false, WideChildOrder::Auto, true},
                         Case{"binary", BvhLayout::Binary, false, false},
                         Case{"wide, loads", BvhLayout::Wide, false, false, WideChildOrder::Auto, false, true},
-                        Case{"binary, loads", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, true}}) {
+                        Case{"binary, loads", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, true},
+                        Case{"binary, fused", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, false, true}}) {
     SCOPED_TRACE(c.name);
     RenderOptions options;
     options.bvhLayout = c.layout;
     options.wideChildOrder = c.order;
     options.rootAtEntry = c.rootAtEntry;
+    options.binaryFused = c.binaryFused;
     CompiledScene cs = compile_scene(scene, options);
     if (c.indexedStack) cs.params.accel.z = WIDE_REGISTER_STACK + 1u;
     SceneView view = cs.view();

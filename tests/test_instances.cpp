@@ -77,15 +77,18 @@ TEST(Instances, HitsAndSurfacesAreThoseOfTheFlattenedScene) {
     flatten_instances(flat);
     std::vector<ShadowRay> rays = random_rays(flat, 6000, 4321);
     const std::vector<float> truth = twoSided ? brute_force_closest(flat, rays) : std::vector<float>{};
-    for (int walk = 0; walk < 4; ++walk) {
+    for (int walk = 0; walk < 5; ++walk) {
       const BvhLayout layout = walk < 3 ? BvhLayout::Wide : BvhLayout::Binary;
-      SCOPED_TRACE(std::string(walk == 0 ? "wide, nearest first" : walk == 1 ? "wide, octant order" : walk == 2 ? "wide, root at entry" : "binary") +
+      SCOPED_TRACE(std::string(walk == 0 ? "wide, nearest first" : walk == 1 ? "wide, octant order" : walk == 2 ? "wide, root at entry" :
+                               walk == 3 ? "binary" : "binary, fused") +
                    (twoSided ? ", two-sided" : ", as the file says"));
       RenderOptions options;
       options.bvhLayout = layout;
       options.wideChildOrder = walk == 1 ? WideChildOrder::Octant : WideChildOrder::Auto;  // Auto: nearest first here
       options.rootAtEntry = walk == 2;
+      options.binaryFused = walk == 4;
       CompiledScene cs = compile_scene(scene, options);
+      options.binaryFused = false;  // the flattened scene by the plain walk
       CompiledScene fcs = compile_scene(flat, options);
       SceneView view = cs.view();
       SceneView fview = fcs.view();

@@ -198,6 +198,42 @@ TEST(Simt, LoadsTakeALineAClockWhereTexelFetchesTakeAQuad) {
   EXPECT_GT(b.predictedRaysPerSecond, a.predictedRaysPerSecond * 1.5);
 }
 
+// The fused binary walk (a primitive and a node an iteration) takes warps
+// through fewer iterations than the plain one on the same rays, each issuing
+// more of the lanes' work: the same rays and nodes, so about the same bytes.
+TEST(Simt, TheFusedBinaryWalkTakesWarpsThroughFewerIterations) {
+  RayCase plain = ray_case("gpu-bvh2", 48);
+  RayCase fused = ray_case("gpu-bvh2-fused", 48);
+  const SimtWalk a = simt_walk("gpu-bvh2", plain.cs);
+  const SimtWalk b = simt_walk("gpu-bvh2-fused", fused.cs);
+  ASSERT_FALSE(a.binaryFused);
+  ASSERT_TRUE(b.binaryFused);
+  const GpuModel& h200 = gpu_model("h200");
+  const SimtFigures pa = simulate_walks(plain.cs, plain.sets.bounce, false, a, h200, 32);
+  const SimtFigures pb = simulate_walks(fused.cs, fused.sets.bounce, false, b, h200, 32);
+  EXPECT_EQ(pa.rays, pb.rays);
+  EXPECT_LT(double(pb.warpIterations), 0.9 * double(pa.warpIterations));
+  EXPECT_GT(pb.phaseEfficiency, pa.phaseEfficiency);
+  EXPECT_NEAR(pb.bytesPerRay, pa.bytesPerRay, 0.1 * pa.bytesPerRay);
+}
+
+// SM balance, the most that dynamic fetch across SMs could gain: 1 where
+// every SM takes the same workgroups of the same rays (two rounds of
+// resident warps each); below 1 where one more workgroup goes to the first
+// SM, which then takes a third round (latency) or 1/24 more issue slots.
+TEST(Simt, SmBalanceSaysWhatDynamicFetchCouldGain) {
+  RayCase s = ray_case("gpu-bvh2");
+  const GpuModel& h200 = gpu_model("h200");
+  const SimtWalk walk = simt_walk("gpu-bvh2", s.cs);
+  const shader::ShadowRay ray = s.sets.bounce[s.sets.bounce.size() / 2];
+  const size_t groups = size_t(h200.sms) * size_t(h200.residentWarps) * 32 / WORKGROUP_SIZE * 2;
+  const SimtFigures even = simulate_walks(s.cs, std::vector<shader::ShadowRay>(groups * WORKGROUP_SIZE, ray), false, walk, h200, 32);
+  EXPECT_DOUBLE_EQ(even.smBalance, 1.0);
+  const SimtFigures uneven = simulate_walks(s.cs, std::vector<shader::ShadowRay>((groups + 1) * WORKGROUP_SIZE, ray), false, walk, h200, 32);
+  EXPECT_LT(uneven.smBalance, 0.99);
+  EXPECT_GT(uneven.smBalance, 0.6);
+}
+
 // The invocations of a dispatch of several rays a lane (limits.glsl, used by
 // prepare.comp, the host and the model): every ray its own lane below the
 // fill, the fill up to fill x rays, then the rays over rays a lane.

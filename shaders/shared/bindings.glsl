@@ -53,7 +53,7 @@
 #define FLOAT_TABLE_ENVIRONMENT (SHEEN_TABLE_SIZE * SHEEN_TABLE_SIZE)
 
 // Specialization constants of the kernels, by id: kernel.glsl declares them
-// (SPEC_ANY_HIT in raycast.comp, SPEC_SHADE_KEY in shade.comp), and the host
+// (SPEC_ANY_HIT in raycast.comp, SPEC_SHADE_KEY in shade.comp, SPEC_MEGAKERNEL_SAMPLES in megakernel.comp), and the host
 // sets each by the same name (src/gpu/wavefront.cpp, make_pipeline).
 #define SPEC_WORKGROUP_SIZE 0
 #define SPEC_INTEGRATOR 1
@@ -75,7 +75,9 @@
 #define SPEC_ROOT_AT_ENTRY 17
 #define SPEC_TRACING_FILL 18
 #define SPEC_WALK_LOADS 19
-#define SPEC_COUNT 20
+#define SPEC_BINARY_FUSED 20
+#define SPEC_MEGAKERNEL_SAMPLES 21
+#define SPEC_COUNT 22
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).

@@ -515,14 +515,49 @@ struct SampleRays {
   uint truncated;  // traversals that reached the step cap (the image would be wrong)
 };
 
+// One pass of a path begun by path_begin: its ray's closest hit, shading
+// there, and the shadow rays that shading cast (their light added to the
+// path's radiance where unblocked). Returns whether the path goes on; a
+// truncated traversal ends it (counted in *rays).
+bool trace_pass(INOUT(PathState) p, uint pass, INOUT(SampleRays) rays, INOUT(AovSample) aov) {
+  Hit h;
+  rays.closest += 1u;
+  if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
+    rays.truncated += 1u;
+    return false;
+  }
+  if (AOVS_OF_SCENE && pass == 0u) aov = aov_sample(p, h);
+  ShadowRays srs;
+  bool alive = path_shade(p, h, srs);
+  for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
+    if (j >= LIGHT_SAMPLES_OF_SCENE) break;
+    ShadowRay sr = srs.ray[j];
+    if (sr.tmax <= 0.0f) continue;
+    if (FEATURE_COMPILED(FEATURE_MEDIA)) {
+      rays.shadow += 1u;
+      p.radiance += sr.contribution * shadow_ray_transmittance(sr, p.wavelengths, rays.truncated);
+      continue;
+    }
+    Hit blocker;
+    rays.shadow += 1u;
+    if (trace_ray(sr.origin, sr.dir, sr.tmax, true, blocker) != TRACE_OK) {
+      rays.truncated += 1u;
+    } else if (blocker.prim == WP_INVALID) {
+      p.radiance += sr.contribution;
+    }
+  }
+  return alive;
+}
+
 // One sample of one pixel, from the camera ray through every bounce's closest
-// hit, shading and shadow rays; the path's radiance is the sample. The
-// megakernel (gpu-mega) and the CPU reference run this loop; the wavefront
-// kernels run the same steps (path_begin, trace_ray, path_shade, the shadow
-// rays) as stages over queues of paths. On lavapipe one invocation's loops
-// share a budget of 65,535 iterations: the host lowers the traversal step cap
-// (scene.counts.z) so that a whole path's traversals fit. Where the render
-// records AOV layers (AOVS_OF_SCENE), *aov receives the first hit's.
+// hit, shading and shadow rays (trace_pass); the path's radiance is the
+// sample. The megakernel (gpu-mega) and the CPU reference run this loop; the
+// wavefront kernels run the same steps (path_begin, trace_ray, path_shade,
+// the shadow rays) as stages over queues of paths. On lavapipe one
+// invocation's loops share a budget of 65,535 iterations: the host lowers
+// the traversal step cap (scene.counts.z) so that a whole path's traversals
+// fit. Where the render records AOV layers (AOVS_OF_SCENE), *aov receives
+// the first hit's.
 PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(AovSample) aov) {
   rays.closest = 0u;
   rays.shadow = 0u;
@@ -534,33 +569,7 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(A
   // path_shade ends every path at max bounces (and its interfaces).
   uint passes = path_passes_max();
   for (uint pass = 0u; pass < passes; ++pass) {
-    Hit h;
-    rays.closest += 1u;
-    if (trace_ray(p.origin, p.dir, WP_INF, false, h) != TRACE_OK) {
-      rays.truncated += 1u;
-      break;
-    }
-    if (AOVS_OF_SCENE && pass == 0u) aov = aov_sample(p, h);
-    ShadowRays srs;
-    bool alive = path_shade(p, h, srs);
-    for (uint j = 0u; j < LIGHT_SAMPLE_SLOTS; ++j) {
-      if (j >= LIGHT_SAMPLES_OF_SCENE) break;
-      ShadowRay sr = srs.ray[j];
-      if (sr.tmax <= 0.0f) continue;
-      if (FEATURE_COMPILED(FEATURE_MEDIA)) {
-        rays.shadow += 1u;
-        p.radiance += sr.contribution * shadow_ray_transmittance(sr, p.wavelengths, rays.truncated);
-        continue;
-      }
-      Hit blocker;
-      rays.shadow += 1u;
-      if (trace_ray(sr.origin, sr.dir, sr.tmax, true, blocker) != TRACE_OK) {
-        rays.truncated += 1u;
-      } else if (blocker.prim == WP_INVALID) {
-        p.radiance += sr.contribution;
-      }
-    }
-    if (!alive) break;
+    if (!trace_pass(p, pass, rays, aov)) break;
   }
   return p;
 }

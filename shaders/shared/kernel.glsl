@@ -26,6 +26,7 @@ layout(constant_id = SPEC_LIGHT_SAMPLES) const uint kLightSamples = 1u;
 layout(constant_id = SPEC_BVH_LAYOUT) const uint kBvhLayout = BVH_LAYOUT_WIDE;
 layout(constant_id = SPEC_WIDE_CHILD_ORDER) const uint kWideChildOrder = WIDE_ORDER_OCTANT;
 layout(constant_id = SPEC_ROOT_AT_ENTRY) const bool kRootAtEntry = false;
+layout(constant_id = SPEC_BINARY_FUSED) const bool kBinaryFused = false;
 layout(constant_id = SPEC_MATERIAL_KINDS) const uint kMaterialKinds = ALL_KINDS;
 layout(constant_id = SPEC_TEXTURE_KINDS) const uint kTextureKinds = ALL_KINDS;
 layout(constant_id = SPEC_LIGHT_KINDS) const uint kLightKinds = ALL_KINDS;
@@ -34,6 +35,7 @@ layout(constant_id = SPEC_STACK_SIZE) const uint kStackSize = BVH_STACK_MAX;
 #define BVH_LAYOUT_OF_SCENE kBvhLayout
 #define WIDE_CHILD_ORDER_OF_SCENE kWideChildOrder
 #define ROOT_AT_ENTRY_OF_SCENE kRootAtEntry
+#define BINARY_FUSED_OF_SCENE kBinaryFused
 #define MATERIAL_KINDS_OF_SCENE kMaterialKinds
 #define TEXTURE_KINDS_OF_SCENE kTextureKinds
 #define LIGHT_KINDS_OF_SCENE kLightKinds

@@ -98,6 +98,42 @@ bool meets_instance(Triangle tri, vec3 o, vec3 invDir, float tmax) {
 // TransformedPrimitive).
 #define INSTANCE_RETURN_Y 0u
 
+// The ray taken into instance `instance`'s mesh space (ro, rd and their
+// derived terms); returns its tree's root as a node to visit.
+uvec2 binary_enter_instance(uint instance, vec3 o, vec3 d, INOUT(vec3) ro, INOUT(vec3) rd, INOUT(vec3) invDir,
+                            INOUT(RayShear) sh) {
+  Instance inst = load_instance(instance);
+  ro = xform_point(inst.toObject0, inst.toObject1, inst.toObject2, o);
+  rd = xform_vector(inst.toObject0, inst.toObject1, inst.toObject2, d);
+  invDir = vec3(1.0f) / rd;
+  sh = make_ray_shear(rd);
+  BvhNode blasRoot = load_node(inst.root);
+  return uvec2(blasRoot.leftFirst, blasRoot.count);
+}
+
+// Visits interior node `node` of the binary walk (its children's boxes
+// tested against the ray in the space being walked): false where the ray
+// misses both; else the nearer child hit in `near`, and whether the other
+// was hit too, in `far` (to be set aside).
+bool binary_visit(uvec2 node, vec3 ro, vec3 invDir, float tmax, OUT(uvec2) near, OUT(uvec2) far, OUT(bool) both) {
+  BvhNode n0 = load_node(node.x);
+  BvhNode n1 = load_node(node.x + 1u);
+  float d0 = intersect_aabb(ro, invDir, n0.bmin, n0.bmax, tmax);
+  float d1 = intersect_aabb(ro, invDir, n1.bmin, n1.bmax, tmax);
+  near = uvec2(n0.leftFirst, n0.count);
+  far = uvec2(n1.leftFirst, n1.count);
+  if (d1 < d0) {
+    float td = d0;
+    d0 = d1;
+    d1 = td;
+    uvec2 tn = near;
+    near = far;
+    far = tn;
+  }
+  both = d1 != WP_INF;
+  return d0 != WP_INF;
+}
+
 // The binary BVH (BvhNode), ordered and stack-based: each iteration visits one
 // node (testing both children's boxes) or tests one primitive.
 uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
@@ -148,13 +184,7 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
         leafNext = 0u;
         leafEnd = 0u;
         instance = tri.shading;
-        Instance inst = load_instance(instance);
-        ro = xform_point(inst.toObject0, inst.toObject1, inst.toObject2, o);
-        rd = xform_vector(inst.toObject0, inst.toObject1, inst.toObject2, d);
-        invDir = vec3(1.0f) / rd;
-        sh = make_ray_shear(rd);
-        BvhNode blasRoot = load_node(inst.root);
-        node = uvec2(blasRoot.leftFirst, blasRoot.count);
+        node = binary_enter_instance(instance, o, d, ro, rd, invDir, sh);
         haveNode = true;
         continue;
       }
@@ -188,29 +218,128 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
     }
     WP_NOTE_PHASE(WALK_PHASE_NODE);
     WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
-    BvhNode n0 = load_node(node.x);
-    BvhNode n1 = load_node(node.x + 1u);
-    float d0 = intersect_aabb(ro, invDir, n0.bmin, n0.bmax, hit.t);
-    float d1 = intersect_aabb(ro, invDir, n1.bmin, n1.bmax, hit.t);
-    uvec2 near = uvec2(n0.leftFirst, n0.count);
-    uvec2 far = uvec2(n1.leftFirst, n1.count);
-    if (d1 < d0) {
-      float td = d0;
-      d0 = d1;
-      d1 = td;
-      uvec2 tn = near;
-      near = far;
-      far = tn;
-    }
-    if (d0 == WP_INF) continue;  // neither child: pop on the next iteration
-    node = near;
+    uvec2 far;
+    bool both;
+    if (!binary_visit(node, ro, invDir, hit.t, node, far, both)) continue;  // neither child: pop on the next iteration
     haveNode = true;
-    if (d1 != WP_INF) {
+    if (both) {
       WP_NOTE_STACK_WRITE(sp);
       stack[sp] = far;
       sp += 1u;
       WP_NOTE_STACK_DEPTH(sp);
     }
+  }
+  return TRACE_OK;
+}
+
+// The binary walk with Aila and Laine's (2009) speculative traversal in one
+// loop (RenderOptions::binaryFused, variants gpu-bvh2-fused and
+// gpu-mega-bvh2-fused): each iteration tests the current leaf's next
+// primitive and also takes a node from the stack and visits it, so that in a
+// warp the lanes testing primitives and the lanes descending share an
+// iteration instead of taking turns. A leaf the descent reaches while
+// another is being tested waits as the node to visit (one postponed leaf, as
+// theirs) and becomes the current leaf once that one is done. The same
+// hits as trace_binary, in fewer iterations of more work each.
+uint trace_binary_fused(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
+  hit = no_hit(tmax);
+  vec3 ro = o;
+  vec3 rd = d;
+  uint instance = WP_INVALID;
+  vec3 invDir = vec3(1.0f) / d;
+  RayShear sh = make_ray_shear(d);
+  uvec2 stack[TRAVERSAL_STACK_SIZE];
+  uint sp = 0u;
+  BvhNode root = load_node(0u);
+  uvec2 node = uvec2(root.leftFirst, root.count);  // as in trace_binary
+  bool haveNode = true;
+  uint leafNext = 0u;
+  uint leafEnd = 0u;
+  uint steps = 0u;
+  uint cap = scene.counts.z;
+  bool empty = root.bmin.x > root.bmax.x;
+  if (root.count == 0u && (empty || intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF)) return TRACE_OK;
+  while (true) {
+    steps += 1u;
+    if (steps > cap) return TRACE_TRUNCATED;
+    WP_NOTE_STEP();
+    if (leafNext < leafEnd) {
+      WP_NOTE_PHASE(WALK_PHASE_PRIM);
+      Triangle tri = load_triangle(leafNext);
+      leafNext += 1u;
+      if (FEATURE_COMPILED(FEATURE_INSTANCES) && tri.material == PRIM_INSTANCE) {
+        if (meets_instance(tri, o, invDir, hit.t)) {
+          // Set aside the node waiting, the rest of this leaf, then the way
+          // back (popped in the reverse order); the instance's root is the
+          // node this iteration visits.
+          WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
+          if (haveNode) {
+            WP_NOTE_STACK_WRITE(sp);
+            stack[sp] = node;
+            sp += 1u;
+          }
+          if (leafNext < leafEnd) {
+            WP_NOTE_STACK_WRITE(sp);
+            stack[sp] = uvec2(leafNext, leafEnd - leafNext);
+            sp += 1u;
+          }
+          WP_NOTE_STACK_WRITE(sp);
+          stack[sp] = uvec2(0u, INSTANCE_RETURN_Y);
+          sp += 1u;
+          WP_NOTE_STACK_DEPTH(sp);
+          leafNext = 0u;
+          leafEnd = 0u;
+          instance = tri.shading;
+          node = binary_enter_instance(instance, o, d, ro, rd, invDir, sh);
+          haveNode = true;
+        }
+      } else {
+        intersect_loaded_prim(leafNext - 1u, tri, ro, rd, sh, instance, hit);
+        if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
+      }
+    }
+    // With no node waiting, take the top of the stack; the way back out of an
+    // instance only once the instance's current leaf is done.
+    if (!haveNode && sp > 0u) {
+      uvec2 top = stack[sp - 1u];
+      bool isReturn = FEATURE_COMPILED(FEATURE_INSTANCES) && top.y == INSTANCE_RETURN_Y && top.x == 0u;
+      if (!isReturn || leafNext >= leafEnd) {
+        WP_NOTE_PHASE(WALK_PHASE_POP);
+        sp -= 1u;
+        WP_NOTE_STACK_READ(sp);
+        if (isReturn) {
+          ro = o;
+          rd = d;
+          instance = WP_INVALID;
+          invDir = vec3(1.0f) / d;
+          sh = make_ray_shear(d);
+        } else {
+          node = top;
+          haveNode = true;
+        }
+      }
+    }
+    if (haveNode && node.y == 0u) {
+      WP_NOTE_PHASE(WALK_PHASE_NODE);
+      WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
+      uvec2 far;
+      bool both;
+      haveNode = binary_visit(node, ro, invDir, hit.t, node, far, both);
+      if (haveNode && both) {
+        WP_NOTE_STACK_WRITE(sp);
+        stack[sp] = far;
+        sp += 1u;
+        WP_NOTE_STACK_DEPTH(sp);
+      }
+    }
+    // A leaf waiting becomes the current one once that is done.
+    if (haveNode && node.y != 0u && leafNext >= leafEnd) {
+      WP_NOTE_PHASE(WALK_PHASE_LEAF);
+      leafNext = node.x;
+      leafEnd = node.x + node.y;
+      haveNode = false;
+    }
+    if (!haveNode && sp == 0u && leafNext >= leafEnd) break;
   }
   return TRACE_OK;
 }

@@ -30,6 +30,9 @@
 // children (wide_walk_step.glsl).
 #define WIDE_ORDER_OCTANT 0u   // by the slots of the ray's octant: a fixed order, no sort
 #define WIDE_ORDER_DISTANCE 1u // nearest first, by a sorting network over their entry distances
+// SceneParams.accel.w: bits choosing how the walks iterate.
+#define WALK_ROOT_AT_ENTRY 1u  // the wide walk visits an instance's root in the iteration that enters it
+#define WALK_BINARY_FUSED 2u   // each iteration of the binary walk tests a primitive and visits a node (trace_binary_fused)
 // A wide node's leaf child holds at most this many primitives, and all its
 // leaf children together at most WIDE_MAX_NODE_PRIMS (offsets in 5 bits).
 #define WIDE_MAX_LEAF_SIZE 3
@@ -364,7 +367,7 @@ struct SceneParams {
   uvec4 counts;      // x: emitter count, y: seed, z: traversal step cap, w: SCENE_FLAG_*
   uvec4 mode;        // x: INTEGRATOR_*, y: SAMPLER_*, z: samples per pixel (cmj strata), w: light samples per vertex
   uvec4 environment; // x: texture of the environment map (WP_INVALID: constant background), y: emitter index or WP_INVALID, z: width, w: height of its sampling grid
-  uvec4 accel;       // x: BVH_LAYOUT_*, y: WIDE_ORDER_*, z: traversal stack slots needed, w: 1 where entering an instance visits its root at once
+  uvec4 accel;       // x: BVH_LAYOUT_*, y: WIDE_ORDER_*, z: traversal stack slots needed, w: WALK_* bits
   // The kinds the scene uses (kinds.glsl), one bit per kind id: x material
   // kinds, y texture kinds, z light kinds, w other features. The kernels get
   // them as specialization constants and compile out the code of the rest.

@@ -121,7 +121,8 @@ nlohmann::json to_json(const SimtFigures& f) {
           {"deepest_stack", f.deepestStack},
           {"bound_shares", {{"issue", f.issueShare}, {"l1", f.l1Share}, {"l2", f.l2Share}, {"latency", f.latencyShare}}},
           {"bound", f.bound},
-          {"predicted_mrays_per_second", f.predictedRaysPerSecond * 1e-6}};
+          {"predicted_mrays_per_second", f.predictedRaysPerSecond * 1e-6},
+          {"sm_balance", f.smBalance}};
 }
 
 }  // namespace
@@ -129,7 +130,7 @@ nlohmann::json to_json(const SimtFigures& f) {
 std::vector<std::string> simt_variants() {
   // gpu-memstack and gpu-oneray walk as gpu does on a GPU; the megakernels,
   // sorting and compaction change what is traced, not the walk.
-  return {"gpu", "gpu-bvh2", "gpu-regstack", "gpu-multiray", "gpu-greedy", "gpu-clustered", "gpu-loads", "gpu-bvh2-loads"};
+  return {"gpu", "gpu-bvh2", "gpu-regstack", "gpu-multiray", "gpu-greedy", "gpu-clustered", "gpu-loads", "gpu-bvh2-loads", "gpu-bvh2-fused"};
 }
 
 int run_simt_bench(const BenchOptions& o) {
@@ -172,7 +173,7 @@ int run_simt_bench(const BenchOptions& o) {
       if (set.rays.empty()) continue;
       const bool anyHit = set.anyHit;
       std::vector<std::pair<double, std::string>> predicted, seen;
-      std::string nodeVisits;
+      std::string nodeVisits, balance;
       for (size_t row = 0; row < o.variants.size() * (o.nodeStrideBytes ? 2 : 1); ++row) {
         const size_t vi = row % o.variants.size();
         SimtWalk walk = simt_walk(o.variants[vi], compiled[vi]);
@@ -198,6 +199,11 @@ int run_simt_bench(const BenchOptions& o) {
                           f.nodeVisitsPerRay - f.instanceNodeVisitsPerRay, f.instanceNodeVisitsPerRay);
             nodeVisits += text;
           }
+          if (predicts) {
+            char text[64];
+            std::snprintf(text, sizeof text, "%s%s %.3f", balance.empty() ? "" : ", ", walk.variant.c_str(), f.smBalance);
+            balance += text;
+          }
           nlohmann::json row = to_json(f);
           row["scene"] = path;
           row["rays_set"] = set.name;
@@ -215,6 +221,8 @@ int run_simt_bench(const BenchOptions& o) {
       // In instanced scenes: where the node visits went, which bound the
       // steps from below (an iteration visits at most one node).
       if (!nodeVisits.empty()) std::printf("  %-7s node visits a ray, top level + instances' trees (warps of %d): %s\n", set.name.c_str(), o.warpWidths.front(), nodeVisits.c_str());
+      // What dynamic fetch across SMs could gain at most: the slowest SM's time over the mean's.
+      std::printf("  %-7s SM balance (mean SM's time / slowest's): %s\n", set.name.c_str(), balance.c_str());
       if (predicted.size() > 1) std::printf("  %-7s predicted order: %s\n", set.name.c_str(), order_of(predicted).c_str());
       if (seen.size() > 1) std::printf("  %-7s measured order:  %s\n", set.name.c_str(), order_of(seen).c_str());
     }

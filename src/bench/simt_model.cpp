@@ -42,7 +42,8 @@ SimtWalk simt_walk(const std::string& variant, const CompiledScene& cs) {
   w.stackSlots = cs.params.accel.z;
   w.raysPerLane = w.wide && v.settings.raysPerInvocation > 1 ? v.settings.raysPerInvocation : 1u;
   w.nearestFirst = w.wide && cs.params.accel.y == WIDE_ORDER_DISTANCE;
-  w.rootAtEntry = w.wide && cs.params.accel.w != 0u;
+  w.rootAtEntry = w.wide && (cs.params.accel.w & WALK_ROOT_AT_ENTRY) != 0u;
+  w.binaryFused = !w.wide && (cs.params.accel.w & WALK_BINARY_FUSED) != 0u;
   w.walkLoads = v.settings.walkLoads;
   return w;
 }
@@ -75,6 +76,10 @@ WalkCosts walk_costs(const SimtWalk& walk) {
     c.phase[2] = 6.0;    // pop
     c.phase[3] = 3.0;    // leaf: its range
     c.phase[4] = 60.0;   // instance
+    if (walk.binaryFused) {
+      c.iteration += 4.0;  // each phase's test every iteration, and the end's
+      c.phase[2] += 3.0;   // the top read before it is taken: the way back waits for the leaf
+    }
   }
   return c;
 }
@@ -354,7 +359,9 @@ struct Totals {
   uint64_t nodeVisits = 0, instanceNodeVisits = 0;
   double bounds[4] = {};   // clocks of issue, L1, L2 and latency (the slowest SM's, once added)
   double smClocks = 0.0;   // the largest bound (the slowest SM's, once added)
+  double smClocksSum = 0.0;  // over the SMs added
   void add(const Totals& o) {
+    smClocksSum += o.smClocks;
     f.rays += o.f.rays;
     f.warps += o.f.warps;
     f.warpIterations += o.f.warpIterations;
@@ -514,6 +521,7 @@ SimtFigures simulate_walks(const CompiledScene& cs, const std::vector<shader::Sh
   static const char* names[4] = {"issue", "L1", "L2", "latency"};
   f.bound = names[std::max_element(all.bounds, all.bounds + 4) - all.bounds];
   f.predictedRaysPerSecond = all.smClocks > 0.0 ? double(f.rays) / (all.smClocks / (gpu.clockGHz * 1e9)) : 0.0;
+  f.smBalance = all.smClocks > 0.0 ? all.smClocksSum / double(gpu.sms) / all.smClocks : 0.0;
   return f;
 }
 

@@ -51,6 +51,7 @@ struct SimtWalk {
   bool walkLoads = false;     // nodes and primitives read by loads (variants *-loads), not through the texture unit
   bool nearestFirst = false;  // the wide walk sorts a node's hit children by distance (WIDE_ORDER_DISTANCE; closest hits only)
   bool rootAtEntry = false;   // entering an instance loads its root and visits it in the same iteration
+  bool binaryFused = false;   // the binary walk tests a primitive and visits a node in one iteration
   // The nodes' layout in memory: 0, the records' own (80 bytes a wide node,
   // 32 a binary one, back to back, the binary root alone before its pairs of
   // siblings); else each wide node, or each binary pair of siblings (which
@@ -104,6 +105,10 @@ struct SimtFigures {
   double issueShare = 0.0, l1Share = 0.0, l2Share = 0.0, latencyShare = 0.0;
   double predictedRaysPerSecond = 0.0;
   std::string bound;
+  // The mean SM's time over the slowest's (1: balanced): SMs take their
+  // workgroups in turn, so this is the most that fetching work dynamically
+  // across SMs (persistent threads) could gain.
+  double smBalance = 0.0;
 };
 
 // Replays `rays` (closest hit, or any hit) through the walk of `cs` in warps

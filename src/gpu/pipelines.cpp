@@ -297,16 +297,23 @@ uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
   if (scene.params.kinds.w & KIND_BIT(FEATURE_MEDIA))
     throw RenderError("the megakernel cannot fit participating media's tracking into lavapipe's loop budget; use the wavefront kernels");
   const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
-  // The photon mapper's one gather per path takes its search's share first.
-  const uint64_t gather = scene.params.mode.x == INTEGRATOR_PHOTONS ? PHOTON_SEARCH_STEPS_MAX : 0u;
-  const uint64_t budget = TRAVERSAL_STEP_BUDGET - gather, traversals = bounces + 1 + bounces * lightSamples;
-  const uint64_t perRay = (budget - std::min(budget, bounces + 1)) / traversals;
+  // An invocation renders `paths` paths (megakernel_samples). The photon
+  // mapper's one gather per path takes its search's share first.
+  const uint64_t paths = megakernel_samples();
+  const uint64_t gather = scene.params.mode.x == INTEGRATOR_PHOTONS ? paths * PHOTON_SEARCH_STEPS_MAX : 0u;
+  const uint64_t budget = TRAVERSAL_STEP_BUDGET - std::min<uint64_t>(TRAVERSAL_STEP_BUDGET, gather);
+  const uint64_t traversals = paths * (bounces + 1 + bounces * lightSamples);
+  const uint64_t perRay = (budget - std::min(budget, paths * (bounces + 1))) / traversals;
   if (perRay < kMegakernelMinimumCap) {
     throw RenderError("the megakernel variant fits " + std::to_string(bounces) + " bounces into lavapipe's loop budget only with " +
                       std::to_string(perRay) + " traversal steps per ray (at least " + std::to_string(kMegakernelMinimumCap) +
                       " needed); use fewer bounces or the wavefront kernels");
   }
   return uint32_t(std::min<uint64_t>(cap, perRay));
+}
+
+uint32_t WavefrontRenderer::Impl::megakernel_samples() const {
+  return settings.megakernel ? std::max(1u, settings.megakernelSamples) : 1u;
 }
 
 uint32_t WavefrontRenderer::Impl::rays_per_invocation() const {
@@ -358,7 +365,8 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_LIGHT_SAMPLES] = scene.params.mode.w;
   values[SPEC_BVH_LAYOUT] = accel.x;
   values[SPEC_WIDE_CHILD_ORDER] = accel.y;
-  values[SPEC_ROOT_AT_ENTRY] = accel.w != 0u ? 1u : 0u;
+  values[SPEC_ROOT_AT_ENTRY] = (accel.w & WALK_ROOT_AT_ENTRY) != 0u ? 1u : 0u;
+  values[SPEC_BINARY_FUSED] = (accel.w & WALK_BINARY_FUSED) != 0u ? 1u : 0u;
   values[SPEC_MATERIAL_KINDS] = kinds.x;
   values[SPEC_TEXTURE_KINDS] = kinds.y;
   values[SPEC_LIGHT_KINDS] = kinds.z;
@@ -372,6 +380,7 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
   values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
   values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp
+  values[SPEC_MEGAKERNEL_SAMPLES] = megakernel_samples();  // megakernel.comp
   values[SPEC_AOVS] = scene.aovs.empty() ? 0u : 1u;
   vk::SpecializationMapEntry entries[kConstants];
   for (uint32_t i = 0; i < kConstants; ++i) entries[i] = vk::SpecializationMapEntry(i, i * sizeof(uint32_t), sizeof(uint32_t));

@@ -24,6 +24,8 @@ const std::vector<KernelVariant>& kernel_variants() {
     multiRay.raysPerInvocation = 16;
     WavefrontSettings loads;
     loads.walkLoads = true;
+    WavefrontSettings megaRegen = megakernel;
+    megaRegen.megakernelSamples = 4;
     WavefrontSettings megaLoads = megakernel;
     megaLoads.walkLoads = true;
     std::vector<KernelVariant> v{
@@ -57,6 +59,12 @@ const std::vector<KernelVariant>& kernel_variants() {
          BvhLayout::Wide},
         {"gpu-loads", "wavefront kernels, the walk reading nodes and primitives by storage-buffer loads instead of texel fetches", loads,
          BvhLayout::Wide},
+        {"gpu-bvh2-fused", "wavefront kernels, binary BVH, each iteration of its walk testing a primitive and visiting a node (speculative traversal)",
+         WavefrontSettings{}, BvhLayout::Binary, false, WideCollapse::Sah, WideChildOrder::Auto, false, true},
+        {"gpu-mega-bvh2-fused", "one kernel per path over the binary BVH, each iteration of its walk testing a primitive and visiting a node",
+         megakernel, BvhLayout::Binary, false, WideCollapse::Sah, WideChildOrder::Auto, false, true},
+        {"gpu-mega-bvh2-regen", "one kernel per path over the binary BVH, an invocation rendering 4 samples of its pixel, each lane beginning its next path as one ends",
+         megaRegen, BvhLayout::Binary},
         {"gpu-bvh2-loads", "wavefront kernels, binary BVH, its walk reading nodes and primitives by storage-buffer loads", loads,
          BvhLayout::Binary},
         {"gpu-mega-bvh2-loads", "one kernel per path over the binary BVH, its walk reading nodes and primitives by storage-buffer loads",
@@ -110,6 +118,7 @@ RenderOptions variant_options(RenderOptions options, const std::string& renderer
   options.wideCollapse = v.wideCollapse;
   options.wideChildOrder = v.wideChildOrder;
   options.rootAtEntry = v.rootAtEntry;
+  options.binaryFused = v.binaryFused;
   options.photonsOnHost = false;  // the renderer traces the photon map with its kernels
   return options;
 }

@@ -40,7 +40,8 @@ void WavefrontRenderer::Impl::dispatch_indirect(vk::CommandBuffer cb, const vk::
 }
 
 uint32_t WavefrontRenderer::Impl::samples_per_wave(uint32_t pixels) const {
-  if (settings.megakernel || pixels >= capacity) return 1;
+  if (settings.megakernel) return megakernel_samples();
+  if (pixels >= capacity) return 1;
   return std::min(capacity / pixels, kMaxSamplesPerWave);
 }
 
@@ -55,7 +56,9 @@ void WavefrontRenderer::Impl::record_wave(vk::CommandBuffer cb, uint32_t waveSta
   push.sampleIndex = sampleIndex;
   push.capacity = capacity;
   push.phase = listed ? GENERATE_FROM_LIST : GENERATE_CONSECUTIVE;
-  if (settings.megakernel) return dispatch(cb, megakernel, push, interleaved_groups(pathCount), StageTimes::kMegakernel);
+  // A regenerating megakernel (megakernel.comp) takes each pixel's samples in one invocation.
+  if (settings.megakernel)
+    return dispatch(cb, megakernel, push, interleaved_groups(megakernel_samples() > 1 ? span : pathCount), StageTimes::kMegakernel);
   dispatch(cb, generate, push, groups_for(pathCount), StageTimes::kGenerate);
   // Pass b extends the rays of paths with b scattering events (or passed
   // interfaces) behind them; path_shade ends every path at max bounces.

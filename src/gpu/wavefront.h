@@ -64,6 +64,9 @@ struct WavefrontSettings {
   TraversalStack stack = TraversalStack::Auto;  // the wide walk's stack (the binary walk always indexes)
   bool compaction = true;                   // later bounces dispatch only live paths (kernel.glsl)
   bool megakernel = false;                  // one kernel per path instead of the wavefront stages
+  // Samples of its pixel one megakernel invocation renders, one after
+  // another, a lane starting the next as its path ends (megakernel.comp).
+  uint32_t megakernelSamples = 1;
   // Paths sorted by the class of material their rays hit, each class shaded
   // by a kernel holding only its kinds (types.glsl, SORT_KEYS). Off by
   // default: on lavapipe it cut shade by 30-55 % on scenes that mix
@@ -103,6 +106,7 @@ struct KernelVariant {
   WideCollapse wideCollapse = WideCollapse::Sah;  // how the wide BVH's nodes are picked from the binary tree
   WideChildOrder wideChildOrder = WideChildOrder::Auto;  // how the wide walk orders a node's hit children
   bool rootAtEntry = false;  // RenderOptions::rootAtEntry
+  bool binaryFused = false;  // RenderOptions::binaryFused
 };
 const std::vector<KernelVariant>& kernel_variants();
 // Throws InputError naming the known variants if `name` is not one of them.

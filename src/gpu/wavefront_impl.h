@@ -196,6 +196,7 @@ struct WavefrontRenderer::Impl {
   // on the Cornell box (depth 2) renders lost 9 % to the per-ray start and
   // store, while the 100k-triangle scenes (depth 6 to 10) gained.
   uint32_t rays_per_invocation() const;
+  uint32_t megakernel_samples() const;  // samples of a pixel one megakernel invocation renders (WavefrontSettings)
   static constexpr uint32_t kRaysPerInvocationOnCpus = 16;
   static constexpr int kMultiRayMinDepth = 4;
 

@@ -85,7 +85,8 @@ void set_render_params(const Scene& scene, const RenderOptions& options, size_t 
   const bool nearest = options.wideChildOrder == WideChildOrder::Distance ||
                        (options.wideChildOrder == WideChildOrder::Auto && !scene.instances.empty());
   p.accel = glm::uvec4(options.bvhLayout == BvhLayout::Wide ? BVH_LAYOUT_WIDE : BVH_LAYOUT_BINARY,
-                       nearest ? WIDE_ORDER_DISTANCE : WIDE_ORDER_OCTANT, stackSlots, options.rootAtEntry ? 1u : 0u);
+                       nearest ? WIDE_ORDER_DISTANCE : WIDE_ORDER_OCTANT, stackSlots,
+                       (options.rootAtEntry ? WALK_ROOT_AT_ENTRY : 0u) | (options.binaryFused ? WALK_BINARY_FUSED : 0u));
 }
 
 // Buffers are never empty: bind a zero element where the scene has none.

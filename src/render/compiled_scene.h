@@ -50,6 +50,9 @@ struct RenderOptions {
   // The wide walk visits an instance's root in the iteration that enters it
   // (an iteration fewer per instance, a dependent load more), not the next.
   bool rootAtEntry = false;
+  // Each iteration of the binary walk tests a primitive and visits a node
+  // (trace_binary_fused), instead of doing one or the other.
+  bool binaryFused = false;
   // Overrides of the scene file's integrator and sampler (command line).
   std::optional<IntegratorKind> integrator;
   std::optional<SamplerKind> sampler;

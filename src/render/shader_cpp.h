@@ -87,7 +87,8 @@ struct SceneView : ShaderMath {
 #define LIGHT_SAMPLE_SLOTS MAX_LIGHT_SAMPLES
 #define BVH_LAYOUT_OF_SCENE scene.accel.x
 #define WIDE_CHILD_ORDER_OF_SCENE scene.accel.y
-#define ROOT_AT_ENTRY_OF_SCENE (scene.accel.w != 0u)
+#define ROOT_AT_ENTRY_OF_SCENE ((scene.accel.w & WALK_ROOT_AT_ENTRY) != 0u)
+#define BINARY_FUSED_OF_SCENE ((scene.accel.w & WALK_BINARY_FUSED) != 0u)
 #define TRAVERSAL_STACK_SIZE BVH_STACK_MAX  // GLSL: sized for the scene's tree
 #define TRAVERSAL_STACK_SLOTS scene.accel.z
   // Whether trace_sample records the first hit for AOV layers (GLSL: a
