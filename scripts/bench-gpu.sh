@@ -66,7 +66,7 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   # scenes on a GPU as gpu does.
   stage "kernel variants, full renders 512x512, 64 spp"
   "$build/wavepath" bench "${dev[@]}" --scenes scenes/cornell-box.json,scenes/cornell-dragon.json \
-    --variants gpu,gpu-mega-bvh2,gpu-mega,gpu-mega-bvh2-regen,gpu-mega-bvh2-loads,gpu-mega-bvh2-fused,gpu-bvh2,gpu-bvh2-loads,gpu-bvh2-fused,gpu-loads,gpu-multiray,gpu-nearest,gpu-enter-root,gpu-nocompact,gpu-clustered,gpu-sort,gpu-greedy,gpu-regstack \
+    --variants gpu,gpu-mega-bvh2,gpu-mega,gpu-mega-bvh2-regen,gpu-mega-bvh2-loads,gpu-mega-bvh2-fused,gpu-bvh2,gpu-bvh2-loads,gpu-bvh2-fused,gpu-loads,gpu-multiray,gpu-multiray-fetch,gpu-nearest,gpu-enter-root,gpu-nocompact,gpu-clustered,gpu-sort,gpu-greedy,gpu-regstack \
     --resolution 512 512 --spp 64 --repeats 3 --out "$out/render.json" --csv "$out/render.csv"
 
   # Every walk the SIMT model ranks (bench --simt's variants) on the mesh
@@ -77,12 +77,12 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   # and two variants alone.
   stage "ray casting, 1024x1024 rays per set"
   "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json,scenes/dragon.json \
-    --variants gpu,gpu-nearest,gpu-bvh2,gpu-regstack,gpu-multiray,gpu-greedy,gpu-clustered,gpu-loads,gpu-bvh2-loads,gpu-bvh2-fused \
+    --variants gpu,gpu-nearest,gpu-bvh2,gpu-regstack,gpu-multiray,gpu-multiray-fetch,gpu-greedy,gpu-clustered,gpu-loads,gpu-bvh2-loads,gpu-bvh2-fused \
     --resolution 1024 1024 --repeats 7 \
     --out "$out/raycast-1024.json"
   stage "ray casting, 4096x4096 rays per set, cornell-dragon.json"
   "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json \
-    --variants gpu,gpu-bvh2,gpu-multiray,gpu-bvh2-loads,gpu-bvh2-fused --resolution 4096 4096 --repeats 7 --out "$out/raycast-4096-more.json"
+    --variants gpu,gpu-bvh2,gpu-multiray,gpu-multiray-fetch,gpu-bvh2-loads,gpu-bvh2-fused --resolution 4096 4096 --repeats 7 --out "$out/raycast-4096-more.json"
   stage "instancing: a forest of a million trees against the flat Cornell dragon"
   # gpu walks the forest nearest first; the others lost on lavapipe or are
   # predicted to win on a GPU by the SIMT model (docs/benchmarks.md).

@@ -33,6 +33,7 @@ void main() {
     if (kCompaction) count_rays(COUNTER_CLOSEST_RAYS, queued);
     counters[COUNTER_QUEUE0 + (1u - pc.queueIn)] = 0u;
     counters[COUNTER_SHADOW] = 0u;
+    counters[COUNTER_TRACE_BLOCKS] = 0u;
     if (kSortByMaterial) {
       for (uint k = 0u; k < SORT_KEYS; ++k) sortBins[k] = 0u;
     }
@@ -41,6 +42,7 @@ void main() {
     for (uint k = 0u; k < SORT_KEYS; ++k) set_dispatch(INDIRECT_SHADE_KEY0 + k, groups_for(sortBins[k]));
   } else {
     set_dispatch(INDIRECT_CONNECT, tracing_groups(counters[COUNTER_SHADOW]));
+    counters[COUNTER_TRACE_BLOCKS] = 0u;
     count_rays(COUNTER_SHADOW_RAYS, counters[COUNTER_SHADOW]);
   }
 }

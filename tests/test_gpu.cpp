@@ -508,6 +508,7 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
     bool rootAtEntry = false;
     bool walkLoads = false;
     bool binaryFused = false;
+    bool dynamicFetch = false;  // 16 rays a lane, their subgroup's blocks taken from a counter
   };
   for (const Case& c : {Case{"wide, register stack", BvhLayout::Wide, false, false}, Case{"wide, indexed stack", BvhLayout::Wide, true, false},
                         Case{"wide, one ray per invocation", BvhLayout::Wide, false, true},
@@ -516,7 +517,8 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
                         Case{"binary", BvhLayout::Binary, false, false},
                         Case{"wide, loads", BvhLayout::Wide, false, false, WideChildOrder::Auto, false, true},
                         Case{"binary, loads", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, true},
-                        Case{"binary, fused", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, false, true}}) {
+                        Case{"binary, fused", BvhLayout::Binary, false, false, WideChildOrder::Auto, false, false, true},
+                        Case{"wide, blocks of rays fetched", BvhLayout::Wide, false, false, WideChildOrder::Auto, false, false, false, true}}) {
     SCOPED_TRACE(c.name);
     RenderOptions options;
     options.bvhLayout = c.layout;
@@ -528,6 +530,10 @@ TEST_F(Gpu, InstancedHitsAreTheCpuWalksHits) {
     SceneView view = cs.view();
     WavefrontSettings settings;
     settings.walkLoads = c.walkLoads;
+    if (c.dynamicFetch) {
+      settings.raysPerInvocation = 16;
+      settings.dynamicFetch = true;
+    }
     WavefrontRenderer renderer(*ctx_, cs, settings);
     uint64_t truncated = 0;
     std::vector<Hit> hits = renderer.cast_rays(rays, &truncated, nullptr, c.coherent);

@@ -77,7 +77,8 @@
 #define SPEC_WALK_LOADS 19
 #define SPEC_BINARY_FUSED 20
 #define SPEC_MEGAKERNEL_SAMPLES 21
-#define SPEC_COUNT 22
+#define SPEC_DYNAMIC_FETCH 22
+#define SPEC_COUNT 23
 
 // Default workgroup size. Kernel variants set another through specialization
 // constant 0 (see kernel.glsl and src/gpu/wavefront.cpp).

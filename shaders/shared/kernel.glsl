@@ -66,6 +66,8 @@ layout(constant_id = SPEC_SORT_BY_MATERIAL) const bool kSortByMaterial = false;
 // their group. A constant, not a push constant: a kernel holding both loops
 // ran single rays 10 % slower.
 layout(constant_id = SPEC_RAYS_PER_INVOCATION) const uint kRaysPerInvocation = 1u;
+// Subgroups sharing items take their blocks from a counter (trace_items.glsl).
+layout(constant_id = SPEC_DYNAMIC_FETCH) const bool kDynamicFetch = false;
 // The fewest invocations such a kernel is dispatched with, rays permitting:
 // TRACING_INVOCATIONS_ON_GPUS on GPUs, 0 on CPU devices (TRACING_INVOCATIONS).
 layout(constant_id = SPEC_TRACING_FILL) const uint kTracingFill = 0u;

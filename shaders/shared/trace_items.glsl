@@ -66,24 +66,31 @@ void trace_items() {
   // (sg + (q / L) * S) * L + q % L; past the first item out of range, all
   // are. (Fixed shares of 16 rays per lane kept 0.70-0.82 of the lanes busy
   // on bounce rays, by a replay of the walks on the CPU; shared, 0.87-0.92.)
+  // With kDynamicFetch a subgroup takes each block, from the first, as its
+  // lanes come to need it, from a counter (COUNTER_TRACE_BLOCKS, zeroed
+  // before each dispatch), so that subgroups that finish early take more:
+  // row r of its entries is the block it took r-th. It takes at most twice
+  // its fixed share of rows; since all subgroups together could take twice
+  // the blocks, every block is taken, and the share bounds its loop budget.
   const uint lanes = gl_SubgroupSize;
   const uint subgroups = gl_NumWorkGroups.x * gl_NumSubgroups;
   const uint subgroup = gl_WorkGroupID.x * gl_NumSubgroups + gl_SubgroupID;
   const uint blocks = (count + lanes - 1u) / lanes;
   const uint rows = (blocks + subgroups - 1u) / subgroups;
-  if (subgroup >= blocks) return;
+  const uint rowsMax = kDynamicFetch ? 2u * rows : rows;
+  if (!kDynamicFetch && subgroup >= blocks) return;
   // While a subgroup's entries last its lanes are all busy, so a lane's loop
   // runs at most (its share of the entries + 1) rays' caps: with every lane
-  // present, rows + 1 (rows is kRaysPerInvocation, or one more where the
+  // present, rowsMax + 1 (rows is kRaysPerInvocation, or one more where the
   // dispatch rounds down). A subgroup cut short by the workgroup's size has
   // fewer lanes to share the same entries.
   // Both loops below count against the budget. Every pass of the outer loop
   // but the last ends with a lane finishing a ray, so it makes at most
-  // rows * lanes + 1 passes (the subgroup's entries), which are set aside;
+  // rowsMax * lanes + 1 passes (the subgroup's entries), which are set aside;
   // the inner loop's passes are bounded by the rays' caps as above.
   const uint present = subgroupBallotBitCount(subgroupBallot(true));
-  const uint outerPasses = min(rows * lanes + 1u, scene.counts.z);
-  uint cap = (scene.counts.z - outerPasses) / ((rows * lanes + present - 1u) / present + 1u);
+  const uint outerPasses = min(rowsMax * lanes + 1u, scene.counts.z);
+  uint cap = (scene.counts.z - outerPasses) / ((rowsMax * lanes + present - 1u) / present + 1u);
   const bool anyHit = TRACE_ANY_HIT;
   vec3 o;
   vec3 d;
@@ -94,13 +101,46 @@ void trace_items() {
   uint item = 0u;
   uint steps = 0u;
   uint taken = 0u;  // entries handed out so far (the same in every lane)
+  // kDynamicFetch: the blocks of rows `row` and row + 1 (the latter taken
+  // once a lane needs an entry of it). Subgroup-uniform.
+  uint row = WP_INVALID;
+  uint block = 0u;
+  uint nextBlock = 0u;
+  bool haveNext = false;
   bool needRay = true;
   while (true) {
     uvec4 needing = subgroupBallot(needRay);
     uint entry = taken + subgroupBallotExclusiveBitCount(needing);
-    taken += subgroupBallotBitCount(needing);
+    uint needed = subgroupBallotBitCount(needing);
+    if (kDynamicFetch && needed > 0u) {
+      uint firstRow = taken / lanes;
+      uint lastRow = (taken + needed - 1u) / lanes;
+      if (firstRow != row && firstRow < rowsMax) {
+        if (haveNext) {
+          block = nextBlock;
+        } else {
+          uint got = 0u;
+          if (subgroupElect()) got = atomicAdd(counters[COUNTER_TRACE_BLOCKS], 1u);
+          block = subgroupBroadcastFirst(got);
+        }
+        row = firstRow;
+        haveNext = false;
+      }
+      if (lastRow != row && !haveNext && lastRow < rowsMax) {
+        uint got = 0u;
+        if (subgroupElect()) got = atomicAdd(counters[COUNTER_TRACE_BLOCKS], 1u);
+        nextBlock = subgroupBroadcastFirst(got);
+        haveNext = true;
+      }
+    }
+    taken += needed;
     if (needRay) {
-      item = (subgroup + (entry / lanes) * subgroups) * lanes + entry % lanes;
+      uint r = entry / lanes;
+      if (kDynamicFetch) {
+        item = r >= rowsMax ? count : (r == row ? block : nextBlock) * lanes + entry % lanes;
+      } else {
+        item = (subgroup + r * subgroups) * lanes + entry % lanes;
+      }
       if (item >= count) break;
       trace_item_ray(item, o, d, tmax, tag);
 #include "wide_walk_begin.glsl"

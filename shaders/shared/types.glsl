@@ -102,6 +102,8 @@
 // The photons kernel (photons.comp): records appended, photons still going.
 #define COUNTER_PHOTON_RECORDS 9u
 #define COUNTER_PHOTONS_ALIVE 10u
+// The blocks of items the tracing kernels' subgroups have taken (trace_items.glsl, kDynamicFetch).
+#define COUNTER_TRACE_BLOCKS 11u
 #define COUNTER_COUNT 12u
 
 // Sorting paths by material class (variant gpu-sort): between

@@ -377,6 +377,7 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
   values[SPEC_RAYS_PER_INVOCATION] = o.single ? 1u : tracingRays;
   values[SPEC_TRACING_FILL] = tracing_fill();
   values[SPEC_WALK_LOADS] = settings.walkLoads ? 1u : 0u;
+  values[SPEC_DYNAMIC_FETCH] = settings.dynamicFetch ? 1u : 0u;
   values[SPEC_WORKGROUP_INTERLEAVE] = o.interleaved ? workgroup_interleave() : 1u;
   values[SPEC_ANY_HIT] = o.anyHit ? 1u : 0u;  // raycast.comp
   values[SPEC_SHADE_KEY] = o.shadeKey;        // shade.comp

@@ -22,6 +22,8 @@ const std::vector<KernelVariant>& kernel_variants() {
     oneRay.raysPerInvocation = 1;
     WavefrontSettings multiRay;
     multiRay.raysPerInvocation = 16;
+    WavefrontSettings multiRayFetch = multiRay;
+    multiRayFetch.dynamicFetch = true;
     WavefrontSettings loads;
     loads.walkLoads = true;
     WavefrontSettings megaRegen = megakernel;
@@ -56,6 +58,8 @@ const std::vector<KernelVariant>& kernel_variants() {
         {"gpu-oneray", "wavefront kernels, one ray per invocation of the tracing kernels (gpu: 16 on CPU devices, for trees of depth 4 or more)",
          oneRay, BvhLayout::Wide},
         {"gpu-multiray", "wavefront kernels, 16 rays per invocation of the tracing kernels (shared within subgroups) on every device and tree", multiRay,
+         BvhLayout::Wide},
+        {"gpu-multiray-fetch", "gpu-multiray, its subgroups taking their blocks of rays from a counter as they need them", multiRayFetch,
          BvhLayout::Wide},
         {"gpu-loads", "wavefront kernels, the walk reading nodes and primitives by storage-buffer loads instead of texel fetches", loads,
          BvhLayout::Wide},

@@ -84,6 +84,7 @@ struct WavefrontSettings {
   bool specializeSpirv = true;          // apply the specialization constants to the SPIR-V before the driver (gpu/specialize.h)
   uint32_t raysPerInvocation = 0;       // of the tracing kernels; 0: 16 on CPU devices for a wide BVH of depth 4 or more, else 1
   bool walkLoads = false;               // the walks read nodes and primitives by storage-buffer loads, not texel fetches (bindings.glsl)
+  bool dynamicFetch = false;            // subgroups sharing rays take their blocks of rays from a counter, not in turn (trace_items.glsl)
 };
 
 // What the driver reports about one compiled kernel (VK_KHR_pipeline_executable_properties):
