@@ -16,6 +16,7 @@ namespace wp {
 
 RenderOptions reference_options(RenderOptions options) {
   options.bvhLayout = BvhLayout::Binary;
+  options.binaryFused = true;
   options.photonsOnHost = true;
   return options;
 }
