@@ -111,6 +111,45 @@ uvec2 binary_enter_instance(uint instance, vec3 o, vec3 d, INOUT(vec3) ro, INOUT
   return uvec2(blasRoot.leftFirst, blasRoot.count);
 }
 
+// Both binary walks entering the instance `tri` names: set aside the rest of
+// the current leaf (a leaf entry: count != 0), then the way back, and walk
+// the instance's tree from its root (`node`, to visit). A macro, not a
+// function: the stack would be copied into and out of it (lavapipe).
+#define BINARY_WALK_ENTER_INSTANCE(tri)                              \
+  if (leafNext < leafEnd) {                                          \
+    WP_NOTE_STACK_WRITE(sp);                                         \
+    stack[sp] = uvec2(leafNext, leafEnd - leafNext);                 \
+    sp += 1u;                                                        \
+  }                                                                  \
+  WP_NOTE_STACK_WRITE(sp);                                           \
+  stack[sp] = uvec2(0u, INSTANCE_RETURN_Y);                          \
+  sp += 1u;                                                          \
+  WP_NOTE_STACK_DEPTH(sp);                                           \
+  leafNext = 0u;                                                     \
+  leafEnd = 0u;                                                      \
+  instance = tri.shading;                                            \
+  node = binary_enter_instance(instance, o, d, ro, rd, invDir, sh);  \
+  haveNode = true;
+
+// The ray back in world space, out of an instance.
+void binary_leave_instance(vec3 o, vec3 d, OUT(vec3) ro, OUT(vec3) rd, OUT(vec3) invDir, OUT(RayShear) sh) {
+  ro = o;
+  rd = d;
+  invDir = vec3(1.0f) / d;
+  sh = make_ray_shear(d);
+}
+
+// The binary walk's first node to visit, the root (named, as every node the
+// walk visits, by its (leftFirst, count) pair): false where the ray misses
+// the tree. An empty scene's root has an inverted box, which the slab test
+// alone would take for the whole space.
+bool binary_walk_root(vec3 o, vec3 invDir, float tmax, OUT(uvec2) node) {
+  BvhNode root = load_node(0u);
+  node = uvec2(root.leftFirst, root.count);
+  bool empty = root.bmin.x > root.bmax.x;
+  return root.count != 0u || (!empty && intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) != WP_INF);
+}
+
 // Visits interior node `node` of the binary walk (its children's boxes
 // tested against the ray in the space being walked): false where the ray
 // misses both; else the nearer child hit in `near`, and whether the other
@@ -135,7 +174,17 @@ bool binary_visit(uvec2 node, vec3 ro, vec3 invDir, float tmax, OUT(uvec2) near,
 }
 
 // The binary BVH (BvhNode), ordered and stack-based: each iteration visits one
-// node (testing both children's boxes) or tests one primitive.
+// node (testing both children's boxes) or tests one primitive; or, fused
+// (BINARY_FUSED_OF_SCENE: RenderOptions::binaryFused, the variants
+// gpu-bvh2-fused and gpu-mega-bvh2-fused, the CPU reference), both.
+//
+// Fused, it is Aila and Laine's (2009) speculative traversal in one loop: each
+// iteration tests the current leaf's next primitive and also takes a node from
+// the stack and visits it, so that in a warp the lanes testing primitives and
+// the lanes descending share an iteration instead of taking turns. A leaf the
+// descent reaches while another is being tested waits as the node to visit (one
+// postponed leaf, as theirs) and becomes the current leaf once that one is
+// done: the same hits, in fewer iterations of more work each.
 uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   hit = no_hit(tmax);
   // The ray in the space being walked: the world's, or an instance's.
@@ -148,21 +197,80 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   // tested their boxes, so each node is fetched from memory once.
   uvec2 stack[TRAVERSAL_STACK_SIZE];
   uint sp = 0u;
-  BvhNode root = load_node(0u);
-  uvec2 node = uvec2(root.leftFirst, root.count);
+  uvec2 node;
+  if (!binary_walk_root(o, invDir, tmax, node)) return TRACE_OK;
   bool haveNode = true;  // `node` is still to be visited
   uint leafNext = 0u;    // primitives [leafNext, leafEnd) of the current leaf remain
   uint leafEnd = 0u;
   uint steps = 0u;
   uint cap = scene.counts.z;
-  // An empty scene's root has an inverted box, which the slab test alone would
-  // take for the whole space.
-  bool empty = root.bmin.x > root.bmax.x;
-  if (root.count == 0u && (empty || intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF)) return TRACE_OK;
   while (true) {
     steps += 1u;
     if (steps > cap) return TRACE_TRUNCATED;
     WP_NOTE_STEP();
+    if (BINARY_FUSED_OF_SCENE) {
+      if (leafNext < leafEnd) {
+        WP_NOTE_PHASE(WALK_PHASE_PRIM);
+        Triangle tri = load_triangle(leafNext);
+        leafNext += 1u;
+        if (FEATURE_COMPILED(FEATURE_INSTANCES) && tri.material == PRIM_INSTANCE) {
+          if (meets_instance(tri, o, invDir, hit.t)) {
+            // Set aside the node waiting first (popped last); the instance's
+            // root is the node this iteration visits.
+            WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
+            if (haveNode) {
+              WP_NOTE_STACK_WRITE(sp);
+              stack[sp] = node;
+              sp += 1u;
+            }
+            BINARY_WALK_ENTER_INSTANCE(tri)
+          }
+        } else {
+          intersect_loaded_prim(leafNext - 1u, tri, ro, rd, sh, instance, hit);
+          if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
+        }
+      }
+      // With no node waiting, take the top of the stack; the way back out of an
+      // instance only once the instance's current leaf is done.
+      if (!haveNode && sp > 0u) {
+        uvec2 top = stack[sp - 1u];
+        bool isReturn = FEATURE_COMPILED(FEATURE_INSTANCES) && top.y == INSTANCE_RETURN_Y && top.x == 0u;
+        if (!isReturn || leafNext >= leafEnd) {
+          WP_NOTE_PHASE(WALK_PHASE_POP);
+          sp -= 1u;
+          WP_NOTE_STACK_READ(sp);
+          if (isReturn) {
+            binary_leave_instance(o, d, ro, rd, invDir, sh);
+            instance = WP_INVALID;
+          } else {
+            node = top;
+            haveNode = true;
+          }
+        }
+      }
+      if (haveNode && node.y == 0u) {
+        WP_NOTE_PHASE(WALK_PHASE_NODE);
+        WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
+        uvec2 far;
+        bool both;
+        haveNode = binary_visit(node, ro, invDir, hit.t, node, far, both);
+        if (haveNode && both) {
+          WP_NOTE_STACK_WRITE(sp);
+          stack[sp] = far;
+          sp += 1u;
+          WP_NOTE_STACK_DEPTH(sp);
+        }
+      }
+      // A leaf waiting becomes the current one once that is done.
+      if (haveNode && node.y != 0u && leafNext >= leafEnd) {
+        WP_NOTE_PHASE(WALK_PHASE_LEAF);
+        leafNext = node.x;
+        leafEnd = node.x + node.y;
+        haveNode = false;
+      }
+      if (!haveNode && sp == 0u && leafNext >= leafEnd) break;
+      continue;
+    }
     if (leafNext < leafEnd) {
       WP_NOTE_PHASE(WALK_PHASE_PRIM);
       Triangle tri = load_triangle(leafNext);
@@ -170,22 +278,7 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       if (FEATURE_COMPILED(FEATURE_INSTANCES) && tri.material == PRIM_INSTANCE) {
         if (!meets_instance(tri, o, invDir, hit.t)) continue;
         WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
-        // Set aside the rest of this leaf (a leaf entry: count != 0), then the
-        // way back; walk the instance's tree from its root.
-        if (leafNext < leafEnd) {
-          WP_NOTE_STACK_WRITE(sp);
-          stack[sp] = uvec2(leafNext, leafEnd - leafNext);
-          sp += 1u;
-        }
-        WP_NOTE_STACK_WRITE(sp);
-        stack[sp] = uvec2(0u, INSTANCE_RETURN_Y);
-        sp += 1u;
-        WP_NOTE_STACK_DEPTH(sp);
-        leafNext = 0u;
-        leafEnd = 0u;
-        instance = tri.shading;
-        node = binary_enter_instance(instance, o, d, ro, rd, invDir, sh);
-        haveNode = true;
+        BINARY_WALK_ENTER_INSTANCE(tri)
         continue;
       }
       intersect_loaded_prim(leafNext - 1u, tri, ro, rd, sh, instance, hit);
@@ -201,11 +294,8 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       if (FEATURE_COMPILED(FEATURE_INSTANCES) && node.y == INSTANCE_RETURN_Y && node.x == 0u) {
         // Back in world space. (An interior node's entry has count 0 too,
         // but never child 0: node 0 is the root.)
-        ro = o;
-        rd = d;
+        binary_leave_instance(o, d, ro, rd, invDir, sh);
         instance = WP_INVALID;
-        invDir = vec3(1.0f) / d;
-        sh = make_ray_shear(d);
         continue;
       }
     }
@@ -228,118 +318,6 @@ uint trace_binary(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
       sp += 1u;
       WP_NOTE_STACK_DEPTH(sp);
     }
-  }
-  return TRACE_OK;
-}
-
-// The binary walk with Aila and Laine's (2009) speculative traversal in one
-// loop (RenderOptions::binaryFused, variants gpu-bvh2-fused and
-// gpu-mega-bvh2-fused): each iteration tests the current leaf's next
-// primitive and also takes a node from the stack and visits it, so that in a
-// warp the lanes testing primitives and the lanes descending share an
-// iteration instead of taking turns. A leaf the descent reaches while
-// another is being tested waits as the node to visit (one postponed leaf, as
-// theirs) and becomes the current leaf once that one is done. The same
-// hits as trace_binary, in fewer iterations of more work each.
-uint trace_binary_fused(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
-  hit = no_hit(tmax);
-  vec3 ro = o;
-  vec3 rd = d;
-  uint instance = WP_INVALID;
-  vec3 invDir = vec3(1.0f) / d;
-  RayShear sh = make_ray_shear(d);
-  uvec2 stack[TRAVERSAL_STACK_SIZE];
-  uint sp = 0u;
-  BvhNode root = load_node(0u);
-  uvec2 node = uvec2(root.leftFirst, root.count);  // as in trace_binary
-  bool haveNode = true;
-  uint leafNext = 0u;
-  uint leafEnd = 0u;
-  uint steps = 0u;
-  uint cap = scene.counts.z;
-  bool empty = root.bmin.x > root.bmax.x;
-  if (root.count == 0u && (empty || intersect_aabb(o, invDir, root.bmin, root.bmax, tmax) == WP_INF)) return TRACE_OK;
-  while (true) {
-    steps += 1u;
-    if (steps > cap) return TRACE_TRUNCATED;
-    WP_NOTE_STEP();
-    if (leafNext < leafEnd) {
-      WP_NOTE_PHASE(WALK_PHASE_PRIM);
-      Triangle tri = load_triangle(leafNext);
-      leafNext += 1u;
-      if (FEATURE_COMPILED(FEATURE_INSTANCES) && tri.material == PRIM_INSTANCE) {
-        if (meets_instance(tri, o, invDir, hit.t)) {
-          // Set aside the node waiting, the rest of this leaf, then the way
-          // back (popped in the reverse order); the instance's root is the
-          // node this iteration visits.
-          WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
-          if (haveNode) {
-            WP_NOTE_STACK_WRITE(sp);
-            stack[sp] = node;
-            sp += 1u;
-          }
-          if (leafNext < leafEnd) {
-            WP_NOTE_STACK_WRITE(sp);
-            stack[sp] = uvec2(leafNext, leafEnd - leafNext);
-            sp += 1u;
-          }
-          WP_NOTE_STACK_WRITE(sp);
-          stack[sp] = uvec2(0u, INSTANCE_RETURN_Y);
-          sp += 1u;
-          WP_NOTE_STACK_DEPTH(sp);
-          leafNext = 0u;
-          leafEnd = 0u;
-          instance = tri.shading;
-          node = binary_enter_instance(instance, o, d, ro, rd, invDir, sh);
-          haveNode = true;
-        }
-      } else {
-        intersect_loaded_prim(leafNext - 1u, tri, ro, rd, sh, instance, hit);
-        if (anyHit && hit.prim != WP_INVALID) return TRACE_OK;
-      }
-    }
-    // With no node waiting, take the top of the stack; the way back out of an
-    // instance only once the instance's current leaf is done.
-    if (!haveNode && sp > 0u) {
-      uvec2 top = stack[sp - 1u];
-      bool isReturn = FEATURE_COMPILED(FEATURE_INSTANCES) && top.y == INSTANCE_RETURN_Y && top.x == 0u;
-      if (!isReturn || leafNext >= leafEnd) {
-        WP_NOTE_PHASE(WALK_PHASE_POP);
-        sp -= 1u;
-        WP_NOTE_STACK_READ(sp);
-        if (isReturn) {
-          ro = o;
-          rd = d;
-          instance = WP_INVALID;
-          invDir = vec3(1.0f) / d;
-          sh = make_ray_shear(d);
-        } else {
-          node = top;
-          haveNode = true;
-        }
-      }
-    }
-    if (haveNode && node.y == 0u) {
-      WP_NOTE_PHASE(WALK_PHASE_NODE);
-      WP_NOTE_PHASE(instance != WP_INVALID ? WALK_NOTE_NODE_IN_INSTANCE : 0u);
-      uvec2 far;
-      bool both;
-      haveNode = binary_visit(node, ro, invDir, hit.t, node, far, both);
-      if (haveNode && both) {
-        WP_NOTE_STACK_WRITE(sp);
-        stack[sp] = far;
-        sp += 1u;
-        WP_NOTE_STACK_DEPTH(sp);
-      }
-    }
-    // A leaf waiting becomes the current one once that is done.
-    if (haveNode && node.y != 0u && leafNext >= leafEnd) {
-      WP_NOTE_PHASE(WALK_PHASE_LEAF);
-      leafNext = node.x;
-      leafEnd = node.x + node.y;
-      haveNode = false;
-    }
-    if (!haveNode && sp == 0u && leafNext >= leafEnd) break;
   }
   return TRACE_OK;
 }

@@ -184,7 +184,6 @@ uint trace_wide(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
 // through the scene's BVH layout. Returns TRACE_OK or TRACE_TRUNCATED.
 uint trace_ray(vec3 o, vec3 d, float tmax, bool anyHit, OUT(Hit) hit) {
   if (BVH_LAYOUT_OF_SCENE == BVH_LAYOUT_WIDE) return trace_wide(o, d, tmax, anyHit, hit);
-  if (BINARY_FUSED_OF_SCENE) return trace_binary_fused(o, d, tmax, anyHit, hit);
   return trace_binary(o, d, tmax, anyHit, hit);
 }
 
