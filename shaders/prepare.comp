@@ -41,8 +41,11 @@ void main() {
     // Each key's shade kernel: a workgroup per workgroup's worth of its paths.
     for (uint k = 0u; k < SORT_KEYS; ++k) set_dispatch(INDIRECT_SHADE_KEY0 + k, groups_for(sortBins[k]));
   } else {
-    set_dispatch(INDIRECT_CONNECT, tracing_groups(counters[COUNTER_SHADOW]));
+    // Through media each shadow ray is tracked by an invocation of its own
+    // (connect_through_media), whatever the tracing kernels take a lane.
+    uint shadowRays = counters[COUNTER_SHADOW];
+    set_dispatch(INDIRECT_CONNECT, FEATURE_COMPILED(FEATURE_MEDIA) ? groups_for(shadowRays) : tracing_groups(shadowRays));
     counters[COUNTER_TRACE_BLOCKS] = 0u;
-    count_rays(COUNTER_SHADOW_RAYS, counters[COUNTER_SHADOW]);
+    count_rays(COUNTER_SHADOW_RAYS, shadowRays);
   }
 }
