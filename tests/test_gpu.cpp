@@ -393,6 +393,18 @@ TEST_F(Gpu, RegeneratingMegakernelRendersThePlainMegakernelsPaths) {
     o.seed = 3;
     EXPECT_NE(WavefrontRenderer(*ctx_, compile_scene(scene, variant_options(o, "gpu-mega-bvh2")), regen).render(quiet).sum, ia.sum);
   }
+  // On lavapipe, paths that four to an invocation would leave each ray too
+  // little of the loop budget (64 bounces) are rendered fewer to one, not
+  // refused.
+  RenderOptions deep;
+  deep.spp = 3;
+  deep.maxBounces = 64;
+  CompiledScene cs = compile_scene(cornell_box(16), variant_options(deep, "gpu-mega-bvh2"));
+  WavefrontSettings plain = kernel_variant("gpu-mega-bvh2").settings;
+  WavefrontSettings regen = kernel_variant("gpu-mega-bvh2-regen").settings;
+  plain.targetSubmitSeconds = regen.targetSubmitSeconds = 1e9;
+  Progress quiet("", 0, false);
+  EXPECT_EQ(WavefrontRenderer(*ctx_, cs, plain).render(quiet).sum, WavefrontRenderer(*ctx_, cs, regen).render(quiet).sum);
 }
 
 // Shadow rays through media are tracked one an invocation

@@ -296,14 +296,8 @@ uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
   if (!settings.megakernel || !cpu_device()) return cap;
   if (scene.params.kinds.w & KIND_BIT(FEATURE_MEDIA))
     throw RenderError("the megakernel cannot fit participating media's tracking into lavapipe's loop budget; use the wavefront kernels");
-  const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
-  // An invocation renders `paths` paths (megakernel_samples). The photon
-  // mapper's one gather per path takes its search's share first.
-  const uint64_t paths = megakernel_samples();
-  const uint64_t gather = scene.params.mode.x == INTEGRATOR_PHOTONS ? paths * PHOTON_SEARCH_STEPS_MAX : 0u;
-  const uint64_t budget = TRAVERSAL_STEP_BUDGET - std::min<uint64_t>(TRAVERSAL_STEP_BUDGET, gather);
-  const uint64_t traversals = paths * (bounces + 1 + bounces * lightSamples);
-  const uint64_t perRay = (budget - std::min(budget, paths * (bounces + 1))) / traversals;
+  const uint64_t bounces = scene.params.image.z;
+  const uint64_t perRay = megakernel_steps_per_ray(megakernel_samples());
   if (perRay < kMegakernelMinimumCap) {
     throw RenderError("the megakernel variant fits " + std::to_string(bounces) + " bounces into lavapipe's loop budget only with " +
                       std::to_string(perRay) + " traversal steps per ray (at least " + std::to_string(kMegakernelMinimumCap) +
@@ -312,8 +306,24 @@ uint32_t WavefrontRenderer::Impl::traversal_step_cap() const {
   return uint32_t(std::min<uint64_t>(cap, perRay));
 }
 
+uint64_t WavefrontRenderer::Impl::megakernel_steps_per_ray(uint64_t paths) const {
+  const uint64_t bounces = scene.params.image.z, lightSamples = std::max(1u, scene.params.mode.w);
+  // The photon mapper's one gather per path takes its search's share first.
+  const uint64_t gather = scene.params.mode.x == INTEGRATOR_PHOTONS ? paths * PHOTON_SEARCH_STEPS_MAX : 0u;
+  const uint64_t budget = TRAVERSAL_STEP_BUDGET - std::min<uint64_t>(TRAVERSAL_STEP_BUDGET, gather);
+  const uint64_t traversals = paths * (bounces + 1 + bounces * lightSamples);
+  return (budget - std::min(budget, paths * (bounces + 1))) / traversals;
+}
+
 uint32_t WavefrontRenderer::Impl::megakernel_samples() const {
-  return settings.megakernel ? std::max(1u, settings.megakernelSamples) : 1u;
+  if (!settings.megakernel) return 1u;
+  uint32_t k = std::max(1u, settings.megakernelSamples);
+  // On lavapipe an invocation's paths share its loop budget: fewer of them
+  // where the settings' would leave each ray too few steps (deep bounces,
+  // the photon mapper's gathers).
+  if (cpu_device())
+    while (k > 1u && megakernel_steps_per_ray(k) < kMegakernelMinimumCap) --k;
+  return k;
 }
 
 uint32_t WavefrontRenderer::Impl::rays_per_invocation() const {

@@ -196,7 +196,10 @@ struct WavefrontRenderer::Impl {
   // on the Cornell box (depth 2) renders lost 9 % to the per-ray start and
   // store, while the 100k-triangle scenes (depth 6 to 10) gained.
   uint32_t rays_per_invocation() const;
-  uint32_t megakernel_samples() const;  // samples of a pixel one megakernel invocation renders (WavefrontSettings)
+  // Samples of a pixel one megakernel invocation renders (WavefrontSettings),
+  // and the traversal steps each of their rays gets of lavapipe's loop budget.
+  uint32_t megakernel_samples() const;
+  uint64_t megakernel_steps_per_ray(uint64_t paths) const;
   static constexpr uint32_t kRaysPerInvocationOnCpus = 16;
   static constexpr int kMultiRayMinDepth = 4;
 
