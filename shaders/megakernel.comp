@@ -37,10 +37,8 @@ void main() {
   rays.closest = 0u;
   rays.shadow = 0u;
   rays.truncated = 0u;
-  aov.a = vec4(0.0f);
-  aov.b = vec4(0.0f);
   PathState p;
-  path_begin(p, wave_pixel(item), wave_sample(item));
+  sample_begin(wave_pixel(item), wave_sample(item), p, aov);
   uint passes = path_passes_max();
   uint pass = 0u;
   while (true) {
@@ -50,9 +48,7 @@ void main() {
     accumulate_path(p, aov);
     item += pc.waveSpan;
     if (item >= pc.pathCount) break;
-    path_begin(p, wave_pixel(item), wave_sample(item));
-    aov.a = vec4(0.0f);
-    aov.b = vec4(0.0f);
+    sample_begin(wave_pixel(item), wave_sample(item), p, aov);
     pass = 0u;
   }
   count_sample_rays(rays);

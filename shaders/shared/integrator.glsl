@@ -515,7 +515,15 @@ struct SampleRays {
   uint truncated;  // traversals that reached the step cap (the image would be wrong)
 };
 
-// One pass of a path begun by path_begin: its ray's closest hit, shading
+// A sample's start: path p begun (path_begin), no AOV
+// sample yet (trace_pass records the first hit's).
+void sample_begin(uint pixel, uint sampleIndex, OUT(PathState) p, OUT(AovSample) aov) {
+  path_begin(p, pixel, sampleIndex);
+  aov.a = vec4(0.0f);
+  aov.b = vec4(0.0f);
+}
+
+// One pass of a path begun by sample_begin: its ray's closest hit, shading
 // there, and the shadow rays that shading cast (their light added to the
 // path's radiance where unblocked). Returns whether the path goes on; a
 // truncated traversal ends it (counted in *rays).
@@ -563,9 +571,7 @@ PathState trace_sample(uint pixel, uint sampleIndex, OUT(SampleRays) rays, OUT(A
   rays.shadow = 0u;
   rays.truncated = 0u;
   PathState p;
-  path_begin(p, pixel, sampleIndex);
-  aov.a = vec4(0.0f);
-  aov.b = vec4(0.0f);
+  sample_begin(pixel, sampleIndex, p, aov);
   // path_shade ends every path at max bounces (and its interfaces).
   uint passes = path_passes_max();
   for (uint pass = 0u; pass < passes; ++pass) {

@@ -51,6 +51,14 @@ void trace_one_item(uint item) {
   finish_item(item, tag, hit, truncated);
 }
 
+// kDynamicFetch: the next block of items for the calling subgroup (uniform
+// control flow), from COUNTER_TRACE_BLOCKS.
+uint take_block() {
+  uint got = 0u;
+  if (subgroupElect()) got = atomicAdd(counters[COUNTER_TRACE_BLOCKS], 1u);
+  return subgroupBroadcastFirst(got);
+}
+
 void trace_items() {
   uint count = trace_item_count();
   if (kRaysPerInvocation == 1u || BVH_LAYOUT_OF_SCENE != BVH_LAYOUT_WIDE) {
@@ -116,20 +124,12 @@ void trace_items() {
       uint firstRow = taken / lanes;
       uint lastRow = (taken + needed - 1u) / lanes;
       if (firstRow != row && firstRow < rowsMax) {
-        if (haveNext) {
-          block = nextBlock;
-        } else {
-          uint got = 0u;
-          if (subgroupElect()) got = atomicAdd(counters[COUNTER_TRACE_BLOCKS], 1u);
-          block = subgroupBroadcastFirst(got);
-        }
+        block = haveNext ? nextBlock : take_block();
         row = firstRow;
         haveNext = false;
       }
       if (lastRow != row && !haveNext && lastRow < rowsMax) {
-        uint got = 0u;
-        if (subgroupElect()) got = atomicAdd(counters[COUNTER_TRACE_BLOCKS], 1u);
-        nextBlock = subgroupBroadcastFirst(got);
+        nextBlock = take_block();
         haveNext = true;
       }
     }

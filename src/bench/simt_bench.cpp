@@ -221,7 +221,7 @@ int run_simt_bench(const BenchOptions& o) {
       // In instanced scenes: where the node visits went, which bound the
       // steps from below (an iteration visits at most one node).
       if (!nodeVisits.empty()) std::printf("  %-7s node visits a ray, top level + instances' trees (warps of %d): %s\n", set.name.c_str(), o.warpWidths.front(), nodeVisits.c_str());
-      // What dynamic fetch across SMs could gain at most: the slowest SM's time over the mean's.
+      // What dynamic fetch across SMs could gain at most is its inverse.
       std::printf("  %-7s SM balance (mean SM's time / slowest's): %s\n", set.name.c_str(), balance.c_str());
       if (predicted.size() > 1) std::printf("  %-7s predicted order: %s\n", set.name.c_str(), order_of(predicted).c_str());
       if (seen.size() > 1) std::printf("  %-7s measured order:  %s\n", set.name.c_str(), order_of(seen).c_str());
