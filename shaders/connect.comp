@@ -23,15 +23,19 @@ void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint 
 
 // Adds light to a path's radiance through its view: shade wrote it in an
 // earlier dispatch, and no other shadow ray of this one is the path's.
-void add_to_path(uint path, vec3 light) {
+void add_to_path(uint path, Spectrum light) {
   uint at = path * PATH_STATE_TEXELS + PATH_RADIANCE_TEXEL;
-  vec3 radiance = texel_xyz(texelFetch(pathTexels, int(at))) + light;
+  vec3 radiance = texel_xyz(texelFetch(pathTexels, int(at))) + spectrum_xyz(light);
   pathTexelsOut[at].xyz = floatBitsToUint(radiance);
+#ifdef WP_SPECTRUM4
+  uint fourth = path * PATH_STATE_TEXELS + PATH_FOURTH_TEXEL;
+  pathTexelsOut[fourth].y = floatBitsToUint(uintBitsToFloat(texelFetch(pathTexels, int(fourth)).y) + light.w);
+#endif
 }
 
 void trace_item_done(uint item, uint path, Hit h, bool truncated) {
   if (truncated || h.prim != WP_INVALID) return;
-  add_to_path(path, texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2)));
+  add_to_path(path, shadow_ray_contribution(item));
 }
 
 #include "shared/trace_items.glsl"

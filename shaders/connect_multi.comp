@@ -23,15 +23,19 @@ void trace_item_ray(uint item, out vec3 o, out vec3 d, out float tmax, out uint 
   path = sr.path;
 }
 
-void add_to_path(uint path, vec3 light) {
-  atomicAdd(paths[path].radiance.x, light.x);
-  atomicAdd(paths[path].radiance.y, light.y);
-  atomicAdd(paths[path].radiance.z, light.z);
+void add_to_path(uint path, Spectrum light) {
+  uint at = (path * PATH_STATE_TEXELS + PATH_RADIANCE_TEXEL) * 4u;
+  atomicAdd(pathFloats[at], light.x);
+  atomicAdd(pathFloats[at + 1u], light.y);
+  atomicAdd(pathFloats[at + 2u], light.z);
+#ifdef WP_SPECTRUM4
+  atomicAdd(pathFloats[(path * PATH_STATE_TEXELS + PATH_FOURTH_TEXEL) * 4u + 1u], light.w);
+#endif
 }
 
 void trace_item_done(uint item, uint path, Hit h, bool truncated) {
   if (truncated || h.prim != WP_INVALID) return;
-  add_to_path(path, texel_xyz(texelFetch(shadowRayTexels, int(item) * SHADOW_RAY_TEXELS + 2)));
+  add_to_path(path, shadow_ray_contribution(item));
 }
 
 #include "shared/trace_items.glsl"

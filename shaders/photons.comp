@@ -11,13 +11,14 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/kernel.glsl"
 
-// A PhotonPath in a path slot's first three texels (four in the spectral mode).
+// A PhotonPath in a path slot's first three texels (four in the spectral
+// mode: its wavelengths, and its power's fourth channel).
 void write_photon_path(uint i, PhotonPath p) {
   uint at = i * PATH_STATE_TEXELS;
   pathTexelsOut[at] = uvec4(floatBitsToUint(p.origin), p.rng);
   pathTexelsOut[at + 1u] = uvec4(floatBitsToUint(p.dir), p.bounce);
-  pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(p.power), p.alive);
-  if (spectral_mode()) pathTexelsOut[at + 3u] = uvec4(floatBitsToUint(p.wavelengths), p.heroOnly, 0u, 0u);
+  pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(spectrum_xyz(p.power)), p.alive);
+  if (spectral_mode()) pathTexelsOut[at + 3u] = uvec4(floatBitsToUint(p.wavelengths), p.heroOnly, floatBitsToUint(spectrum_values(p.power).w), 0u);
 }
 
 PhotonPath read_photon_path(uint i) {
@@ -30,11 +31,11 @@ PhotonPath read_photon_path(uint i) {
   p.rng = a.w;
   p.dir = texel_xyz(b);
   p.bounce = b.w;
-  p.power = texel_xyz(c);
   p.alive = c.w;
   uvec4 d = spectral_mode() ? texelFetch(pathTexels, at + 3) : uvec4(0u);
   p.wavelengths = uintBitsToFloat(d.x);
   p.heroOnly = d.y;
+  p.power = spectrum_at(vec4(texel_xyz(c), uintBitsToFloat(d.z)));
   return p;
 }
 

@@ -27,7 +27,7 @@ ShaderMath::Bsdf make_bsdf(glm::vec3 n, const std::vector<Lobe>& lobes, bool fro
   b.lobeCount = 0;
   for (const Lobe& l : lobes) {
     b.lobeType[b.lobeCount] = l.type;
-    b.lobeColor[b.lobeCount] = l.color;
+    b.lobeColor[b.lobeCount] = glm::vec4(l.color, 0.0f);
     ShaderMath{}.bsdf_set_params(b, b.lobeCount, l.params == glm::vec4(0.0f) ? glm::vec4(l.param, 0.0f, 0.0f, 0.0f) : l.params,
                                  l.params2);
     b.lobeWeight[b.lobeCount] = l.weight;
@@ -388,14 +388,14 @@ TEST(Bsdf, MirrorMetalReflectsExactlyAndHasNoDensity) {
   glm::vec3 wi;
   float pdf;
   bool isDelta;
-  glm::vec3 w = m.bsdf_sample(b, wo, glm::vec4(0.3f, 0.6f, 0.2f, 0.9f), wi, pdf, isDelta);
+  glm::vec3 w(m.bsdf_sample(b, wo, glm::vec4(0.3f, 0.6f, 0.2f, 0.9f), wi, pdf, isDelta));
   EXPECT_TRUE(isDelta);
   EXPECT_EQ(w, glm::vec3(0.9f, 0.5f, 0.2f));
   EXPECT_NEAR(glm::dot(wi, n), glm::dot(wo, n), 1e-6f);
   EXPECT_NEAR(glm::length(glm::cross(wi + wo, n)), 0.0f, 1e-5f);
   EXPECT_FALSE(m.bsdf_has_smooth_lobe(b));
   EXPECT_EQ(m.bsdf_pdf(b, wo, wi), 0.0f);
-  EXPECT_EQ(m.bsdf_eval(b, wo, wi), glm::vec3(0.0f));
+  EXPECT_EQ(glm::vec3(m.bsdf_eval(b, wo, wi)), glm::vec3(0.0f));
 }
 
 // A blend of a delta and a smooth lobe: the delta lobe is taken with its

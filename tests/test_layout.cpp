@@ -62,15 +62,13 @@ std::vector<Expected> expected_layouts() {
         FIELD(SceneParams, mode), FIELD(SceneParams, environment),
         FIELD(SceneParams, accel), FIELD(SceneParams, kinds), FIELD(SceneParams, mis), FIELD(SceneParams, camWindow),
         FIELD(SceneParams, media), FIELD(SceneParams, photons)}},
-      {"PathState", sizeof(PathState),
-       {FIELD(PathState, origin), FIELD(PathState, pixel), FIELD(PathState, dir), FIELD(PathState, rng),
-        FIELD(PathState, throughput), FIELD(PathState, flags), FIELD(PathState, radiance), FIELD(PathState, bsdfPdf),
-        FIELD(PathState, medium), FIELD(PathState, travelled), FIELD(PathState, crossings), FIELD(PathState, wavelengths)}},
-      // Hit and ShadowRay are no buffer members: the kernels store them as
-      // whole uvec4 texels (write_hit, write_shadow_ray in kernel.glsl) and
-      // read them through texel views; the ray-casting and texture-probe
-      // tests of test_gpu.cpp write shadow rays on the host and read hits
-      // back field by field. (PathState is one, in connect_multi.)
+      // Hit, ShadowRay and PathState are no buffer members: the kernels
+      // store them as whole uvec4 texels (write_hit, write_shadow_ray,
+      // write_path in kernel.glsl; connect_multi adds to a path's radiance
+      // as floats) and read them through texel views, field by field, in a
+      // layout the spectral kernels extend; the ray-casting and
+      // texture-probe tests of test_gpu.cpp write shadow rays on the host and
+      // read hits back field by field.
       {"PixelAccum", sizeof(PixelAccum), {FIELD(PixelAccum, sum), FIELD(PixelAccum, sumSq)}},
       {"AovSample", sizeof(AovSample), {FIELD(AovSample, a), FIELD(AovSample, b)}},
       {"AovAccum", sizeof(AovAccum),
@@ -84,8 +82,9 @@ std::vector<Expected> expected_layouts() {
 
 TEST(Layout, EveryKernelAgreesWithTheHostOnEveryStruct) {
   std::map<std::string, int> checked;
+  for (const std::string mode : {"", "_spectral"})
   for (const char* kernel : {"generate", "prepare", "extend", "sort", "shade", "connect", "connect_multi", "accumulate", "megakernel", "raycast", "probe"}) {
-    SpirvLayouts spv(std::string(WAVEPATH_SPV_DIR) + "/" + kernel + ".spv");
+    SpirvLayouts spv(std::string(WAVEPATH_SPV_DIR) + "/" + kernel + mode + ".spv");
     for (const Expected& e : expected_layouts()) {
       for (const auto& [id, name] : spv.names) {
         if (name != e.type || !spv.offsets.count(id)) continue;  // only types used in a buffer carry offsets

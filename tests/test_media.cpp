@@ -185,11 +185,12 @@ TEST(Media, DeltaTrackingSamplesTheFreeFlightDensity) {
     std::vector<double> obs(bins + 1, 0.0), expc(bins + 1, 0.0);
     uint32_t rng = 77;
     for (int i = 0; i < n; ++i) {
-      glm::vec3 throughput(1.0f);
+      shader::Spectrum throughput(1.0f);
       float t;
-      uint32_t event = v.medium_free_flight(m, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), tmax, rng, throughput, t);
+      uint32_t event = v.medium_free_flight(m, v.medium_coefficients(m, glm::vec4(0.0f)), glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), tmax, rng,
+                                            throughput, t);
       if (majorantScale == 1.0f) {
-        EXPECT_EQ(throughput, glm::vec3(1.0f));  // grey: every weight is 1
+        EXPECT_EQ(glm::vec3(throughput), glm::vec3(1.0f));  // grey: every weight is 1
       }
       obs[event == MEDIUM_EVENT_SCATTER ? std::min(int(t / tmax * bins), bins - 1) : bins] += 1.0;
     }

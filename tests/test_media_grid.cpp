@@ -123,9 +123,9 @@ TEST(GridMedia, DeltaTrackingSamplesTheRampsFreeFlightDensity) {
     std::vector<double> obs(bins + 1, 0.0), expc(bins + 1, 0.0);
     uint32_t rng = 1234;
     for (int i = 0; i < n; ++i) {
-      glm::vec3 throughput(1.0f);
+      shader::Spectrum throughput(1.0f);
       float t;
-      const uint32_t event = v.medium_free_flight(m, o, d, tmax, rng, throughput, t);
+      const uint32_t event = v.medium_free_flight(m, v.medium_coefficients(m, glm::vec4(0.0f)), o, d, tmax, rng, throughput, t);
       obs[event == MEDIUM_EVENT_SCATTER ? std::min(int(t / tmax * bins), bins - 1) : bins] += 1.0;
     }
     for (int b = 0; b < bins; ++b) {
@@ -170,7 +170,7 @@ TEST(GridMedia, RatioTrackingMatchesTheRampsTransmittance) {
     uint32_t rng = 99;
     // A direction of any length: tmax scales with it.
     for (int i = 0; i < n; ++i) {
-      const glm::dvec3 tr(v.medium_transmittance(m, o, d * 2.0f, tmax / 2.0f, rng));
+      const glm::dvec3 tr(glm::vec3(v.medium_transmittance(m, v.medium_coefficients(m, glm::vec4(0.0f)), o, d * 2.0f, tmax / 2.0f, rng)));
       sum += tr;
       sum2 += tr * tr;
     }

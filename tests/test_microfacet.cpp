@@ -30,7 +30,7 @@ ShaderMath::Bsdf one_lobe(uint32_t type, glm::vec3 color, glm::vec4 params, glm:
   b.front = front;
   b.lobeCount = 1;
   b.lobeType[0] = type;
-  b.lobeColor[0] = color;
+  b.lobeColor[0] = glm::vec4(color, 0.0f);
   ShaderMath{}.bsdf_set_params(b, 0, params, params2);
   b.lobeWeight[0] = 1.0f;
   return b;
@@ -176,16 +176,16 @@ TEST(MicrofacetLobes, ConductorFresnelReducesToKnownCases) {
   for (float eta : {1.2f, 1.5f, 2.4f})
     for (float c : {1.0f, 0.7f, 0.3f, 0.05f}) {
       float fd = m.fresnel_dielectric(c, eta);
-      glm::vec3 fc = m.fresnel_conductor(c, glm::vec3(eta), glm::vec3(0.0f));
+      glm::vec4 fc = m.fresnel_conductor(c, glm::vec4(eta), glm::vec4(0.0f));
       EXPECT_NEAR(fc.x, fd, 1e-5f) << "eta " << eta << ", cos " << c;
     }
   // At normal incidence ((eta - 1)^2 + k^2) / ((eta + 1)^2 + k^2); at grazing 1.
-  glm::vec3 f0 = m.fresnel_conductor(1.0f, kGoldEta, kGoldK);
+  glm::vec3 f0(m.fresnel_conductor(1.0f, glm::vec4(kGoldEta, 1.0f), glm::vec4(kGoldK, 0.0f)));
   for (int i = 0; i < 3; ++i) {
     float e = kGoldEta[i], k = kGoldK[i];
     EXPECT_NEAR(f0[i], ((e - 1) * (e - 1) + k * k) / ((e + 1) * (e + 1) + k * k), 1e-5f);
   }
-  glm::vec3 grazing = m.fresnel_conductor(0.0f, kGoldEta, kGoldK);
+  glm::vec3 grazing(m.fresnel_conductor(0.0f, glm::vec4(kGoldEta, 1.0f), glm::vec4(kGoldK, 0.0f)));
   EXPECT_NEAR(grazing.x, 1.0f, 1e-5f);
   EXPECT_NEAR(grazing.z, 1.0f, 1e-5f);
   // Gold reflects red more than blue.
@@ -316,8 +316,8 @@ TEST(MicrofacetLobes, Cs184MicrofacetTermsAreTheSkeletons) {
       EXPECT_NEAR(m.cs184_lambda(alpha, c, true), skeleton, 2e-6 + 1e-5 * std::fabs(skeleton)) << alpha << ", " << c;
       EXPECT_NEAR(m.cs184_lambda(alpha, c, false), smith, 2e-6 + 1e-5 * std::fabs(smith)) << alpha << ", " << c;
     }
-  const glm::vec3 fNormal = m.cs184_fresnel(glm::vec3(kGoldEta), glm::vec3(kGoldK), 1.0f);
-  const glm::vec3 exact = m.fresnel_conductor(1.0f, glm::vec3(kGoldEta), glm::vec3(kGoldK));
+  const glm::vec3 fNormal(m.cs184_fresnel(glm::vec4(kGoldEta, 1.0f), glm::vec4(kGoldK, 0.0f), 1.0f));
+  const glm::vec3 exact(m.fresnel_conductor(1.0f, glm::vec4(kGoldEta, 1.0f), glm::vec4(kGoldK, 0.0f)));
   EXPECT_NEAR(glm::distance(fNormal, exact), 0.0f, 1e-5f);
   for (float alpha : {0.1f, 0.6f}) {
     double integral = 0.0;

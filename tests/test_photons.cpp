@@ -35,7 +35,7 @@ TEST(Photons, TheKernelsGatherFindsWhatTheHostsPhotonMapFinds) {
   b.front = true;
   b.lobeCount = 1;
   b.lobeType[0] = MAT_LAMBERTIAN;
-  b.lobeColor[0] = glm::vec3(1.0f);
+  b.lobeColor[0] = glm::vec4(1.0f);
   b.lobeWeight[0] = 1.0f;
   const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 0.1f, 1.0f));
   const float radius = 0.05f;

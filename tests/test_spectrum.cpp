@@ -175,6 +175,7 @@ SceneView spectral_view() {
   v.spectrumTexels = spectra_texels().texels;
   v.scene.kinds.w = KIND_BIT(FEATURE_SPECTRAL) | KIND_BIT(FEATURE_SPECTRAL_TABLE) | KIND_BIT(FEATURE_SPECTRAL_UNBOUNDED_TABLE);
   v.scene.counts.w = SCENE_FLAG_SPECTRAL;
+  v.spectrumChannels = 4u;
   return v;
 }
 
@@ -197,20 +198,20 @@ glm::dvec3 film_rgb(SceneView& v, F spectrum, int n = 20000) {
 // caught: it renders 9 % bluer than white.
 TEST(Spectral, TheFilmRendersWhiteLightWhiteAndColoursAsTheyAre) {
   SceneView v = spectral_view();
-  auto d65 = [&](glm::vec3 l) { return glm::vec3(v.illuminant_d65(l.x), v.illuminant_d65(l.y), v.illuminant_d65(l.z)); };
-  const glm::dvec3 white = film_rgb(v, [&](glm::vec3 l) { return v.light_spectrum(glm::vec3(1.0f), l); });
+  auto d65 = [&](glm::vec4 l) { return glm::vec4(v.illuminant_d65(l.x), v.illuminant_d65(l.y), v.illuminant_d65(l.z), v.illuminant_d65(l.w)); };
+  const glm::dvec3 white = film_rgb(v, [&](glm::vec4 l) { return v.light_spectrum(glm::vec3(1.0f), l); });
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(white[c], 1.0, 2e-3) << "channel " << c;
-  const glm::dvec3 flat = film_rgb(v, [&](glm::vec3 l) { return glm::vec3(1.0f) / d65(l); });
+  const glm::dvec3 flat = film_rgb(v, [&](glm::vec4 l) { return glm::vec4(1.0f) / d65(l); });
   EXPECT_GT(glm::length(flat / flat.y - glm::dvec3(1.0)), 0.05) << "a planted equal-energy white";
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (int trial = 0; trial < 24; ++trial) {
     const glm::vec3 rgb(u(rng), u(rng), u(rng));
-    const glm::dvec3 got = film_rgb(v, [&](glm::vec3 l) { return v.reflectance_spectrum(rgb, l) * v.light_spectrum(glm::vec3(1.0f), l); });
+    const glm::dvec3 got = film_rgb(v, [&](glm::vec4 l) { return v.reflectance_spectrum(rgb, l) * v.light_spectrum(glm::vec3(1.0f), l); });
     const double largest = std::max({rgb.x, rgb.y, rgb.z});
     EXPECT_LT(glm::length(got - glm::dvec3(rgb)), 0.01 * largest + 2e-3) << rgb.x << " " << rgb.y << " " << rgb.z;
     // Emitted colours (unbounded) too, at any brightness.
-    const glm::dvec3 lit = film_rgb(v, [&](glm::vec3 l) { return v.light_spectrum(rgb * 7.0f, l); });
+    const glm::dvec3 lit = film_rgb(v, [&](glm::vec4 l) { return v.light_spectrum(rgb * 7.0f, l); });
     EXPECT_LT(glm::length(lit / 7.0 - glm::dvec3(rgb)), 0.01 * largest + 2e-3) << rgb.x << " " << rgb.y << " " << rgb.z;
   }
 }
@@ -246,9 +247,9 @@ TEST(Spectral, ConstantColoursAreMemoisedWithTheTablesCoefficients) {
     }
   }
   EXPECT_GE(found, 8) << "the walls' three colours and the light's, each kind";
-  const glm::vec3 lambdas(450.0f, 550.0f, 650.0f);
+  const glm::vec4 lambdas(450.0f, 550.0f, 650.0f, 500.0f);
   EXPECT_THROW(v.reflectance_spectrum(glm::vec3(0.3f, 0.2f, 0.1f), lambdas), RenderError);
-  EXPECT_EQ(v.reflectance_spectrum(glm::vec3(0.4f), lambdas), glm::vec3(0.4f)) << "a grey needs no coefficients";
+  EXPECT_EQ(v.reflectance_spectrum(glm::vec3(0.4f), lambdas), glm::vec4(0.4f)) << "a grey needs no coefficients";
 
   const std::string blended = write_scene("spectral-blend.json", R"({
     "camera": { "transform": { "from": [0, 0, 4], "at": [0, 0, 0], "up": [0, 1, 0] }, "vfov": 40, "resolution": [8, 8] },
@@ -286,26 +287,72 @@ TEST(Spectral, ConstantColoursAreMemoisedWithTheTablesCoefficients) {
       << "a memo that confuses the kinds";
 }
 
-// Gold at normal incidence, through the kernels' conductor code at three
+// A path carries four wavelengths: the hero and the sample rotated by a
+// quarter, a half and three quarters, each through the density's inverse
+// CDF. Each is a channel of the path's colours, and the film counts all four
+// (light in one channel alone reaches the pixel, and the four channels' images
+// add up to the whole's); a dispersive boundary keeps the hero alone at four
+// times its weight, where RGB keeps one of three channels at three times.
+// A film that left out the fourth channel (a planted error) is caught.
+TEST(Spectral, APathCarriesFourWavelengthsAndTheFilmCountsEach) {
+  SceneView v = spectral_view();
+  ASSERT_EQ(v.spectrumChannels, 4u);
+  for (float u : {0.0f, 0.1f, 0.37f, 0.5f, 0.8f, 0.99f}) {
+    const glm::vec4 l = v.path_wavelengths(u);
+    for (int k = 0; k < 4; ++k) {
+      float rotated = u + 0.25f * float(k);
+      rotated -= std::floor(rotated);
+      EXPECT_EQ(l[k], v.sample_visible_wavelength(rotated)) << "u " << u << ", wavelength " << k;
+    }
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < k; ++j) EXPECT_NE(l[k], l[j]);
+  }
+  // (Samples whose four wavelengths all lie where the eye sees them.)
+  for (float u : {0.11f, 0.13f, 0.15f, 0.17f}) {
+    const glm::vec4 radiance(0.3f, 0.5f, 0.7f, 0.9f);
+    glm::vec3 parts(0.0f);
+    for (int k = 0; k < 4; ++k) {
+      glm::vec4 one(0.0f);
+      one[k] = radiance[k];
+      const glm::vec3 rgb = v.spectral_sample_rgb(one, u);
+      EXPECT_GT(glm::length(rgb), 1e-3f) << "channel " << k << " at u " << u;
+      parts += rgb;
+    }
+    const glm::vec3 whole = v.spectral_sample_rgb(radiance, u);
+    EXPECT_LT(glm::length(parts - whole), 1e-5f * glm::length(whole));
+    glm::vec4 planted = radiance;
+    planted.w = 0.0f;
+    EXPECT_GT(glm::length(v.spectral_sample_rgb(planted, u) - whole), 1e-3f) << "a film without the fourth wavelength";
+  }
+  EXPECT_EQ(v.spectrum_keep_channel(glm::vec4(0.5f), 1u), glm::vec4(2.0f, 0.0f, 0.0f, 0.0f));
+  ShaderMath rgb;
+  ASSERT_EQ(rgb.spectrumChannels, 3u);
+  EXPECT_EQ(glm::vec3(rgb.spectrum_keep_channel(glm::vec4(0.5f), 2u)), glm::vec3(0.0f, 1.5f, 0.0f));
+  EXPECT_EQ(rgb.spectrum_max(glm::vec4(0.1f, 0.2f, 0.3f, 9.0f)), 0.3f) << "RGB has no fourth channel";
+  EXPECT_EQ(v.spectrum_max(glm::vec4(0.1f, 0.2f, 0.3f, 9.0f)), 9.0f);
+}
+
+// Gold at normal incidence, through the kernels' conductor code at four
 // wavelengths, against R = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2) computed in
 // double precision from Johnson and Christy's points (metal_spectra.glsl's
-// source; the generator's raw data, interpolated linearly).
+// source; the generator's raw data, interpolated linearly). The fourth
+// channel, at the first's wavelength, reflects as the first.
 TEST(Spectral, GoldAtNormalIncidenceReflectsAsMeasured) {
   SceneView v = spectral_view();
-  glm::vec3 eta(0.0f);
-  glm::vec4 k(0.0f, 0.0f, 0.0f, CONDUCTOR_NAMED * float(METAL_AU + 1u));
-  v.conductor_at_wavelengths(eta, k, glm::vec3(450.0f, 550.0f, 650.0f));
-  const glm::vec3 r = v.fresnel_conductor(1.0f, eta, glm::vec3(k));
+  const glm::vec4 lambdas(450.0f, 550.0f, 650.0f, 450.0f);
+  auto reflectance = [&](uint32_t metal) {
+    glm::vec4 eta, kappa;
+    v.conductor_at_wavelengths(glm::vec3(0.0f), glm::vec4(0.0f, 0.0f, 0.0f, CONDUCTOR_NAMED * float(metal + 1u)), lambdas, eta, kappa);
+    return v.fresnel_conductor(1.0f, eta, kappa);
+  };
+  const glm::vec4 r = reflectance(METAL_AU);
   EXPECT_NEAR(r.x, 0.40819371891910416, 1e-4);
   EXPECT_NEAR(r.y, 0.79155328372198153, 1e-4);
   EXPECT_NEAR(r.z, 0.95652226640788107, 1e-4);
+  EXPECT_EQ(r.w, r.x);
   // Silver reflects more than gold in the blue, copper less than gold in the green.
-  glm::vec3 etaAg(0.0f), etaCu(0.0f);
-  glm::vec4 kAg(0.0f, 0.0f, 0.0f, CONDUCTOR_NAMED * float(METAL_AG + 1u)), kCu(0.0f, 0.0f, 0.0f, CONDUCTOR_NAMED * float(METAL_CU + 1u));
-  v.conductor_at_wavelengths(etaAg, kAg, glm::vec3(450.0f, 550.0f, 650.0f));
-  v.conductor_at_wavelengths(etaCu, kCu, glm::vec3(450.0f, 550.0f, 650.0f));
-  EXPECT_GT(v.fresnel_conductor(1.0f, etaAg, glm::vec3(kAg)).x, 0.9f);
-  EXPECT_LT(v.fresnel_conductor(1.0f, etaCu, glm::vec3(kCu)).y, r.y);
+  EXPECT_GT(reflectance(METAL_AG).x, 0.9f);
+  EXPECT_LT(reflectance(METAL_CU).y, r.y);
 }
 
 // The furnace box (grey walls of albedo 1/2 that emit white 1/2), rendered
@@ -333,7 +380,7 @@ double furnace_band_z(double plant) {
         AovSample aov;
         const PathState p = v.trace_sample(pixel, s, rays, aov);
         EXPECT_TRUE(p.wavelengths >= v.wavelengthBand.x && p.wavelengths <= v.wavelengthBand.y) << p.wavelengths;
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < PATH_WAVELENGTHS; ++c) {
           const double x = plant * double(p.radiance[c]);  // (over D65: light_spectrum)
           sum += x;
           sumSq += x * x;
@@ -439,13 +486,13 @@ TEST(Spectral, PrismDeviationFollowsEachGlassSellmeierIndex) {
       b.lobeType[0] = MAT_DIELECTRIC;
       b.lobeParam[0] = float(sellmeier(glass, 587.56));
       b.lobeDispersion[0] = -float(glass + 1u);
-      const glm::vec3 lambdas = v.path_wavelengths(p.wavelengths);
+      const glm::vec4 lambdas = v.path_wavelengths(p.wavelengths);
       v.disperse(p, b, lambdas);
       const uint32_t channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
       ASSERT_GE(channel, 1u);
       const double lambda = lambdas[int(channel) - 1];
       ShaderMath::Lobe in = v.lobe_with_params(glm::vec4(b.lobeParam[0], 0.0f, 0.0f, 0.0f), glm::vec4(0.0f));
-      in.color = glm::vec3(1.0f);
+      in.color = glm::vec4(1.0f);
       in.front = true;
       glm::vec3 inside, out;
       ASSERT_GT(v.dielectric_sample_delta(in, n1, n1, -d, 0.99999f, inside).x, 0.0f);

@@ -189,9 +189,9 @@ layout(set = 0, binding = BINDING_QUEUE_TEXELS) uniform usamplerBuffer queueTexe
 // (write_path, write_hit, write_shadow_ray in kernel.glsl): lavapipe stores
 // to a per-lane address in a loop over the lanes, one loop per store, so one
 // 16-byte store beats a store per field. Only connect_multi sees paths as
-// PathState, for its float atomics on the radiance.
+// floats, for its float atomics on the radiance.
 #ifdef WP_PATH_RADIANCE_ATOMICS
-layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { PathState paths[]; };
+layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { float pathFloats[]; };
 #else
 layout(std430, set = 0, binding = BINDING_PATHS) buffer PathBuffer { uvec4 pathTexelsOut[]; };
 #endif

@@ -27,7 +27,7 @@ struct Bsdf {
   vec3 ng;  // geometric normal, on wo's side
   bool front;  // wo is on the front (outer) side: a dielectric is entered, not left
   uint lobeType[BSDF_MAX_LOBES];      // MAT_* of each lobe
-  vec3 lobeColor[BSDF_MAX_LOBES];     // albedo (white for the dielectric)
+  Spectrum lobeColor[BSDF_MAX_LOBES];  // albedo (white for the dielectric)
   // The kind's parameters at the hit (kinds.glsl), params.x apart from the
   // rest, which only kernels with kinds that read them store: lavapipe keeps
   // arrays written at a varying index in memory, and every store costs.
@@ -43,6 +43,11 @@ struct Bsdf {
   // Abbe number (> 0), or a dielectric's named glass, -(GLASS_* + 1) (< 0).
   float lobeDispersion[BSDF_MAX_LOBES];
   float lobeWeight[BSDF_MAX_LOBES];
+#ifdef WP_SPECTRUM_W
+  // The spectral mode's fourth wavelength of the colours a kind keeps in its
+  // parameters (LOBE_FOURTH_*; spectral.glsl's bsdf_at_wavelengths).
+  vec4 lobeFourth[BSDF_MAX_LOBES];
+#endif
   // A sheen layer (MAT_SHEEN): x max3 of its colour (0: none), y its
   // roughness, z x times its bounded albedo at wo; and the lobes under it
   // (bit i: lobe i), which sheen_cover_scale scales.
@@ -59,9 +64,31 @@ struct Lobe {
   // them out (metal-rough's extensions: MR_LOBE_* slots, kinds.glsl); zero
   // in a slot no compiled feature reads.
   vec4 extra[LOBE_EXTRA_SLOTS];
-  vec3 color;
+  Spectrum color;
   bool front;
+#ifdef WP_SPECTRUM_W
+  vec4 fourth;  // Bsdf.lobeFourth
+#endif
 };
+
+// Where Lobe.fourth keeps the fourth wavelength of a colour parameter: a
+// conductor's eta (params.yzw) and k (params2.xyz); CS184 glass's
+// reflectance (params2.xyz); metal-rough's specular tint (params2.xyz) and
+// diffuse transmission colour (its extra slot's xyz).
+#define LOBE_FOURTH_ETA 0
+#define LOBE_FOURTH_K 1
+#define LOBE_FOURTH_PARAMS2 0
+#define LOBE_FOURTH_TRANSMISSION 1
+
+// Colour parameter xyz of lobe l as a Spectrum, its fourth wavelength's
+// value from slot `slot` of Lobe.fourth.
+Spectrum lobe_spectrum(Lobe l, vec3 xyz, int slot) {
+#ifdef WP_SPECTRUM_W
+  return Spectrum(xyz.x, xyz.y, xyz.z, slot == 0 ? l.fourth.x : l.fourth.y);
+#else
+  return xyz;
+#endif
+}
 
 // Whether a compiled feature reads slot `slot` of Lobe.extra (the features'
 // table, kinds.glsl).
@@ -96,8 +123,11 @@ Lobe lobe_with_params(vec4 params, vec4 params2) {
   l.params = params;
   l.params2 = params2;
   for (uint slot = 0u; slot < uint(LOBE_EXTRA_SLOTS); ++slot) l.extra[slot] = vec4(0.0f);
-  l.color = vec3(0.0f);
+  l.color = Spectrum(0.0f);
   l.front = true;
+#ifdef WP_SPECTRUM_W
+  l.fourth = vec4(0.0f);
+#endif
   return l;
 }
 
@@ -126,6 +156,9 @@ Lobe lobe_of(Bsdf b, uint i) {
   for (uint slot = 0u; slot < uint(LOBE_EXTRA_SLOTS); ++slot) l.extra[slot] = bsdf_extra(b, i, slot);
   l.color = b.lobeColor[i];
   l.front = b.front;
+#ifdef WP_SPECTRUM_W
+  l.fourth = SPECTRUM_CHANNELS == 4u ? b.lobeFourth[i] : vec4(0.0f);
+#endif
   return l;
 }
 
@@ -210,9 +243,9 @@ float lobe_pdf(uint type, Lobe l, vec3 ns, vec3 wo, vec3 wi) {
 }
 
 // f * |cos| of a smooth lobe (zero where it does not reach).
-vec3 lobe_eval(uint type, Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum lobe_eval(uint type, Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   WP_MATERIAL_KINDS(WP_LOBE_EVAL)
-  return vec3(0.0f);
+  return Spectrum(0.0f);
 }
 
 // Direction from a smooth lobe, or a zero vector when the lobe produced none.
@@ -222,10 +255,10 @@ vec3 lobe_sample(uint type, Lobe l, vec3 ns, vec3 wo, vec3 u) {
 }
 
 // Direction from a delta lobe, and f * |cos| / pdf (zero when absorbed).
-vec3 lobe_sample_delta(uint type, Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+Spectrum lobe_sample_delta(uint type, Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   WP_MATERIAL_KINDS(WP_LOBE_SAMPLE_DELTA)
   wi = vec3(0.0f);
-  return vec3(0.0f);
+  return Spectrum(0.0f);
 }
 
 // Loops over lobes run to the constant BSDF_LOBES_OF_SCENE and skip unused
@@ -261,8 +294,8 @@ bool bsdf_transmits(Bsdf b, vec3 wi) {
 }
 
 // f(wo, wi) * |cos(wi)| summed over the smooth lobes.
-vec3 bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
-  vec3 f = vec3(0.0f);
+Spectrum bsdf_eval(Bsdf b, vec3 wo, vec3 wi) {
+  Spectrum f = Spectrum(0.0f);
   bool reflects = bsdf_reflects(b, wi);
   bool transmits = bsdf_transmits(b, wi);
   float coverScale = MATERIAL_COMPILED(MAT_SHEEN) && b.sheenCovers != 0u ? sheen_cover_scale(b, wi) : 1.0f;
@@ -294,11 +327,11 @@ float bsdf_pdf(Bsdf b, vec3 wo, vec3 wi) {
 // which case pdf is 0 and MIS does not apply. u.z picks the lobe and is then
 // reused (rescaled) for a delta lobe's own choice (the dielectric's between
 // reflection and refraction); a smooth lobe gets (u.x, u.y, u.w).
-vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool) isDelta) {
+Spectrum bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool) isDelta) {
   wi = vec3(0.0f);
   pdf = 0.0f;
   isDelta = false;
-  if (b.lobeCount == 0u) return vec3(0.0f);
+  if (b.lobeCount == 0u) return Spectrum(0.0f);
   // Pick lobe k with probability lobeWeight[k]; copy its fields out with
   // constant indices.
   uint type = b.lobeType[0];
@@ -317,7 +350,7 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
   }
   if (lobe_is_delta(type, l)) {
     isDelta = true;
-    vec3 weight = lobe_sample_delta(type, l, b.ns, b.ng, wo, uPick, wi);
+    Spectrum weight = lobe_sample_delta(type, l, b.ns, b.ng, wo, uPick, wi);
     if (MATERIAL_COMPILED(MAT_SHEEN) && ((b.sheenCovers >> picked) & 1u) != 0u) weight *= sheen_cover_scale(b, wi);
     return weight;
   }
@@ -325,7 +358,7 @@ vec3 bsdf_sample(Bsdf b, vec3 wo, vec4 u, OUT(vec3) wi, OUT(float) pdf, OUT(bool
   pdf = bsdf_pdf(b, wo, wi);
   if (pdf <= 0.0f) {
     pdf = 0.0f;
-    return vec3(0.0f);
+    return Spectrum(0.0f);
   }
   return bsdf_eval(b, wo, wi) / pdf;
 }

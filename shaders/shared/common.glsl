@@ -44,6 +44,25 @@ using uint = std::uint32_t;
 #define LUMINANCE_G 0.7152f
 #define LUMINANCE_B 0.0722f
 #define WP_INF 3.402823466e+38f
+
+// Spectrum: the type of the colours a path carries (its throughput, its
+// radiance, a BSDF's value). The kernels are compiled twice (CMakeLists.txt):
+// the RGB kernels' is vec3, red, green and blue; the spectral kernels'
+// (WP_SPECTRUM4) is vec4, radiance at the path's four wavelengths
+// (spectral.glsl), so an RGB render carries no fourth channel. C++, one
+// compile for both modes, takes vec4, and in RGB leaves its w out of every
+// sum (SPECTRUM_CHANNELS, colour.glsl). Records keep their colours in RGB.
+#ifdef __cplusplus
+namespace wp::shader {
+using Spectrum = glm::vec4;
+}
+#define WP_SPECTRUM_W 1
+#elif defined(WP_SPECTRUM4)
+#define Spectrum vec4
+#define WP_SPECTRUM_W 1
+#else
+#define Spectrum vec3
+#endif
 #define WP_INVALID 0xffffffffu
 
 #endif  // WP_COMMON_GLSL

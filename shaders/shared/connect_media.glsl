@@ -11,7 +11,7 @@ void connect_through_media() {
   ShadowRay sr = read_shadow_ray(item);
   uint truncated = 0u;
   // (The path's wavelengths: its fifth texel, which shade wrote before.)
-  vec3 tr = shadow_ray_transmittance(sr, spectral_mode() ? read_path(sr.path).wavelengths : 0.0f, truncated);
+  Spectrum tr = shadow_ray_transmittance(sr, spectral_mode() ? read_path(sr.path).wavelengths : 0.0f, truncated);
   if (truncated > 0u) atomicAdd(counters[COUNTER_TRUNCATED], truncated);
-  if (tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f) add_to_path(sr.path, sr.contribution * tr);
+  if (spectrum_positive(tr)) add_to_path(sr.path, sr.contribution * tr);
 }

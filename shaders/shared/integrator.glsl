@@ -78,8 +78,8 @@ void path_begin(INOUT(PathState) p, uint pixel, uint sampleIndex) {
   p.origin = xform_point(scene.camToWorld0, scene.camToWorld1, scene.camToWorld2, originCam);
   p.dir = normalize(xform_vector(scene.camToWorld0, scene.camToWorld1, scene.camToWorld2, dirCam));
   p.pixel = pixel;
-  p.throughput = vec3(1.0f);
-  p.radiance = vec3(0.0f);
+  p.throughput = Spectrum(1.0f);
+  p.radiance = Spectrum(0.0f);
   p.flags = PATH_SPECULAR;  // depth 0; camera rays count emitters with full weight
   p.bsdfPdf = 0.0f;
   p.medium = FEATURE_COMPILED(FEATURE_MEDIA) ? scene.media.x : 0u;
@@ -101,7 +101,7 @@ void shadow_ray_none(OUT(ShadowRay) sr) {
   sr.tmax = -1.0f;
   sr.origin = vec3(0.0f);
   sr.dir = vec3(0.0f);
-  sr.contribution = vec3(0.0f);
+  sr.contribution = Spectrum(0.0f);
   sr.path = WP_INVALID;
   sr.media = 0u;
 }
@@ -145,7 +145,7 @@ struct ShadowRays {
 // The normals and ambient-occlusion integrators: one hit, no paths.
 void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) {
   if (INTEGRATOR_OF_SCENE == INTEGRATOR_NORMALS) {
-    p.radiance += ((b.front ? b.ns : -b.ns) + vec3(1.0f)) * 0.5f;  // the shading normal, a normal map's included
+    p.radiance += spectrum_rgb(((b.front ? b.ns : -b.ns) + vec3(1.0f)) * 0.5f);  // the shading normal, a normal map's included
     return;
   }
   // Ambient occlusion: the cosine-weighted fraction of the hemisphere that is
@@ -159,26 +159,26 @@ void shade_preview(INOUT(PathState) p, SurfaceHit s, Bsdf b, OUT(ShadowRay) sr) 
   sr.origin = offset_ray(s.p, b.ng);
   sr.dir = wi;
   sr.tmax = WP_INF;
-  sr.contribution = vec3(1.0f);
+  sr.contribution = Spectrum(1.0f);
 }
 
 // A dispersive volume's boundary (FEATURE_DISPERSION) refracts each colour
 // by its own index. The first one a path meets picks one channel uniformly
 // (in the spectral mode, always its hero wavelength, as pbrt-v4 does: a
 // pixel's samples spread their heroes evenly, path_begin), which the path
-// carries alone from then on, three times as strong (the other channels'
+// carries alone from then on, three (four) times as strong (the other channels'
 // light is estimated by the paths that picked them); its lobes, and every
 // dispersive lobe after, take that channel's index: in RGB the red, green
 // or blue of dispersed_ior (a named glass's at the C, d and F lines), in the
 // spectral mode the index at the hero's wavelength.
-void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
+void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec4 lambdas) {
   if (!bsdf_disperses(b)) return;
   uint channel = (p.flags & PATH_CHANNEL_MASK) >> PATH_CHANNEL_SHIFT;
   if (channel == 0u) {
     channel = 1u + min(uint(rng_next(p.rng) * 3.0f), 2u);
     if (spectral_mode()) channel = 1u;
     p.flags |= channel << PATH_CHANNEL_SHIFT;
-    p.throughput *= vec3(channel == 1u ? 3.0f : 0.0f, channel == 2u ? 3.0f : 0.0f, channel == 3u ? 3.0f : 0.0f);
+    p.throughput = spectrum_keep_channel(p.throughput, channel);
   }
   disperse_lobes(b, channel, lambdas);
 }
@@ -188,7 +188,7 @@ void disperse(INOUT(PathState) p, INOUT(Bsdf) b, vec3 lambdas) {
 // path ends.
 bool survives_roulette(INOUT(PathState) p, uint depth) {
   if (depth + 1u < scene.image.w) return true;
-  float maxT = max(p.throughput.x, max(p.throughput.y, p.throughput.z));
+  float maxT = spectrum_max(p.throughput);
   float q = clamp(1.0f - maxT, 0.0f, 0.95f);
   if (rng_next(p.rng) < q) return false;
   p.throughput /= (1.0f - q);
@@ -198,7 +198,7 @@ bool survives_roulette(INOUT(PathState) p, uint depth) {
 // A real scattering collision at x inside medium `med` (FEATURE_MEDIA):
 // next-event estimation weighted by the phase function, then a direction
 // from the phase function; MIS as at a surface.
-bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, vec3 lambdas, bool useNee, bool useMis, OUT(ShadowRays) srs) {
+bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, vec4 lambdas, bool useNee, bool useMis, OUT(ShadowRays) srs) {
   uint depth = path_depth(p);
   if (depth >= scene.image.z) return false;
   uint lightSamples = LIGHT_SAMPLES_OF_SCENE;
@@ -207,12 +207,12 @@ bool path_scatter_in_medium(INOUT(PathState) p, Medium med, vec3 x, vec3 lambdas
     if (j >= lightSamples) break;
     vec3 uLight = rng_next3(p.rng);
     if (!(useNee && sample_emitter(x, uLight, ls))) continue;
-    ls.radiance = path_radiance(ls.radiance, lambdas);
+    Spectrum le = path_radiance(ls.radiance, lambdas);
     float f = medium_phase(med, p.dir, ls.wi);
     if (ls.pdf <= 0.0f || f <= 0.0f) continue;
     float nPdf = float(lightSamples) * ls.pdf;
     float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, f, scene.mis.x) : 1.0f;
-    srs.ray[j].contribution = p.throughput * ls.radiance * (f * w / nPdf);
+    srs.ray[j].contribution = p.throughput * le * (f * w / nPdf);
     aim_shadow_ray(x, ls.wi, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
     srs.ray[j].media = shadow_ray_media(p.medium, p.rng, j);
   }
@@ -255,13 +255,14 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   bool useMis = useNee && (scene.counts.w & SCENE_FLAG_NO_BSDF_MIS) == 0u;
   bool cs184 = (scene.counts.w & SCENE_FLAG_CS184) != 0u;
   // The spectral mode: the path's wavelengths, at which it sees every colour.
-  vec3 lambdas = spectral_mode() ? path_wavelengths(p.wavelengths) : vec3(0.0f);
+  vec4 lambdas = spectral_mode() ? path_wavelengths(p.wavelengths) : vec4(0.0f);
   // The medium between the ray's origin and its hit: the path may scatter
   // (or be absorbed) in it first.
   if (FEATURE_COMPILED(FEATURE_MEDIA) && !preview && p.medium != 0u) {
-    Medium med = load_medium_at(p.medium, lambdas);
+    MediumCoefficients coefficients;
+    Medium med = load_medium_at(p.medium, lambdas, coefficients);
     float t;
-    uint event = medium_free_flight(med, p.origin, p.dir, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
+    uint event = medium_free_flight(med, coefficients, p.origin, p.dir, h.prim == WP_INVALID ? WP_INF : h.t, p.rng, p.throughput, t);
     if (event == MEDIUM_EVENT_ABSORB) return false;
     if (event == MEDIUM_EVENT_SCATTER) return path_scatter_in_medium(p, med, p.origin + t * p.dir, lambdas, useNee, useMis, srs);
   }
@@ -296,9 +297,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   uint depth = path_depth(p);
 
   // Emission, seen from the front side only.
-  vec3 le = emitted_radiance(s, wo);
-  if (le.x > 0.0f || le.y > 0.0f || le.z > 0.0f) {
-    if (spectral_mode()) le = light_spectrum(le, lambdas);
+  vec3 emitted = emitted_radiance(s, wo);
+  if (emitted.x > 0.0f || emitted.y > 0.0f || emitted.z > 0.0f) {
+    Spectrum le = path_radiance(emitted, lambdas);
     float w = 1.0f;
     if ((p.flags & PATH_SPECULAR) == 0u && s.emitter == WP_INVALID) {
       // Outside the light table (CS184's emissive meshes): only BSDF sampling
@@ -324,12 +325,12 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     if (j >= lightSamples) break;
     vec3 uLight = rng_next3(p.rng);
     if (!(useNee && hasSmooth && sample_emitter(s.p, uLight, ls))) continue;
-    if (spectral_mode()) ls.radiance = light_spectrum(ls.radiance, lambdas);
-    vec3 f = bsdf_eval(b, wo, ls.wi);
-    if (ls.pdf <= 0.0f || (f.x <= 0.0f && f.y <= 0.0f && f.z <= 0.0f)) continue;
+    Spectrum le = path_radiance(ls.radiance, lambdas);
+    Spectrum f = bsdf_eval(b, wo, ls.wi);
+    if (ls.pdf <= 0.0f || !spectrum_positive(f)) continue;
     float nPdf = float(lightSamples) * ls.pdf;
     float w = useMis && ls.isDelta == 0u ? power_heuristic(nPdf, bsdf_pdf(b, wo, ls.wi), scene.mis.x) : 1.0f;
-    srs.ray[j].contribution = p.throughput * f * ls.radiance * (w / nPdf);
+    srs.ray[j].contribution = p.throughput * f * le * (w / nPdf);
     aim_shadow_ray(s.p, b.ng, ls, srs.ray[j].origin, srs.ray[j].dir, srs.ray[j].tmax);
     if (FEATURE_COMPILED(FEATURE_MEDIA)) srs.ray[j].media = shadow_ray_media(medium_beyond(p.medium, s.material, s.ng, ls.wi), p.rng, j);
   }
@@ -346,7 +347,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   vec3 wi;
   float pdf = 0.0f;
   bool isDelta;
-  vec3 weight = vec3(0.0f);
+  Spectrum weight = Spectrum(0.0f);
   float lightProb = mixture && hasSmooth && scene.counts.x > 0u ? 0.5f : 0.0f;
   if (uStrategy < lightProb) {
     if (!sample_emitter(s.p, vec3(uBsdf.x, uBsdf.y, uBsdf.z), ls) || ls.isDelta != 0u) return false;
@@ -369,9 +370,9 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
   }
   if (mixture && !isDelta) {
     pdf = mixture_pdf(emitters_pdf_direction(s.p, wi, false), bsdf_pdf(b, wo, wi), lightProb);
-    weight = pdf > 0.0f ? bsdf_eval(b, wo, wi) / pdf : vec3(0.0f);
+    weight = pdf > 0.0f ? bsdf_eval(b, wo, wi) / pdf : Spectrum(0.0f);
   }
-  if ((!isDelta && pdf <= 0.0f) || (weight.x <= 0.0f && weight.y <= 0.0f && weight.z <= 0.0f)) return false;
+  if ((!isDelta && pdf <= 0.0f) || !spectrum_positive(weight)) return false;
   // (A smooth lobe picked with some probability, a delta one with the rest:
   // following only the delta picks, weighted by their probability, keeps
   // the specular paths unbiased.)
@@ -393,7 +394,7 @@ bool path_shade(INOUT(PathState) p, Hit h, OUT(ShadowRays) srs) {
     // paths allowed several. weight is f |cos| / pdf (f |cos| for a delta lobe).
     if (depth == 0u && scene.image.z > 1u) return true;
     float cosI = abs(dot(wi, b.ns));
-    float q = cosI > 0.0f ? min(1.0f, 10.0f * illuminance(weight) * (isDelta ? 1.0f : pdf) / cosI) : 1.0f;
+    float q = cosI > 0.0f ? min(1.0f, 10.0f * spectrum_illuminance(weight) * (isDelta ? 1.0f : pdf) / cosI) : 1.0f;
     if (rng_next(p.rng) >= q) return false;
     p.throughput /= q;
     return true;
@@ -450,7 +451,7 @@ AovSample aov_sample(PathState p, Hit h) {
   Bsdf b = bsdf_at(s, wo);
   vec3 albedo = vec3(0.0f);
   for (uint i = 0u; i < BSDF_MAX_LOBES; ++i) {
-    if (i < b.lobeCount) albedo += b.lobeColor[i] * b.lobeWeight[i];
+    if (i < b.lobeCount) albedo += spectrum_xyz(b.lobeColor[i]) * b.lobeWeight[i];
   }
   if (b.lobeCount == 0u) albedo = emitted_radiance(s, wo);
   albedo = clamp(albedo, vec3(0.0f), vec3(1.0f));
@@ -466,7 +467,7 @@ AovSample aov_sample(PathState p, Hit h) {
 // without interfaces in the scene, one walk that any hit ends. `truncated`
 // counts the walks that reached the step cap (the ray then counts as
 // blocked). `wavelengths`: its path's sample of them (the spectral mode).
-vec3 shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) truncated) {
+Spectrum shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) truncated) {
   uint medium = sr.media & 0xffffu;
   uint rng = pcg_hash(sr.media ^ floatBitsToUint(sr.origin.x + sr.origin.y + sr.origin.z));
   vec3 o = sr.origin;
@@ -477,21 +478,25 @@ vec3 shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) trunc
   // to a shortened length, pushed the end into the light, which blocked it.
   bool finite = tmax < WP_INF;
   vec3 end = finite ? o + dir * tmax : vec3(0.0f);
-  vec3 tr = vec3(1.0f);
-  vec3 lambdas = spectral_mode() ? path_wavelengths(wavelengths) : vec3(0.0f);
+  Spectrum tr = Spectrum(1.0f);
+  vec4 lambdas = spectral_mode() ? path_wavelengths(wavelengths) : vec4(0.0f);
   const bool interfaces = MATERIAL_COMPILED(MAT_INTERFACE);
   for (uint k = 0u; k <= MEDIUM_CROSSINGS_MAX; ++k) {
     Hit h;
     if (trace_ray(o, dir, tmax, !interfaces, h) != TRACE_OK) {
       truncated += 1u;
-      return vec3(0.0f);
+      return Spectrum(0.0f);
     }
-    if (!interfaces && h.prim != WP_INVALID) return vec3(0.0f);
+    if (!interfaces && h.prim != WP_INVALID) return Spectrum(0.0f);
     float t = h.prim == WP_INVALID ? tmax : h.t;
-    if (medium != 0u) tr *= medium_transmittance(load_medium_at(medium, lambdas), o, dir, t, rng);
+    if (medium != 0u) {
+      MediumCoefficients coefficients;
+      Medium m = load_medium_at(medium, lambdas, coefficients);
+      tr *= medium_transmittance(m, coefficients, o, dir, t, rng);
+    }
     if (h.prim == WP_INVALID) return tr;
     SurfaceHit s = surface_at(o, dir, h);
-    if (!is_interface(s.material) || !(tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f)) return vec3(0.0f);
+    if (!is_interface(s.material) || !spectrum_positive(tr)) return Spectrum(0.0f);
     medium = medium_beyond(medium, s.material, s.ng, dir);
     o = offset_ray(s.p, dot(dir, s.ng) >= 0.0f ? s.ng : -s.ng);
     if (finite) {
@@ -499,7 +504,7 @@ vec3 shadow_ray_transmittance(ShadowRay sr, float wavelengths, INOUT(uint) trunc
       tmax = 1.0f;
     }
   }
-  return vec3(0.0f);
+  return Spectrum(0.0f);
 }
 
 // Closest-hit passes a path takes at most: one per bounce and the camera

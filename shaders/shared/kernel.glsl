@@ -79,6 +79,7 @@ layout(constant_id = SPEC_WORKGROUP_INTERLEAVE) const uint kWorkgroupInterleave 
 // (aov_sample) and accumulated beside the colour.
 layout(constant_id = SPEC_AOVS) const bool kAovs = false;
 #define AOVS_OF_SCENE kAovs
+#include "colour.glsl"
 #include "rng.glsl"
 #include "sampling.glsl"
 #include "spectrum.glsl"
@@ -134,15 +135,21 @@ PathState read_path(uint i) {
   p.pixel = a.w;
   p.dir = texel_xyz(b);
   p.rng = b.w;
-  p.throughput = texel_xyz(c);
   p.flags = c.w;
-  p.radiance = texel_xyz(d);
   p.bsdfPdf = uintBitsToFloat(d.w);
   uvec4 e = PATH_MEDIUM_TEXEL_COMPILED ? texelFetch(pathTexels, at + PATH_MEDIUM_TEXEL) : uvec4(0u);
   p.medium = e.x;
   p.travelled = uintBitsToFloat(e.y);
   p.crossings = e.z;
   p.wavelengths = uintBitsToFloat(e.w);
+#ifdef WP_SPECTRUM4
+  vec2 f = uintBitsToFloat(texelFetch(pathTexels, at + PATH_FOURTH_TEXEL).xy);
+  p.throughput = vec4(texel_xyz(c), f.x);
+  p.radiance = vec4(texel_xyz(d), f.y);
+#else
+  p.throughput = texel_xyz(c);
+  p.radiance = texel_xyz(d);
+#endif
   return p;
 }
 
@@ -175,10 +182,13 @@ void write_path(uint i, PathState p) {
   uint at = i * PATH_STATE_TEXELS;
   pathTexelsOut[at] = uvec4(floatBitsToUint(p.origin), p.pixel);
   pathTexelsOut[at + 1u] = uvec4(floatBitsToUint(p.dir), p.rng);
-  pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(p.throughput), p.flags);
-  pathTexelsOut[at + uint(PATH_RADIANCE_TEXEL)] = uvec4(floatBitsToUint(p.radiance), floatBitsToUint(p.bsdfPdf));
+  pathTexelsOut[at + 2u] = uvec4(floatBitsToUint(spectrum_xyz(p.throughput)), p.flags);
+  pathTexelsOut[at + uint(PATH_RADIANCE_TEXEL)] = uvec4(floatBitsToUint(spectrum_xyz(p.radiance)), floatBitsToUint(p.bsdfPdf));
   if (PATH_MEDIUM_TEXEL_COMPILED)
     pathTexelsOut[at + uint(PATH_MEDIUM_TEXEL)] = uvec4(p.medium, floatBitsToUint(p.travelled), p.crossings, floatBitsToUint(p.wavelengths));
+#ifdef WP_SPECTRUM4
+  pathTexelsOut[at + uint(PATH_FOURTH_TEXEL)] = uvec4(floatBitsToUint(p.throughput.w), floatBitsToUint(p.radiance.w), 0u, 0u);
+#endif
 }
 #endif
 
@@ -186,7 +196,21 @@ void write_shadow_ray(uint i, ShadowRay r) {
   uint at = i * SHADOW_RAY_TEXELS;
   shadowRayTexelsOut[at] = uvec4(floatBitsToUint(r.origin), floatBitsToUint(r.tmax));
   shadowRayTexelsOut[at + 1u] = uvec4(floatBitsToUint(r.dir), r.path);
-  shadowRayTexelsOut[at + 2u] = uvec4(floatBitsToUint(r.contribution), r.media);
+  shadowRayTexelsOut[at + 2u] = uvec4(floatBitsToUint(spectrum_xyz(r.contribution)), r.media);
+#ifdef WP_SPECTRUM4
+  shadowRayTexelsOut[at + 3u] = uvec4(floatBitsToUint(r.contribution.w), 0u, 0u, 0u);
+#endif
+}
+
+// Shadow ray i's contribution alone (connect's read when the ray is unoccluded).
+Spectrum shadow_ray_contribution(uint i) {
+  int at = int(i) * SHADOW_RAY_TEXELS;
+  vec3 c = texel_xyz(texelFetch(shadowRayTexels, at + 2));
+#ifdef WP_SPECTRUM4
+  return vec4(c, uintBitsToFloat(texelFetch(shadowRayTexels, at + 3).x));
+#else
+  return c;
+#endif
 }
 
 ShadowRay read_shadow_ray(uint i) {
@@ -199,7 +223,11 @@ ShadowRay read_shadow_ray(uint i) {
   r.tmax = uintBitsToFloat(a.w);
   r.dir = texel_xyz(b);
   r.path = b.w;
+#ifdef WP_SPECTRUM4
+  r.contribution = vec4(texel_xyz(c), uintBitsToFloat(texelFetch(shadowRayTexels, at + 3).x));
+#else
   r.contribution = texel_xyz(c);
+#endif
   r.media = c.w;
   return r;
 }

@@ -40,7 +40,7 @@ vec3 emitted_radiance(SurfaceHit s, vec3 wo) {
 // (stored once: on lavapipe each copy of the stores costs every path).
 void bsdf_set_lobe(INOUT(Bsdf) b, uint k, Material m, vec3 color, float w, SurfaceHit s) {
   b.lobeType[k] = m.info.x;
-  b.lobeColor[k] = color;
+  b.lobeColor[k] = spectrum_rgb(color);
   b.lobeWeight[k] = w;
   Lobe l = lobe_with_params(m.params, m.params2);
   float dispersion = 0.0f;
@@ -113,12 +113,12 @@ bool material_needs_no_texture(Material m) {
 // volume that material `material` bounds (KHR_materials_volume's
 // Beer-Lambert law, T = exp(-sigma t)), 1 for other materials; in the
 // spectral mode at the path's wavelengths `lambdas`.
-vec3 volume_transmittance(uint material, float t, vec3 lambdas) {
+Spectrum volume_transmittance(uint material, float t, vec4 lambdas) {
   Material m = surface_material(load_material(material));
   vec4 v = m.extra[MR_VOLUME];
-  if (m.info.x != MAT_METAL_ROUGH || !(v.w > 0.0f)) return vec3(1.0f);
-  vec3 sigma = spectral_mode() ? unbounded_spectrum(vec3(v.x, v.y, v.z), lambdas) : vec3(v.x, v.y, v.z);
-  return vec3(exp(-sigma.x * t), exp(-sigma.y * t), exp(-sigma.z * t));
+  if (m.info.x != MAT_METAL_ROUGH || !(v.w > 0.0f)) return Spectrum(1.0f);
+  Spectrum sigma = spectral_mode() ? unbounded_spectrum(vec3(v.x, v.y, v.z), lambdas) : spectrum_rgb(vec3(v.x, v.y, v.z));
+  return exp(-sigma * t);
 }
 
 // The shading normal at s under a normal map (FEATURE_NORMAL_MAPS) or the
@@ -136,7 +136,7 @@ float bsdf_add_clearcoat(INOUT(Bsdf) b, uint k, Material m, SurfaceHit s, vec3 w
   nc = b.front ? nc : -nc;
   float wc = w * clearcoat_weight(clamp(factor, 0.0f, 1.0f), clearcoat_f0(m.params.x), dot(wo, nc));
   b.lobeType[k] = MAT_CLEARCOAT;
-  b.lobeColor[k] = vec3(1.0f);
+  b.lobeColor[k] = Spectrum(1.0f);
   b.lobeWeight[k] = wc;
   float alpha = clamp(r, 0.0f, 1.0f);
   bsdf_set_params(b, k, vec4(max(alpha * alpha, GGX_MIN_ALPHA), 0.0f, 0.0f, 0.0f), vec4(nc.x, nc.y, nc.z, 0.0f));
@@ -153,7 +153,7 @@ float bsdf_add_sheen(INOUT(Bsdf) b, uint k, vec3 color, float r, vec3 wo, float 
   b.sheen = vec4(strength, roughness, albedo, 0.0f);
   if (!(albedo > 1e-6f)) return 0.0f;
   b.lobeType[k] = MAT_SHEEN;
-  b.lobeColor[k] = color / albedo;
+  b.lobeColor[k] = spectrum_rgb(color / albedo);
   b.lobeWeight[k] = w * albedo;
   bsdf_set_params(b, k, vec4(roughness, 0.0f, 0.0f, 0.0f), vec4(0.0f));
   return w * albedo;
@@ -173,7 +173,10 @@ Bsdf bsdf_at(SurfaceHit s, vec3 wo) {
   b.lobeCount = 0u;
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     b.lobeType[i] = MAT_LAMBERTIAN;
-    b.lobeColor[i] = vec3(0.0f);
+    b.lobeColor[i] = Spectrum(0.0f);
+#ifdef WP_SPECTRUM_W
+    b.lobeFourth[i] = vec4(0.0f);
+#endif
     bsdf_set_params(b, i, vec4(0.0f), vec4(0.0f));
     b.lobeWeight[i] = 0.0f;
     if (FEATURE_COMPILED(FEATURE_DISPERSION)) b.lobeDispersion[i] = 0.0f;

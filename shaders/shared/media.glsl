@@ -13,7 +13,7 @@
 // without scattering and without counting a bounce.
 //
 // Chromatic coefficients: collisions are sampled against one majorant for
-// all three channels (Medium.sigmaS.w), and each collision is absorbed,
+// all of a path's channels (Medium.sigmaS.w), and each collision is absorbed,
 // scattered or null with probabilities proportional to the coefficients
 // weighted by the path's throughput (Kutz et al. 2017, "Spectral and
 // Decomposition Tracking for Rendering Heterogeneous Volumes", spectral
@@ -47,28 +47,43 @@ Medium load_medium(uint i) {
   return m;
 }
 
-// The spectral mode (spectral.glsl): medium m's coefficients at the
-// wavelengths (unbounded spectra), its
-// majorant raised where they exceed it.
-Medium medium_at_wavelengths(Medium m, vec3 lambdas) {
-  if (m.info.x == MEDIUM_VACUUM) return m;
-  vec3 sa = unbounded_spectrum(vec3(m.sigmaA.x, m.sigmaA.y, m.sigmaA.z), lambdas);
-  vec3 ss = unbounded_spectrum(vec3(m.sigmaS.x, m.sigmaS.y, m.sigmaS.z), lambdas);
-  vec3 sn = unbounded_spectrum(vec3(m.sigmaN.x, m.sigmaN.y, m.sigmaN.z), lambdas);
+// A medium's coefficients in a path's colours: as its record gives them in
+// RGB, at the path's wavelengths in the spectral mode (spectral.glsl).
+struct MediumCoefficients {
+  Spectrum sigmaA;  // (a grid's: per unit density)
+  Spectrum sigmaS;
+  Spectrum sigmaN;  // (homogeneous only)
+};
+
+// Medium m's coefficients at the wavelengths lambdas (unbounded spectra) in
+// the spectral mode, and the majorant (Medium.sigmaS.w) raised where they
+// exceed it; in RGB, as they are.
+MediumCoefficients medium_coefficients(INOUT(Medium) m, vec4 lambdas) {
+  MediumCoefficients c;
+  vec3 sa = vec3(m.sigmaA.x, m.sigmaA.y, m.sigmaA.z);
+  vec3 ss = vec3(m.sigmaS.x, m.sigmaS.y, m.sigmaS.z);
+  vec3 sn = vec3(m.sigmaN.x, m.sigmaN.y, m.sigmaN.z);
+  if (!spectral_mode() || m.info.x == MEDIUM_VACUUM) {
+    c.sigmaA = spectrum_rgb(sa);
+    c.sigmaS = spectrum_rgb(ss);
+    c.sigmaN = spectrum_rgb(sn);
+    return c;
+  }
+  c.sigmaA = unbounded_spectrum(sa, lambdas);
+  c.sigmaS = unbounded_spectrum(ss, lambdas);
+  c.sigmaN = unbounded_spectrum(sn, lambdas);
   // Homogeneous: at least sigma_a + sigma_s + sigma_n in each; a grid's:
   // at least sigma_a + sigma_s per unit density (media.glsl).
-  vec3 t = m.info.x == MEDIUM_HOMOGENEOUS ? sa + ss + sn : sa + ss;
-  float majorant = max(m.sigmaS.w, max(max(t.x, t.y), t.z));
-  m.sigmaA = vec4(sa.x, sa.y, sa.z, m.sigmaA.w);
-  m.sigmaS = vec4(ss.x, ss.y, ss.z, majorant);
-  m.sigmaN = vec4(sn.x, sn.y, sn.z, m.sigmaN.w);
-  return m;
+  Spectrum t = m.info.x == MEDIUM_HOMOGENEOUS ? c.sigmaA + c.sigmaS + c.sigmaN : c.sigmaA + c.sigmaS;
+  m.sigmaS.w = max(m.sigmaS.w, spectrum_max(t));
+  return c;
 }
 
-// Medium i as a path of wavelengths lambdas sees it.
-Medium load_medium_at(uint i, vec3 lambdas) {
+// Medium i as a path of wavelengths lambdas sees it, and its coefficients c.
+Medium load_medium_at(uint i, vec4 lambdas, OUT(MediumCoefficients) c) {
   Medium m = load_medium(i);
-  return spectral_mode() ? medium_at_wavelengths(m, lambdas) : m;
+  c = medium_coefficients(m, lambdas);
+  return m;
 }
 
 // The media material `material` bounds: x inside, y outside (WP_INVALID:
@@ -95,13 +110,10 @@ bool is_interface(uint material) {
 // majorant leaves over). Picks the event with spectral tracking's
 // probabilities and multiplies `throughput` by its weight: absorbed,
 // scattered, or a null collision (MEDIUM_EVENT_SURFACE: the flight goes on).
-uint medium_collision(vec3 sa, vec3 ss, vec3 sn, float majorant, INOUT(uint) rng, INOUT(vec3) throughput) {
-  vec3 wa = sa * throughput;
-  vec3 ws = ss * throughput;
-  vec3 wn = sn * throughput;
-  float pa = wa.x + wa.y + wa.z;
-  float ps = ws.x + ws.y + ws.z;
-  float pn = wn.x + wn.y + wn.z;
+uint medium_collision(Spectrum sa, Spectrum ss, Spectrum sn, float majorant, INOUT(uint) rng, INOUT(Spectrum) throughput) {
+  float pa = spectrum_sum(sa * throughput);
+  float ps = spectrum_sum(ss * throughput);
+  float pn = spectrum_sum(sn * throughput);
   float c = pa + ps + pn;
   if (!(c > 0.0f)) return MEDIUM_EVENT_ABSORB;
   float u = rng_next(rng) * c;
@@ -254,17 +266,17 @@ bool majorant_walk_collide(Medium m, INOUT(MajorantWalk) w, INOUT(uint) rng) {
 
 // A free flight through grid medium m (see medium_free_flight), each cell's
 // stretch of the ray tracked against the cell's majorant.
-uint grid_free_flight(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng, INOUT(vec3) throughput, OUT(float) t) {
+uint grid_free_flight(Medium m, MediumCoefficients c, vec3 o, vec3 dir, float tmax, INOUT(uint) rng, INOUT(Spectrum) throughput, OUT(float) t) {
   t = tmax;
   MajorantWalk w;
   if (!majorant_walk_begin(m, o, dir, tmax, w)) return MEDIUM_EVENT_SURFACE;
   pnanovdb_readaccessor_t acc = grid_accessor(m);
-  vec3 sa = vec3(m.sigmaA.x, m.sigmaA.y, m.sigmaA.z);
-  vec3 ss = vec3(m.sigmaS.x, m.sigmaS.y, m.sigmaS.z);
+  Spectrum sa = c.sigmaA;
+  Spectrum ss = c.sigmaS;
   for (uint i = 0u; i < MEDIUM_COLLISIONS_MAX; ++i) {
     if (!majorant_walk_collide(m, w, rng)) return MEDIUM_EVENT_SURFACE;
     float density = grid_density(acc, w.o + w.d * w.t);
-    vec3 sn = max(vec3(w.majorant) - (sa + ss) * density, vec3(0.0f));
+    Spectrum sn = max(Spectrum(w.majorant) - (sa + ss) * density, Spectrum(0.0f));
     uint event = medium_collision(sa * density, ss * density, sn, w.majorant, rng, throughput);
     if (event == MEDIUM_EVENT_SCATTER) t = w.t;
     if (event != MEDIUM_EVENT_SURFACE) return event;
@@ -274,18 +286,18 @@ uint grid_free_flight(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng, I
 
 // The transmittance of grid medium m along o + t dir, t in [0, tmax), by
 // ratio tracking against the majorant cells.
-vec3 grid_transmittance(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng) {
+Spectrum grid_transmittance(Medium m, MediumCoefficients c, vec3 o, vec3 dir, float tmax, INOUT(uint) rng) {
   MajorantWalk w;
-  if (!majorant_walk_begin(m, o, dir, tmax, w)) return vec3(1.0f);
+  if (!majorant_walk_begin(m, o, dir, tmax, w)) return Spectrum(1.0f);
   pnanovdb_readaccessor_t acc = grid_accessor(m);
-  vec3 st = vec3(m.sigmaA.x + m.sigmaS.x, m.sigmaA.y + m.sigmaS.y, m.sigmaA.z + m.sigmaS.z);
-  vec3 tr = vec3(1.0f);
+  Spectrum st = c.sigmaA + c.sigmaS;
+  Spectrum tr = Spectrum(1.0f);
   for (uint i = 0u; i < MEDIUM_COLLISIONS_MAX; ++i) {
     if (!majorant_walk_collide(m, w, rng)) return tr;
-    tr *= max(vec3(1.0f) - st * (grid_density(acc, w.o + w.d * w.t) / w.majorant), vec3(0.0f));
-    if (!(tr.x > 0.0f || tr.y > 0.0f || tr.z > 0.0f)) return tr;
+    tr *= max(Spectrum(1.0f) - st * (grid_density(acc, w.o + w.d * w.t) / w.majorant), Spectrum(0.0f));
+    if (!spectrum_positive(tr)) return tr;
   }
-  return vec3(0.0f);
+  return Spectrum(0.0f);
 }
 
 // ---- Any medium ---------------------------------------------------------------
@@ -293,20 +305,21 @@ vec3 grid_transmittance(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng)
 // Samples the distance to the next real collision along the ray o + t dir
 // (dir of unit length) in medium m, within [0, tmax) (tmax may be WP_INF),
 // by delta tracking against the majorant with spectral tracking's event
-// probabilities. Multiplies `throughput` by the collision weights; returns
+// probabilities (c: m's coefficients, medium_coefficients). Multiplies `throughput` by the collision weights; returns
 // the event and, for a scattering collision, its distance t. A flight longer
 // than MEDIUM_COLLISIONS_MAX collisions ends absorbed (a bound on the loop,
 // as lavapipe's budget requires; it takes over a hundred mean free paths of
 // null collisions).
-uint medium_free_flight(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng, INOUT(vec3) throughput, OUT(float) t) {
+uint medium_free_flight(Medium m, MediumCoefficients c, vec3 o, vec3 dir, float tmax, INOUT(uint) rng, INOUT(Spectrum) throughput,
+                        OUT(float) t) {
   t = tmax;
-  if (FEATURE_COMPILED(FEATURE_MEDIA_GRID) && m.info.x == MEDIUM_NANOVDB) return grid_free_flight(m, o, dir, tmax, rng, throughput, t);
+  if (FEATURE_COMPILED(FEATURE_MEDIA_GRID) && m.info.x == MEDIUM_NANOVDB) return grid_free_flight(m, c, o, dir, tmax, rng, throughput, t);
   float majorant = m.sigmaS.w;
   if (m.info.x == MEDIUM_VACUUM || !(majorant > 0.0f)) return MEDIUM_EVENT_SURFACE;
   // A homogeneous medium's coefficients are the same here as anywhere.
-  vec3 sa = vec3(m.sigmaA.x, m.sigmaA.y, m.sigmaA.z);
-  vec3 ss = vec3(m.sigmaS.x, m.sigmaS.y, m.sigmaS.z);
-  vec3 sn = max(vec3(majorant) - sa - ss, vec3(0.0f));
+  Spectrum sa = c.sigmaA;
+  Spectrum ss = c.sigmaS;
+  Spectrum sn = max(Spectrum(majorant) - sa - ss, Spectrum(0.0f));
   float at = 0.0f;
   for (uint i = 0u; i < MEDIUM_COLLISIONS_MAX; ++i) {
     at -= log(1.0f - rng_next(rng)) / majorant;
@@ -323,19 +336,20 @@ uint medium_free_flight(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng,
 // null particles: Beer-Lambert's law in closed form; with them, and in grid
 // media, ratio tracking against the majorant (unbiased; the estimator
 // darts' null particles are there to exercise).
-vec3 medium_transmittance(Medium m, vec3 o, vec3 dir, float tmax, INOUT(uint) rng) {
-  if (m.info.x == MEDIUM_VACUUM) return vec3(1.0f);
+Spectrum medium_transmittance(Medium m, MediumCoefficients c, vec3 o, vec3 dir, float tmax, INOUT(uint) rng) {
+  if (m.info.x == MEDIUM_VACUUM) return Spectrum(1.0f);
   float len = length(dir);
-  if (FEATURE_COMPILED(FEATURE_MEDIA_GRID) && m.info.x == MEDIUM_NANOVDB) return grid_transmittance(m, o, dir / len, tmax * len, rng);
+  if (FEATURE_COMPILED(FEATURE_MEDIA_GRID) && m.info.x == MEDIUM_NANOVDB) return grid_transmittance(m, c, o, dir / len, tmax * len, rng);
   float d = tmax * len;
-  vec3 sigmaT = vec3(m.sigmaA.x + m.sigmaS.x, m.sigmaA.y + m.sigmaS.y, m.sigmaA.z + m.sigmaS.z);
+  Spectrum sigmaT = c.sigmaA + c.sigmaS;
   if (!(d < WP_INF)) {
-    return vec3(sigmaT.x > 0.0f ? 0.0f : 1.0f, sigmaT.y > 0.0f ? 0.0f : 1.0f, sigmaT.z > 0.0f ? 0.0f : 1.0f);
+    vec4 s = spectrum_values(sigmaT);
+    return spectrum_at(vec4(s.x > 0.0f ? 0.0f : 1.0f, s.y > 0.0f ? 0.0f : 1.0f, s.z > 0.0f ? 0.0f : 1.0f, s.w > 0.0f ? 0.0f : 1.0f));
   }
-  if (!(max(m.sigmaN.x, max(m.sigmaN.y, m.sigmaN.z)) > 0.0f)) return exp(-sigmaT * d);
+  if (!spectrum_positive(c.sigmaN)) return exp(-sigmaT * d);
   float majorant = m.sigmaS.w;
-  vec3 ratio = max(vec3(1.0f) - sigmaT / majorant, vec3(0.0f));
-  vec3 tr = vec3(1.0f);
+  Spectrum ratio = max(Spectrum(1.0f) - sigmaT / majorant, Spectrum(0.0f));
+  Spectrum tr = Spectrum(1.0f);
   float at = 0.0f;
   for (uint i = 0u; i < MEDIUM_COLLISIONS_MAX; ++i) {
     at -= log(1.0f - rng_next(rng)) / majorant;

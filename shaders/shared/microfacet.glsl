@@ -109,21 +109,21 @@ float ggx_reflection_eval(float alpha, vec3 ns, vec3 wo, vec3 wi) {
 
 // Unpolarised Fresnel reflectance of a conductor of complex index eta + i k
 // (per channel, relative to the outside medium) at incident cosine cosI.
-vec3 fresnel_conductor(float cosI, vec3 eta, vec3 k) {
+Spectrum fresnel_conductor(float cosI, Spectrum eta, Spectrum k) {
   float c = clamp(cosI, 0.0f, 1.0f);
   float c2 = c * c;
   float s2 = 1.0f - c2;
-  vec3 eta2 = eta * eta;
-  vec3 k2 = k * k;
-  vec3 t0 = eta2 - k2 - vec3(s2);
-  vec3 a2b2 = sqrt(t0 * t0 + eta2 * k2 * 4.0f);  // a^2 + b^2
-  vec3 a = sqrt(max((a2b2 + t0) * 0.5f, vec3(0.0f)));
-  vec3 t1 = a2b2 + vec3(c2);
-  vec3 t2 = a * (2.0f * c);
-  vec3 rs = (t1 - t2) / max(t1 + t2, vec3(1e-12f));
-  vec3 t3 = a2b2 * c2 + vec3(s2 * s2);
-  vec3 t4 = t2 * s2;
-  vec3 rp = rs * (t3 - t4) / max(t3 + t4, vec3(1e-12f));
+  Spectrum eta2 = eta * eta;
+  Spectrum k2 = k * k;
+  Spectrum t0 = eta2 - k2 - Spectrum(s2);
+  Spectrum a2b2 = sqrt(t0 * t0 + eta2 * k2 * 4.0f);  // a^2 + b^2
+  Spectrum a = sqrt(max((a2b2 + t0) * 0.5f, Spectrum(0.0f)));
+  Spectrum t1 = a2b2 + Spectrum(c2);
+  Spectrum t2 = a * (2.0f * c);
+  Spectrum rs = (t1 - t2) / max(t1 + t2, Spectrum(1e-12f));
+  Spectrum t3 = a2b2 * c2 + Spectrum(s2 * s2);
+  Spectrum t4 = t2 * s2;
+  Spectrum rp = rs * (t3 - t4) / max(t3 + t4, Spectrum(1e-12f));
   return (rs + rp) * 0.5f;
 }
 
@@ -181,37 +181,44 @@ vec3 thin_film_sensitivity(float opd, vec3 shift) {
 // sample, spectrum.glsl) each component is the reflectance at one of the
 // path's wavelengths: the airy sum's terms are cosines of their phase there,
 // not integrals against the eye's sensitivity.
-vec3 thin_film_fresnel(float filmIor, float thickness, vec3 baseF0, float c, float wavelengths) {
-  vec3 f0 = clamp(baseF0, vec3(0.0f), vec3(0.9999f));
-  if (!(thickness > 0.0f)) return f0 + (vec3(1.0f) - f0) * schlick_weight(c);
+Spectrum thin_film_fresnel(float filmIor, float thickness, Spectrum baseF0, float c, float wavelengths) {
+  Spectrum f0 = clamp(baseF0, Spectrum(0.0f), Spectrum(0.9999f));
+  if (!(thickness > 0.0f)) return f0 + (Spectrum(1.0f) - f0) * schlick_weight(c);
   float r12 = fresnel0_of_iors(filmIor, 1.0f);
   r12 = r12 + (1.0f - r12) * schlick_weight(c);
   float t121 = 1.0f - r12;
   float sin2 = (1.0f - c * c) / (filmIor * filmIor);
-  if (sin2 >= 1.0f) return vec3(1.0f);  // total internal reflection at the film
+  if (sin2 >= 1.0f) return Spectrum(1.0f);  // total internal reflection at the film
   float cos2 = sqrt(1.0f - sin2);
-  vec3 s = sqrt(f0);
-  vec3 baseIor = (vec3(1.0f) + s) / (vec3(1.0f) - s);
-  vec3 r1 = (baseIor - vec3(filmIor)) / (baseIor + vec3(filmIor));
+  Spectrum s = sqrt(f0);
+  Spectrum baseIor = (Spectrum(1.0f) + s) / (Spectrum(1.0f) - s);
+  Spectrum r1 = (baseIor - Spectrum(filmIor)) / (baseIor + Spectrum(filmIor));
   r1 = r1 * r1;
-  vec3 r23 = r1 + (vec3(1.0f) - r1) * schlick_weight(cos2);
+  Spectrum r23 = r1 + (Spectrum(1.0f) - r1) * schlick_weight(cos2);
   float opd = 2.0f * filmIor * thickness * cos2;
   float phi21 = filmIor < 1.0f ? 0.0f : WP_PI;  // phi12 is pi where the film is the thinner medium
-  vec3 phi = vec3(phi21) + vec3(baseIor.x < filmIor ? WP_PI : 0.0f, baseIor.y < filmIor ? WP_PI : 0.0f, baseIor.z < filmIor ? WP_PI : 0.0f);
-  vec3 r123 = clamp(r23 * r12, vec3(1e-5f), vec3(0.9999f));
-  vec3 sr123 = sqrt(r123);
-  vec3 rs = r23 * (t121 * t121) / (vec3(1.0f) - r123);
-  vec3 intensity = rs + vec3(r12);
-  vec3 cm = rs - vec3(t121);
+  vec4 iors = spectrum_values(baseIor);
+  vec4 phi = vec4(phi21) + vec4(iors.x < filmIor ? WP_PI : 0.0f, iors.y < filmIor ? WP_PI : 0.0f, iors.z < filmIor ? WP_PI : 0.0f,
+                                iors.w < filmIor ? WP_PI : 0.0f);
+  Spectrum r123 = clamp(r23 * r12, Spectrum(1e-5f), Spectrum(0.9999f));
+  Spectrum sr123 = sqrt(r123);
+  Spectrum rs = r23 * (t121 * t121) / (Spectrum(1.0f) - r123);
+  Spectrum intensity = rs + Spectrum(r12);
+  Spectrum cm = rs - Spectrum(t121);
   bool spectral = wavelengths >= THIN_FILM_SPECTRAL;
-  vec3 lambdas = spectral ? path_wavelengths(wavelengths - THIN_FILM_SPECTRAL) : vec3(1.0f);
+  vec4 lambdas = spectral ? path_wavelengths(wavelengths - THIN_FILM_SPECTRAL) : vec4(1.0f);
   for (int m = 1; m <= 2; ++m) {
     cm = cm * sr123;
-    vec3 phase = spectral ? vec3(2.0f * WP_PI * float(m) * opd) / lambdas + phi * float(m) : vec3(0.0f);
-    vec3 sensitivity = spectral ? vec3(cos(phase.x), cos(phase.y), cos(phase.z)) : thin_film_sensitivity(float(m) * opd, phi * float(m));
+    Spectrum sensitivity;
+    if (spectral) {
+      vec4 phase = vec4(2.0f * WP_PI * float(m) * opd) / lambdas + phi * float(m);
+      sensitivity = spectrum_at(vec4(cos(phase.x), cos(phase.y), cos(phase.z), cos(phase.w)));
+    } else {
+      sensitivity = spectrum_rgb(thin_film_sensitivity(float(m) * opd, vec3(phi.x, phi.y, phi.z) * float(m)));
+    }
     intensity += cm * sensitivity * 2.0f;
   }
-  return max(intensity, vec3(0.0f));
+  return max(intensity, Spectrum(0.0f));
 }
 
 #endif  // WP_MICROFACET_GLSL

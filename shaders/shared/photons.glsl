@@ -27,10 +27,10 @@ vec3 unpack_unit_vector(uint packed) {
 
 // f(wo, wi): what a photon arriving from wi gives towards wo, per unit of
 // its power and of area (bsdf_eval includes the cosine, which the photon's
-// flux already holds).
+// flux already holds). In RGB: the photon mapper gathers in RGB.
 vec3 photon_bsdf(Bsdf b, vec3 wo, vec3 wi) {
   float c = abs(dot(wi, b.ns));
-  return c > 0.0f ? bsdf_eval(b, wo, wi) / c : vec3(0.0f);
+  return c > 0.0f ? spectrum_xyz(bsdf_eval(b, wo, wi)) / c : vec3(0.0f);
 }
 
 // A photon on its way from a light (photon_emit, photon_bounce).
@@ -39,7 +39,7 @@ struct PhotonPath {
   uint rng;
   vec3 dir;
   uint bounce;  // surfaces met so far
-  vec3 power;   // its flux, its share of the lights' total power (the spectral mode: at its wavelengths)
+  Spectrum power;  // its flux, its share of the lights' total power (the spectral mode: at its wavelengths)
   uint alive;   // 0 once absorbed, escaped or past max bounces
   // The spectral mode: its wavelength sample (path_wavelengths), and 1 once
   // a dispersive boundary left it its hero wavelength alone.
@@ -58,7 +58,8 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
   path.alive = 0u;
   path.origin = vec3(0.0f);
   path.dir = vec3(0.0f, 0.0f, 1.0f);
-  path.power = vec3(0.0f);
+  path.power = Spectrum(0.0f);
+  vec3 power = vec3(0.0f);  // (in RGB)
   // The spectral mode: each photon's wavelengths, from the map's randomly
   // shifted sequence (as a pixel's samples take theirs, path_begin).
   path.wavelengths = spectral_mode() ? wavelength_sequence(pcg_hash(seed ^ 0x2545f491u), index) : 0.0f;
@@ -81,10 +82,10 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
       float cone = 1.0f - l.direction.w;
       path.dir = frame_to_world(square_to_uniform_cone(uDir, cone), t, b, shine);
       float ramp = clamp((dot(shine, path.dir) - l.direction.w) / max(l.intensity.w - l.direction.w, 1e-3f), 0.0f, 1.0f);
-      path.power = intensity * (ramp * ramp / (pmf * uniform_cone_pdf(cone)));
+      power = intensity * (ramp * ramp / (pmf * uniform_cone_pdf(cone)));
     } else {
       path.dir = square_to_uniform_sphere(uDir);
-      path.power = intensity * (4.0f * WP_PI / pmf);
+      power = intensity * (4.0f * WP_PI / pmf);
     }
   } else {
     // A point uniform by area on a sphere or a triangle, a direction
@@ -115,12 +116,11 @@ PhotonPath photon_emit(uint index, uint total, uint seed) {
     vec3 local = square_to_cosine_hemisphere(uDir);
     path.dir = frame_to_world(local, t, b, n);
     // Le cos / (pmf pdfA pdfDir), with pdfDir = cos / pi.
-    path.power = local.z > 0.0f ? emitted_radiance(s, path.dir) * (WP_PI * area * sides / pmf) : vec3(0.0f);
+    power = local.z > 0.0f ? emitted_radiance(s, path.dir) * (WP_PI * area * sides / pmf) : vec3(0.0f);
     path.origin = offset_ray(s.p, n);
   }
-  path.power /= float(total);
-  if (spectral_mode()) path.power = light_spectrum(path.power, path_wavelengths(path.wavelengths));
-  path.alive = path.power.x > 0.0f || path.power.y > 0.0f || path.power.z > 0.0f ? 1u : 0u;
+  path.power = path_radiance(power / float(total), path_wavelengths(path.wavelengths));
+  path.alive = spectrum_positive(path.power) ? 1u : 0u;
   return path;
 }
 
@@ -161,16 +161,16 @@ uint photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
     // The spectral mode stores the photon's power in linear sRGB, as the
     // film takes a sample's (the camera's paths gather it in RGB and uplift
     // the sum: integrator.glsl).
-    ph.power = spectral_mode() ? spectral_sample_rgb(path.power, path.wavelengths) : path.power;
+    ph.power = spectral_mode() ? spectral_sample_rgb(path.power, path.wavelengths) : spectrum_xyz(path.power);
     ph.from = pack_unit_vector(wo);
   }
   if (spectral_mode()) {
     // Its BSDF at its wavelengths; a dispersive boundary leaves it its hero
-    // alone, three times as strong (integrator.glsl's disperse).
-    vec3 lambdas = path_wavelengths(path.wavelengths);
+    // alone, four times as strong (integrator.glsl's disperse).
+    vec4 lambdas = path_wavelengths(path.wavelengths);
     bsdf_at_wavelengths(b, path.wavelengths, lambdas);
     if (FEATURE_COMPILED(FEATURE_DISPERSION) && bsdf_disperses(b)) {
-      if (path.heroOnly == 0u) path.power *= vec3(3.0f, 0.0f, 0.0f);
+      if (path.heroOnly == 0u) path.power = spectrum_keep_channel(path.power, 1u);
       path.heroOnly = 1u;
       disperse_lobes(b, 1u, lambdas);
     }
@@ -184,8 +184,8 @@ uint photon_bounce(INOUT(PhotonPath) path, OUT(Photon) ph) {
   vec3 wi;
   float pdf;
   bool isDelta;
-  vec3 weight = bsdf_sample(b, wo, u, wi, pdf, isDelta);
-  float q = min(1.0f, max(weight.x, max(weight.y, weight.z)));
+  Spectrum weight = bsdf_sample(b, wo, u, wi, pdf, isDelta);
+  float q = min(1.0f, spectrum_max(weight));
   if (!(q > 0.0f) || rng_next(path.rng) >= q) {
     path.alive = 0u;
     return stored ? PHOTON_STORED : 0u;

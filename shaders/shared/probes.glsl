@@ -68,15 +68,16 @@ Hit probe_answer(vec3 v, uint prim) {
 Hit run_probe(ShadowRay q) {
   uint kind = q.path >> PROBE_KIND_SHIFT;
   uint index = q.path & PROBE_INDEX_MASK;
+  vec3 point = spectrum_xyz(q.contribution);  // (the queries' third vector)
   if (kind == PROBE_MATERIAL_SAMPLE || kind == PROBE_MATERIAL_PDF) {
     vec3 wo = q.dir;
-    Bsdf b = bsdf_at(probe_surface(index, q.contribution), wo);
+    Bsdf b = bsdf_at(probe_surface(index, point), wo);
     if (kind == PROBE_MATERIAL_PDF) return probe_answer(vec3(bsdf_pdf(b, wo, q.origin), 0.0f, 0.0f), 0u);
     vec3 wi;
     float pdf;
     bool isDelta;
-    vec3 weight = bsdf_sample(b, wo, vec4(q.origin, q.tmax), wi, pdf, isDelta);
-    bool valid = isDelta ? dot(wi, wi) > 0.0f && max(weight.x, max(weight.y, weight.z)) > 0.0f : pdf > 0.0f;
+    Spectrum weight = bsdf_sample(b, wo, vec4(q.origin, q.tmax), wi, pdf, isDelta);
+    bool valid = isDelta ? dot(wi, wi) > 0.0f && spectrum_positive(weight) : pdf > 0.0f;
     return probe_answer(wi, (valid ? PROBE_VALID : 0u) | (isDelta ? PROBE_DELTA : 0u));
   }
   if (kind == PROBE_SURFACE_SAMPLE) {
@@ -87,11 +88,11 @@ Hit run_probe(ShadowRay q) {
     vec3 wi;
     float dist;
     float pdf;
-    bool valid = sample_emitter_surface(e, pmf, q.contribution, vec2(q.origin.y, q.origin.z), s, wi, dist, pdf);
+    bool valid = sample_emitter_surface(e, pmf, point, vec2(q.origin.y, q.origin.z), s, wi, dist, pdf);
     return probe_answer(wi, valid && pdf > 0.0f ? PROBE_VALID : 0u);
   }
   if (kind == PROBE_SURFACE_PDF) {
-    return probe_answer(vec3(emitters_pdf_direction(q.contribution, q.dir, true), 0.0f, 0.0f), 0u);
+    return probe_answer(vec3(emitters_pdf_direction(point, q.dir, true), 0.0f, 0.0f), 0u);
   }
   if (kind == PROBE_TEXTURE) return probe_answer(texture_eval(index, vec4(q.dir.x, q.dir.y, q.dir.x, q.dir.y), q.origin), 0u);
   // PROBE_INTERSECT

@@ -153,6 +153,12 @@ float illuminance(vec3 l) {
   return LUMINANCE_R * l.x + LUMINANCE_G * l.y + LUMINANCE_B * l.z;
 }
 
+// A path's colour's brightness for its sampling decisions: the illuminance
+// in RGB, the mean over the wavelengths in the spectral mode.
+float spectrum_illuminance(Spectrum c) {
+  return SPECTRUM_CHANNELS == 4u ? spectrum_average(c) : illuminance(spectrum_xyz(c));
+}
+
 // Veach's power heuristic: the weight of strategy A, pdfA^beta / (pdfA^beta
 // + pdfB^beta); beta = 2 is Veach's choice and darts' default, beta = 1 the
 // balance heuristic. The weights of A and B sum to one for every beta, which

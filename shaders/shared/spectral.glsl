@@ -1,11 +1,11 @@
 // spectral.glsl — the spectral mode (FEATURE_SPECTRAL, SCENE_FLAG_SPECTRAL).
 //
-// A path carries radiance at PATH_WAVELENGTHS wavelengths in the three
-// components of its colours: a hero wavelength and two more a third of the
-// way round the visible range, each drawn by the density of
-// visible_wavelength_pdf (spectrum.glsl). The kernels' colours stay vec3, so
-// the RGB mode pays nothing for this one; three wavelengths, not pbrt-v4's
-// four, is the price (docs/architecture.md, "Spectral mode"). Inputs stay RGB
+// A path carries radiance at PATH_WAVELENGTHS (four) wavelengths in the four
+// channels of its colours: a hero wavelength and three more a quarter, a
+// half and three quarters of the way round the visible range, each drawn by
+// the density of visible_wavelength_pdf (spectrum.glsl). The spectral
+// kernels are compiled apart, with vec4 colours (common.glsl's Spectrum), so
+// RGB renders carry no fourth channel. Inputs stay RGB
 // where the scene gives RGB and are uplifted where the path meets them:
 // reflectances by Jakob and Hanika's (2019) smooth spectra, emitters the
 // same times D65 (white light is D65; the film applies the factor), indices of refraction and absorption
@@ -23,8 +23,14 @@
 #ifndef WP_SPECTRAL_GLSL
 #define WP_SPECTRAL_GLSL
 
+// (The RGB kernels never render a spectral scene: the host gives it the
+// spectral kernels.)
 bool spectral_mode() {
+#if defined(__cplusplus) || defined(WP_SPECTRUM4)
   return FEATURE_COMPILED(FEATURE_SPECTRAL) && (scene.counts.w & SCENE_FLAG_SPECTRAL) != 0u;
+#else
+  return false;
+#endif
 }
 
 // D65 at lambda, normalised so that its Y is 1: the spectrum of RGB white light.
@@ -101,8 +107,10 @@ vec3 rgb_to_spectrum_coefficients(vec3 rgb) {
   return c;
 }
 
-vec3 sigmoid_polynomial3(vec3 c, vec3 lambdas) {
-  return vec3(sigmoid_polynomial(c, lambdas.x), sigmoid_polynomial(c, lambdas.y), sigmoid_polynomial(c, lambdas.z));
+// The smooth spectrum of coefficients c at the path's wavelengths.
+Spectrum sigmoid_spectrum(vec3 c, vec4 lambdas) {
+  return spectrum_at(vec4(sigmoid_polynomial(c, lambdas.x), sigmoid_polynomial(c, lambdas.y), sigmoid_polynomial(c, lambdas.z),
+                          sigmoid_polynomial(c, lambdas.w)));
 }
 
 // The kinds of colour the memo below keys: a reflectance (bounded by 1,
@@ -170,23 +178,23 @@ vec3 colour_coefficients(vec3 rgb, uint kind, OUT(float) scale) {
 }
 
 // Colour rgb of a kind at the wavelengths; greys (and black) are constant.
-vec3 colour_spectrum(vec3 rgb, uint kind, vec3 lambdas) {
+Spectrum colour_spectrum(vec3 rgb, uint kind, vec4 lambdas) {
   rgb = max(rgb, vec3(0.0f));
   float m = max(max(rgb.x, rgb.y), rgb.z);
-  if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return rgb;
+  if (!(m > 0.0f) || (rgb.x == rgb.y && rgb.y == rgb.z)) return Spectrum(rgb.x);
   float scale;
   vec3 c = colour_coefficients(rgb, kind, scale);
-  return scale * sigmoid_polynomial3(c, lambdas);
+  return scale * sigmoid_spectrum(c, lambdas);
 }
 
 // A reflectance (an albedo, a tint) at the wavelengths.
-vec3 reflectance_spectrum(vec3 rgb, vec3 lambdas) {
+Spectrum reflectance_spectrum(vec3 rgb, vec4 lambdas) {
   return colour_spectrum(rgb, SPECTRAL_COLOUR_REFLECTANCE, lambdas);
 }
 
 // An unbounded quantity given in RGB (radiance, an index of refraction or of
 // absorption, an attenuation coefficient) at the wavelengths.
-vec3 unbounded_spectrum(vec3 rgb, vec3 lambdas) {
+Spectrum unbounded_spectrum(vec3 rgb, vec4 lambdas) {
   return colour_spectrum(rgb, SPECTRAL_COLOUR_UNBOUNDED, lambdas);
 }
 
@@ -195,14 +203,20 @@ vec3 unbounded_spectrum(vec3 rgb, vec3 lambdas) {
 // white), and since every path's light comes from lights, the film applies
 // the D65 factor once per sample (spectral_sample_rgb), not each light at
 // each vertex.
-vec3 light_spectrum(vec3 rgb, vec3 lambdas) {
+Spectrum light_spectrum(vec3 rgb, vec4 lambdas) {
   return unbounded_spectrum(rgb, lambdas);
 }
 
 // Radiance in the path's terms (at its wavelengths lambdas): as given in
 // RGB, uplifted in the spectral mode.
-vec3 path_radiance(vec3 rgb, vec3 lambdas) {
-  return spectral_mode() ? light_spectrum(rgb, lambdas) : rgb;
+Spectrum path_radiance(vec3 rgb, vec4 lambdas) {
+  return spectral_mode() ? light_spectrum(rgb, lambdas) : spectrum_rgb(rgb);
+}
+
+// A reflectance (an albedo, a tint, a transmittance) in the path's terms:
+// as given in RGB, uplifted in the spectral mode.
+Spectrum path_reflectance(vec3 rgb, vec4 lambdas) {
+  return spectral_mode() ? reflectance_spectrum(rgb, lambdas) : spectrum_rgb(rgb);
 }
 
 // The index of refraction (and absorption) of metal `metal` (METAL_*,
@@ -217,55 +231,71 @@ vec2 metal_index(uint metal, float lambda) {
   return vec2((1.0f - f) * a.x + f * b.x, (1.0f - f) * a.y + f * b.y);
 }
 
-// A conductor's eta (params.yzw) and k (params2.xyz) at the wavelengths:
-// a named metal's from its measured table (params2.w, kinds.glsl's
-// CONDUCTOR_NAMED, kinds.glsl), else uplifted from their RGB.
-void conductor_at_wavelengths(INOUT(vec3) eta, INOUT(vec4) k, vec3 lambdas) {
+// A conductor's eta (params.yzw) and k (params2.xyz; params2.w its name) at
+// the wavelengths: a named metal's from its measured table (params2.w,
+// kinds.glsl's CONDUCTOR_NAMED), else uplifted from their RGB.
+void conductor_at_wavelengths(vec3 etaRgb, vec4 k, vec4 lambdas, OUT(vec4) eta, OUT(vec4) kappa) {
   if (k.w >= CONDUCTOR_NAMED) {
     uint metal = uint(k.w / CONDUCTOR_NAMED) - 1u;
     vec2 a = metal_index(metal, lambdas.x);
     vec2 b = metal_index(metal, lambdas.y);
     vec2 c = metal_index(metal, lambdas.z);
-    eta = vec3(a.x, b.x, c.x);
-    k = vec4(a.y, b.y, c.y, k.w);
+    vec2 d = metal_index(metal, lambdas.w);
+    eta = vec4(a.x, b.x, c.x, d.x);
+    kappa = vec4(a.y, b.y, c.y, d.y);
     return;
   }
-  eta = unbounded_spectrum(eta, lambdas);
-  vec3 kk = unbounded_spectrum(vec3(k.x, k.y, k.z), lambdas);
-  k = vec4(kk.x, kk.y, kk.z, k.w);
+  eta = spectrum_values(unbounded_spectrum(etaRgb, lambdas));
+  kappa = spectrum_values(unbounded_spectrum(vec3(k.x, k.y, k.z), lambdas));
+}
+
+// Lobe i's colour parameter of LOBE_FOURTH slot `slot` at the path's
+// wavelengths: the first three wavelengths' returned as xyz, the fourth's
+// kept in Bsdf.lobeFourth.
+vec3 bsdf_set_fourth(INOUT(Bsdf) b, uint i, int slot, vec4 values) {
+#ifdef WP_SPECTRUM_W
+  if (slot == 0) b.lobeFourth[i].x = values.w;
+  else b.lobeFourth[i].y = values.w;
+#endif
+  return vec3(values.x, values.y, values.z);
 }
 
 // The BSDF's colours at the wavelengths lambdas of sample u (path_wavelengths):
 // each lobe's colour, and the parameters its kind reads as colours; a thin
 // film learns the sample, as it interferes per wavelength.
-void bsdf_at_wavelengths(INOUT(Bsdf) b, float u, vec3 lambdas) {
+// (Bsdf.lobeColor arrives holding the RGB colour in its first three
+// channels: material_at.glsl.)
+void bsdf_at_wavelengths(INOUT(Bsdf) b, float u, vec4 lambdas) {
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (i >= b.lobeCount) continue;
-    b.lobeColor[i] = reflectance_spectrum(b.lobeColor[i], lambdas);
+    b.lobeColor[i] = reflectance_spectrum(spectrum_xyz(b.lobeColor[i]), lambdas);
     uint kind = b.lobeType[i];
     if ((MATERIAL_COMPILED(MAT_ROUGH_CONDUCTOR) && kind == MAT_ROUGH_CONDUCTOR) ||
         (MATERIAL_COMPILED(MAT_BECKMANN_CONDUCTOR) && kind == MAT_BECKMANN_CONDUCTOR)) {
-      vec3 eta = b.lobeParamYzw[i];
       vec4 k = b.lobeParams2[i];
-      conductor_at_wavelengths(eta, k, lambdas);
-      b.lobeParamYzw[i] = eta;
-      b.lobeParams2[i] = k;
+      vec4 eta;
+      vec4 kappa;
+      conductor_at_wavelengths(b.lobeParamYzw[i], k, lambdas, eta, kappa);
+      b.lobeParamYzw[i] = bsdf_set_fourth(b, i, LOBE_FOURTH_ETA, eta);
+      vec3 k3 = bsdf_set_fourth(b, i, LOBE_FOURTH_K, kappa);
+      b.lobeParams2[i] = vec4(k3.x, k3.y, k3.z, k.w);
     }
     if (MATERIAL_COMPILED(MAT_CS184_GLASS) && kind == MAT_CS184_GLASS) {
       vec4 p = b.lobeParams2[i];
-      vec3 r = reflectance_spectrum(vec3(p.x, p.y, p.z), lambdas);
+      vec3 r = bsdf_set_fourth(b, i, LOBE_FOURTH_PARAMS2, spectrum_values(reflectance_spectrum(vec3(p.x, p.y, p.z), lambdas)));
       b.lobeParams2[i] = vec4(r.x, r.y, r.z, p.w);
     }
     if (MATERIAL_COMPILED(MAT_METAL_ROUGH) && kind == MAT_METAL_ROUGH) {
       if (FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) {
         // params2.xyz: the specular colour less 1.
         vec4 p = b.lobeParams2[i];
-        vec3 tint = reflectance_spectrum(vec3(1.0f + p.x, 1.0f + p.y, 1.0f + p.z), lambdas);
-        b.lobeParams2[i] = vec4(tint.x - 1.0f, tint.y - 1.0f, tint.z - 1.0f, p.w);
+        vec4 tint = spectrum_values(reflectance_spectrum(vec3(1.0f + p.x, 1.0f + p.y, 1.0f + p.z), lambdas)) - vec4(1.0f);
+        vec3 t = bsdf_set_fourth(b, i, LOBE_FOURTH_PARAMS2, tint);
+        b.lobeParams2[i] = vec4(t.x, t.y, t.z, p.w);
       }
       if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) {
         vec4 dt = bsdf_extra(b, i, MR_LOBE_DIFFUSE_TRANSMISSION);
-        vec3 c = reflectance_spectrum(vec3(dt.x, dt.y, dt.z), lambdas);
+        vec3 c = bsdf_set_fourth(b, i, LOBE_FOURTH_TRANSMISSION, spectrum_values(reflectance_spectrum(vec3(dt.x, dt.y, dt.z), lambdas)));
         bsdf_set_extra(b, i, MR_LOBE_DIFFUSE_TRANSMISSION, vec4(c.x, c.y, c.z, dt.w));
       }
       if (FEATURE_COMPILED(FEATURE_IRIDESCENCE)) {
@@ -293,14 +323,13 @@ bool bsdf_disperses(Bsdf b) {
   return dispersive;
 }
 
-// b's dispersive lobes at the index of the one channel a path kept (1 to 3):
-// its wavelength in lambdas in the spectral mode (the hero's, channel 1),
-// else the Fraunhofer line of its RGB channel (C, d, F).
-void disperse_lobes(INOUT(Bsdf) b, uint channel, vec3 lambdas) {
+// b's dispersive lobes at the index of the one channel a path kept (1 to 3
+// in RGB): its wavelength in lambdas in the spectral mode (always the
+// hero's, channel 1), else the Fraunhofer line of its RGB channel (C, d, F).
+void disperse_lobes(INOUT(Bsdf) b, uint channel, vec4 lambdas) {
   for (uint i = 0u; i < BSDF_LOBES_OF_SCENE; ++i) {
     if (!(i < b.lobeCount && b.lobeDispersion[i] != 0.0f)) continue;
-    float lambda = spectral_mode() ? (channel == 1u ? lambdas.x : channel == 2u ? lambdas.y : lambdas.z)
-                                   : (channel == 1u ? FRAUNHOFER_C_NM : channel == 2u ? FRAUNHOFER_D_NM : FRAUNHOFER_F_NM);
+    float lambda = spectral_mode() ? lambdas.x : (channel == 1u ? FRAUNHOFER_C_NM : channel == 2u ? FRAUNHOFER_D_NM : FRAUNHOFER_F_NM);
     float d = b.lobeDispersion[i];
     if (d < 0.0f) {
       b.lobeParam[i] = glass_ior(uint(-d) - 1u, lambda);  // the dielectric kinds' ior: params.x
@@ -313,14 +342,16 @@ void disperse_lobes(INOUT(Bsdf) b, uint channel, vec3 lambdas) {
 // The sample's linear sRGB: radiance l over D65 (light_spectrum) at the
 // wavelengths of sample u, times D65, through the colour matching
 // functions, each over its wavelength's density, averaged (a path that kept
-// one wavelength carries it at three times its weight: disperse), to XYZ
+// one wavelength carries it at four times its weight: disperse), to XYZ
 // and to white-balanced sRGB (the film's gains put D65 at (1, 1, 1), as the
 // uplift's table assumes).
-vec3 spectral_sample_rgb(vec3 l, float u) {
-  vec3 lambdas = path_wavelengths(u);
+vec3 spectral_sample_rgb(Spectrum radiance, float u) {
+  vec4 lambdas = path_wavelengths(u);
+  vec4 l = spectrum_values(radiance);
   vec3 xyz = l.x * illuminant_d65(lambdas.x) / visible_wavelength_pdf(lambdas.x) * cie_xyz_bar(lambdas.x) +
              l.y * illuminant_d65(lambdas.y) / visible_wavelength_pdf(lambdas.y) * cie_xyz_bar(lambdas.y) +
-             l.z * illuminant_d65(lambdas.z) / visible_wavelength_pdf(lambdas.z) * cie_xyz_bar(lambdas.z);
+             l.z * illuminant_d65(lambdas.z) / visible_wavelength_pdf(lambdas.z) * cie_xyz_bar(lambdas.z) +
+             l.w * illuminant_d65(lambdas.w) / visible_wavelength_pdf(lambdas.w) * cie_xyz_bar(lambdas.w);
   vec3 rgb = xyz_to_linear_srgb(xyz * (1.0f / (float(PATH_WAVELENGTHS) * CIE_Y_INTEGRAL)));
   vec4 gains = texelFetch(spectrumTexels, SPECTRA_FILM);
   return vec3(rgb.x / gains.x, rgb.y / gains.y, rgb.z / gains.z);
@@ -328,7 +359,7 @@ vec3 spectral_sample_rgb(vec3 l, float u) {
 
 // What a finished path adds to its pixel: its radiance, in linear sRGB.
 vec3 sample_rgb(PathState p) {
-  return spectral_mode() ? spectral_sample_rgb(p.radiance, p.wavelengths) : p.radiance;
+  return spectral_mode() ? spectral_sample_rgb(p.radiance, p.wavelengths) : spectrum_xyz(p.radiance);
 }
 
 #endif  // WP_SPECTRAL_GLSL

@@ -98,27 +98,29 @@ float sigmoid_polynomial(vec3 c, float lambda) {
 }
 
 // The wavelengths a path carries in the spectral mode (spectral.glsl): one
-// a component of the kernels' colours.
-#define PATH_WAVELENGTHS 3
+// a channel of the spectral kernels' colours (common.glsl's Spectrum), as
+// pbrt-v4 and Mitsuba 3 carry four.
+#define PATH_WAVELENGTHS 4
 
 // The path's wavelengths (nm) from its sample u in [0, 1): the hero, then u
-// rotated by a third and two thirds, each through the density's inverse CDF
-// (each is distributed by the density; together they stratify it).
+// rotated by a quarter, a half and three quarters, each through the
+// density's inverse CDF (each is distributed by the density; together they
+// stratify it).
 // Sample i of a randomly shifted sequence of wavelength samples (shift:
 // 32 random bits): i times the silver ratio's fraction, sqrt(2) - 1, in
 // 32-bit fixed point (exact at any index). Its points spread evenly over
 // the interval, so a pixel's heroes do (what a dispersed path keeps), and
-// so do three times them, which is what the three wavelengths' estimate
-// repeats with (path_wavelengths has period 1/3). The golden ratio's thirds
-// clump: its colour error over a pixel's samples was 1.8 to 11 times this
-// one's (docs/experiments.md).
+// so do four times them, which is what the four wavelengths' estimate
+// repeats with (path_wavelengths has period 1/4). The golden ratio's thirds
+// clumped when paths carried three wavelengths: its colour error over a
+// pixel's samples was 1.8 to 11 times this one's (docs/experiments.md).
 float wavelength_sequence(uint shift, uint i) {
   return float((shift + i * 1779033704u) >> 8) * (1.0f / 16777216.0f);
 }
 
-vec3 path_wavelengths(float u) {
-  return vec3(sample_visible_wavelength(u), sample_visible_wavelength(fract(u + (1.0f / 3.0f))),
-              sample_visible_wavelength(fract(u + (2.0f / 3.0f))));
+vec4 path_wavelengths(float u) {
+  return vec4(sample_visible_wavelength(u), sample_visible_wavelength(fract(u + 0.25f)), sample_visible_wavelength(fract(u + 0.5f)),
+              sample_visible_wavelength(fract(u + 0.75f)));
 }
 
 // A thin film's Lobe.extra slot holds, in w, THIN_FILM_SPECTRAL plus the

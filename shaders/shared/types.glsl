@@ -181,11 +181,23 @@ struct WideNode {
 #define POINT_LIGHT_TEXELS 3
 #define EMITTER_TEXELS 1
 // Work-buffer records the kernels read through texel views (kernel.glsl).
-#define PATH_STATE_TEXELS 5
+// The spectral kernels' paths and shadow rays carry a fourth channel
+// (common.glsl's Spectrum) in one more texel.
+#define PATH_STATE_TEXELS_RGB 5
+#define PATH_STATE_TEXELS_SPECTRAL 6
 #define PATH_RADIANCE_TEXEL 3  // radiance and bsdfPdf: the texel connect adds to
 #define PATH_MEDIUM_TEXEL 4    // the medium, the way since the last scattering vertex, the wavelengths (FEATURE_MEDIA, FEATURE_SPECTRAL only)
+#define PATH_FOURTH_TEXEL 5    // the spectral kernels' throughput.w and radiance.w
 #define HIT_TEXELS 1
-#define SHADOW_RAY_TEXELS 3
+#define SHADOW_RAY_TEXELS_RGB 3
+#define SHADOW_RAY_TEXELS_SPECTRAL 4  // contribution.w in the fourth
+#ifdef WP_SPECTRUM4
+#define PATH_STATE_TEXELS PATH_STATE_TEXELS_SPECTRAL
+#define SHADOW_RAY_TEXELS SHADOW_RAY_TEXELS_SPECTRAL
+#else
+#define PATH_STATE_TEXELS PATH_STATE_TEXELS_RGB
+#define SHADOW_RAY_TEXELS SHADOW_RAY_TEXELS_RGB
+#endif
 
 // Triangle.material: the material's index in the low bits; above them, what
 // the traversal must know before it takes a hit.
@@ -398,16 +410,19 @@ struct Photon {
 #define SAMPLER_INDEPENDENT 0u
 #define SAMPLER_CMJ 1u
 
-// A path in flight. 80 bytes; the last 16 are read and written only where
-// the scene has media (FEATURE_MEDIA).
+// A path in flight. Stored as PATH_STATE_TEXELS texels, field by field
+// (kernel.glsl's read_path and write_path): 80 bytes in RGB, of which the
+// last 16 are read and written only where the scene has media
+// (FEATURE_MEDIA); the spectral kernels' 96 (the fourth wavelength's
+// throughput and radiance last).
 struct PathState {
   vec3 origin;
   uint pixel;
   vec3 dir;  // unit length
   uint rng;
-  vec3 throughput;
+  Spectrum throughput;
   uint flags;  // bounce depth in the low 16 bits, PATH_* flags above
-  vec3 radiance;
+  Spectrum radiance;
   float bsdfPdf;  // solid-angle pdf of the direction that produced this ray
   uint medium;      // the medium the ray travels in (index into the media; 0 the vacuum)
   float travelled;  // the way from the last scattering vertex to origin: interfaces passed since (media.glsl)
@@ -429,13 +444,16 @@ struct Hit {
   uint pad2;
 };
 
-// A next-event-estimation shadow ray; valid when tmax > 0. 48 bytes.
+// A next-event-estimation shadow ray; valid when tmax > 0. Stored as
+// SHADOW_RAY_TEXELS texels, field by field (kernel.glsl): 48 bytes in RGB,
+// 64 in the spectral kernels (contribution.w last). The ray caster's rays
+// are the first 32 bytes (origin, tmax, dir, path).
 struct ShadowRay {
   vec3 origin;
   float tmax;  // the segment ends at origin + tmax * dir
   vec3 dir;
   uint path;
-  vec3 contribution;  // added to the path's radiance if the segment is unoccluded
+  Spectrum contribution;  // added to the path's radiance if the segment is unoccluded
   uint media;  // FEATURE_MEDIA: the medium at origin (low 16 bits), and a seed for its tracking (high 16 bits)
 };
 

@@ -19,7 +19,7 @@ RaySets make_rays(const CompiledScene& cs) {
   for (size_t p = 0; p < pixels; ++p) {
     shader::PathState ps;
     view.path_begin(ps, uint32_t(p), 0);
-    sets.primary[p] = shader::ShadowRay{ps.origin, WP_INF, ps.dir, uint32_t(p), glm::vec3(0.0f), 0u};
+    sets.primary[p] = shader::ShadowRay{ps.origin, WP_INF, ps.dir, uint32_t(p), glm::vec4(0.0f), 0u};
   }
   std::vector<shader::Hit> hits(pixels);
   tbb::parallel_for(size_t(0), pixels, [&](size_t p) {
@@ -36,7 +36,7 @@ RaySets make_rays(const CompiledScene& cs) {
     glm::vec3 t, b;
     view.make_frame(n, t, b);
     glm::vec3 d = view.frame_to_world(view.square_to_cosine_hemisphere(glm::vec2(view.rng_next(rng), view.rng_next(rng))), t, b, n);
-    sets.bounce.push_back(shader::ShadowRay{view.offset_ray(s.p, n), WP_INF, d, uint32_t(p), glm::vec3(0.0f), 0u});
+    sets.bounce.push_back(shader::ShadowRay{view.offset_ray(s.p, n), WP_INF, d, uint32_t(p), glm::vec4(0.0f), 0u});
     shader::SceneView::LightSample ls;
     const glm::vec3 uLight(view.rng_next(rng), view.rng_next(rng), view.rng_next(rng));
     if (view.sample_emitter(s.p, uLight, ls) && ls.pdf > 0.0f && glm::dot(ls.wi, n) > 0.0f) {

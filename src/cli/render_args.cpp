@@ -20,7 +20,7 @@ void add_scene_options(CLI::App& app, RenderArgs& r, bool& hemisphere) {
                    "uniform hemisphere sampling instead of light sampling: --integrator \"path tracer hemisphere\" (CS184: -H)");
   app.add_option("--sampler", r.sampler, "sampler, overriding the scene's: independent or cmj");
   app.add_flag("--spectral", r.spectral,
-               "render spectrally: each path carries three wavelengths, RGB inputs are uplifted to smooth spectra, the film "
+               "render spectrally: each path carries four wavelengths, RGB inputs are uplifted to smooth spectra, the film "
                "converts to sRGB (default: the scene's integrator \"spectral\" key, else RGB)");
   app.add_flag("--rgb", r.rgb, "render in RGB, overriding a scene's \"spectral\": true");
   app.add_option("-b,--aperture", r.aperture, "thin-lens radius, overriding the scene's (CS184: -b)")->check(CLI::Range(0.0f, 1e6f));

@@ -13,14 +13,23 @@
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
 #include "accumulate.spv.h"
+#include "accumulate_spectral.spv.h"
 #include "connect.spv.h"
+#include "connect_spectral.spv.h"
 #include "connect_multi.spv.h"
+#include "connect_multi_spectral.spv.h"
 #include "extend.spv.h"
+#include "extend_spectral.spv.h"
 #include "generate.spv.h"
+#include "generate_spectral.spv.h"
 #include "megakernel.spv.h"
+#include "megakernel_spectral.spv.h"
 #include "prepare.spv.h"
+#include "prepare_spectral.spv.h"
 #include "shade.spv.h"
+#include "shade_spectral.spv.h"
 #include "sort.spv.h"
+#include "sort_spectral.spv.h"
 
 namespace wp {
 
@@ -60,8 +69,8 @@ WavefrontRenderer::Impl::Impl(const VulkanContext& c, const CompiledScene& s, co
   const uint64_t samplesPerWave = std::min<uint64_t>(std::max(scene.spp, 1), kMaxSamplesPerWave);
   const uint64_t slots = std::max<uint64_t>({pixels, scene.photonMapLeftToDevice ? kPhotonBatch : 0,
                                              std::min<uint64_t>(kSmallImageWavePaths, uint64_t(pixels) * samplesPerWave)});
-  capacity = std::min<uint64_t>({slots, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / sizeof(shader::PathState),
-                                 std::min(maxRange, maxViewBytes) / (sizeof(shader::ShadowRay) * lightSamples),
+  capacity = std::min<uint64_t>({slots, settings.maxPathsPerWave, std::min(maxRange, maxViewBytes) / path_state_bytes(compiledParams),
+                                 std::min(maxRange, maxViewBytes) / (shadow_ray_bytes(compiledParams) * lightSamples),
                                  uint64_t(ctx.info().maxComputeWorkGroupCount) * settings.workgroupSize / lightSamples,
                                  std::min<uint64_t>(ctx.info().maxTexelBufferElements, maxRange / sizeof(uint32_t)) / queue_count()});
   try {
@@ -215,12 +224,12 @@ void WavefrontRenderer::Impl::create_scene_buffers() {
 void WavefrontRenderer::Impl::create_tile_buffers() {
   const bool aovs = !scene.aovs.empty();
   add_work(BINDING_PIXEL_LIST, uint64_t(tilePixels) * sizeof(uint32_t));
-  add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * sizeof(shader::PathState));
+  add_readable_work(BINDING_PATHS, BINDING_PATH_TEXELS, uint64_t(capacity) * path_state_bytes(compiledParams));
   add_readable_work(BINDING_HITS, BINDING_HIT_TEXELS, uint64_t(capacity) * hit_record_bytes(scene));
   // Queues 0 and 1, and with sorting by material class each sort key's.
   add_readable_work(BINDING_QUEUES, BINDING_QUEUE_TEXELS, uint64_t(capacity) * queue_count() * sizeof(uint32_t), vk::Format::eR32Uint);
   add_work(BINDING_SORT, SORT_KEYS * sizeof(uint32_t));
-  add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * sizeof(shader::ShadowRay));
+  add_readable_work(BINDING_SHADOW_RAYS, BINDING_SHADOW_RAY_TEXELS, uint64_t(capacity) * lightSamples * shadow_ray_bytes(compiledParams));
   add_work(BINDING_COUNTERS, COUNTER_COUNT * sizeof(uint32_t));
   add_work(BINDING_INDIRECT, INDIRECT_SLOTS * 3 * sizeof(uint32_t), vk::BufferUsageFlagBits::eIndirectBuffer);
   const uint64_t accumBytes = uint64_t(tilePixels) * sizeof(shader::PixelAccum);
@@ -416,16 +425,16 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
 }
 
 void WavefrontRenderer::Impl::create_tracing_pipelines() {
-  prepare = make_pipeline(kernel(prepare_spv));
-  extend = make_pipeline(kernel(extend_spv, Folding::Branches));
+  prepare = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(prepare)));
+  extend = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(extend), Folding::Branches));
   if (scene.params.mode.w > 1u) {
     if (!ctx.info().floatAtomicAdd) {
       throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
                         std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
     }
-    connect = make_pipeline(kernel(connect_multi_spv, Folding::Branches));
+    connect = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(connect_multi), Folding::Branches));
   } else {
-    connect = make_pipeline(kernel(connect_spv, Folding::Branches));
+    connect = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(connect), Folding::Branches));
   }
   raycast = vk::raii::Pipeline(nullptr);  // the ray caster's multi-ray pipelines are remade on use (ray_caster)
   occlude = vk::raii::Pipeline(nullptr);
@@ -480,21 +489,21 @@ void WavefrontRenderer::Impl::create_pipelines() {
   ctx.device().updateDescriptorSets(writes, {});
   tracingRays = rays_per_invocation();
   create_tracing_pipelines();
-  generate = make_pipeline(kernel(generate_spv));
+  generate = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(generate)));
   if (sorting) {
-    sort = make_pipeline(kernel(sort_spv));
+    sort = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(sort)));
     shadeKeys.push_back(SORT_KEY_MISS);
     for (uint32_t c = 0; c < scene.shadeClasses.size(); ++c) shadeKeys.push_back(c + 1);
     for (uint32_t key : shadeKeys) {
       PipelineOptions o;
       o.shadeKey = key;
-      shadeByKey.push_back(make_pipeline(kernel(shade_spv), o));
+      shadeByKey.push_back(make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(shade)), o));
     }
   } else {
-    shade = make_pipeline(kernel(shade_spv));
+    shade = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(shade)));
   }
-  accumulate = make_pipeline(kernel(accumulate_spv));
-  if (settings.megakernel) megakernel = make_pipeline(kernel(megakernel_spv), {false, true, false});
+  accumulate = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(accumulate)));
+  if (settings.megakernel) megakernel = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(megakernel)), {false, true, false});
   // probe (eval_textures and run_probes) is made on first use.
 }
 

@@ -9,13 +9,15 @@
 
 // SPIR-V compiled from shaders/*.comp at build time (see CMakeLists.txt).
 #include "raycast.spv.h"
+#include "raycast_spectral.spv.h"
 #include "probe.spv.h"
+#include "probe_spectral.spv.h"
 
 namespace wp {
 
 const vk::raii::Pipeline& WavefrontRenderer::Impl::ray_caster(bool single, bool anyHit) {
   vk::raii::Pipeline& p = anyHit ? (single ? occludeSingle : occlude) : (single ? raycastSingle : raycast);
-  if (!*p) p = make_pipeline(kernel(raycast_spv, Folding::Branches), {single, true, anyHit});
+  if (!*p) p = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(raycast), Folding::Branches), {single, true, anyHit});
   return p;
 }
 
@@ -23,6 +25,21 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::cast_rays(const std::vector<sh
                                    bool coherent, bool anyHit) {
   if (coherent) return run_on_rays(ray_caster(true, anyHit), nullptr, rays, truncated, kernelSeconds);
   return run_on_rays(ray_caster(false, anyHit), &ray_caster(true, anyHit), rays, truncated, kernelSeconds);
+}
+
+// Rays as the kernels read them (kernel.glsl's read_shadow_ray), field by
+// field, into mapped memory.
+void WavefrontRenderer::Impl::write_shadow_rays(void* mapped, const shader::ShadowRay* rays, uint32_t n) const {
+  const uint64_t texels = shadow_ray_bytes(compiledParams) / 16u;
+  auto* out = static_cast<glm::uvec4*>(mapped);
+  for (uint32_t i = 0; i < n; ++i) {
+    const shader::ShadowRay& r = rays[i];
+    glm::uvec4* t = out + i * texels;
+    t[0] = glm::uvec4(glm::floatBitsToUint(r.origin), glm::floatBitsToUint(r.tmax));
+    t[1] = glm::uvec4(glm::floatBitsToUint(r.dir), r.path);
+    t[2] = glm::uvec4(glm::floatBitsToUint(glm::vec3(r.contribution)), r.media);
+    if (texels > 3) t[3] = glm::uvec4(glm::floatBitsToUint(r.contribution.w), 0u, 0u, 0u);
+  }
 }
 
 std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pipeline& kernel, const vk::raii::Pipeline* single,
@@ -36,7 +53,7 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
   const uint64_t hitBytes = hit_record_bytes(scene);
   if (!readHits) readHits = std::make_unique<Buffer>(ctx, uint64_t(capacity) * hitBytes, vk::BufferUsageFlagBits::eTransferDst, true);
   if (!rayBuffer.mapped() && !rayStaging)
-    rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * sizeof(shader::ShadowRay), vk::BufferUsageFlagBits::eTransferSrc, true);
+    rayStaging = std::make_unique<Buffer>(ctx, uint64_t(capacity) * shadow_ray_bytes(compiledParams), vk::BufferUsageFlagBits::eTransferSrc, true);
   // One chunk through `p`: the rays truncated, and the kernel's GPU time added to kernelTime.
   auto run_chunk = [&](const vk::raii::Pipeline& p, uint32_t n, uint32_t perInvocation) {
     // The rays' upload is submitted and waited for on its own: a timestamp
@@ -44,7 +61,7 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
     // on a discrete GPU the copy crosses PCIe (32 bytes a ray), which can
     // take longer than the walks of camera rays.
     ctx.run_now([&](vk::CommandBuffer cb) {
-      if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, n * sizeof(shader::ShadowRay)));
+      if (!rayBuffer.mapped()) cb.copyBuffer(rayStaging->handle(), rayBuffer.handle(), vk::BufferCopy(0, 0, n * shadow_ray_bytes(compiledParams)));
       cb.fillBuffer(buffers[BINDING_COUNTERS]->handle(), 0, VK_WHOLE_SIZE, 0);
     });
     ctx.run_now([&](vk::CommandBuffer cb) {
@@ -79,7 +96,7 @@ std::vector<shader::Hit> WavefrontRenderer::Impl::run_on_rays(const vk::raii::Pi
   uint64_t lost = 0;
   for (size_t start = 0; start < rays.size(); start += capacity) {
     uint32_t n = uint32_t(std::min<size_t>(capacity, rays.size() - start));
-    std::memcpy(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, n * sizeof(shader::ShadowRay));
+    write_shadow_rays(rayBuffer.mapped() ? rayBuffer.mapped() : rayStaging->mapped(), rays.data() + start, n);
     uint32_t chunkLost = run_chunk(kernel, n, perInvocation);
     // A ray past its share of the loop budget: the chunk again, one ray per invocation.
     if (chunkLost > 0 && perInvocation > 1) {
@@ -111,7 +128,7 @@ std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::
 }
 
 std::vector<shader::Hit> WavefrontRenderer::run_probes(const std::vector<shader::ShadowRay>& queries) {
-  if (!*impl_->probe) impl_->probe = impl_->make_pipeline(kernel(probe_spv));
+  if (!*impl_->probe) impl_->probe = impl_->make_pipeline(kernel(spectral_kernels(impl_->compiledParams), WP_KERNEL(probe)));
   return impl_->run_on_rays(impl_->probe, nullptr, queries, nullptr, nullptr);
 }
 

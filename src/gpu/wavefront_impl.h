@@ -27,11 +27,28 @@ struct Kernel {
   Folding folding;  // how far the host folds its constants (gpu/specialize.h)
 };
 
-// A kernel; one whose work is the walk (extend, connect, raycast) takes the
-// host's folding of branches only, which its loops run faster for.
-template <size_t N>
-Kernel kernel(const uint32_t (&code)[N], Folding folding = Folding::ThroughLocals) {
-  return Kernel{code, N * sizeof(uint32_t), folding};
+// A kernel, compiled for RGB or for the spectral mode (whose colours carry
+// four wavelengths: common.glsl's Spectrum); one whose work is the walk
+// (extend, connect, raycast) takes the host's folding of branches only,
+// which its loops run faster for. WP_KERNEL(name) names both compiles.
+template <size_t N, size_t M>
+Kernel kernel(bool spectral, const uint32_t (&rgb)[N], const uint32_t (&spectrum)[M], Folding folding = Folding::ThroughLocals) {
+  return spectral ? Kernel{spectrum, M * sizeof(uint32_t), folding} : Kernel{rgb, N * sizeof(uint32_t), folding};
+}
+#define WP_KERNEL(name) name##_spv, name##_spectral_spv
+
+// Whether a scene's kernels are the spectral mode's.
+inline bool spectral_kernels(const shader::SceneParams& p) {
+  return (p.kinds.w & KIND_BIT(FEATURE_SPECTRAL)) != 0u;
+}
+
+// The bytes of a path's record and of a shadow ray's (types.glsl), in the
+// kernels of scene parameters p.
+inline uint64_t path_state_bytes(const shader::SceneParams& p) {
+  return 16u * (spectral_kernels(p) ? PATH_STATE_TEXELS_SPECTRAL : PATH_STATE_TEXELS_RGB);
+}
+inline uint64_t shadow_ray_bytes(const shader::SceneParams& p) {
+  return 16u * (spectral_kernels(p) ? SHADOW_RAY_TEXELS_SPECTRAL : SHADOW_RAY_TEXELS_RGB);
 }
 
 // Every stage reads what the previous one wrote, indirect arguments included.
@@ -315,6 +332,7 @@ struct WavefrontRenderer::Impl {
   // dragon from 0.37-0.38 to 0.47-0.48 of Embree.
   const vk::raii::Pipeline& ray_caster(bool single, bool anyHit);
 
+  void write_shadow_rays(void* mapped, const shader::ShadowRay* rays, uint32_t n) const;
   std::vector<shader::Hit> cast_rays(const std::vector<shader::ShadowRay>& rays, uint64_t* truncated, double* kernelSeconds,
                                      bool coherent, bool anyHit);
 

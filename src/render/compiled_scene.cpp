@@ -112,6 +112,7 @@ float luminance(glm::vec3 c) {
 shader::SceneView CompiledScene::view() const {
   shader::SceneView v;
   v.scene = params;
+  v.spectrumChannels = (params.kinds.w & KIND_BIT(FEATURE_SPECTRAL)) != 0u ? 4u : 3u;
   // The arrays the kernels read as texel buffers, as texels.
   auto texels_of = [](const auto& records) { return reinterpret_cast<const glm::uvec4*>(records.data()); };
   v.nodeTexels = texels_of(nodes);

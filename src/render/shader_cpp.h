@@ -49,6 +49,12 @@ inline glm::vec4 texelFetch(const glm::vec4* texels, int i) { return texels[i]; 
 // The scene-independent functions (RNG, sampling, intersection, BSDFs). They
 // are members only so that C++ treats them as inline; they use no state.
 struct ShaderMath {
+  // The channels of a Spectrum (colour.glsl) that count: C++ compiles one
+  // vec4 for both modes, whose w only the spectral mode uses (SceneView sets
+  // 4 for a spectral scene; the kernels have it as a constant).
+  uint spectrumChannels = 3u;
+#define SPECTRUM_CHANNELS spectrumChannels
+#include "../../shaders/shared/colour.glsl"
 #include "../../shaders/shared/rng.glsl"
 #include "../../shaders/shared/sampling.glsl"
 #include "../../shaders/shared/spectrum.glsl"

@@ -24,8 +24,11 @@ static_assert(sizeof(BvhNode) == 16 * BVH_NODE_TEXELS && sizeof(WideNode) == 16 
               sizeof(TriangleVertexData) == 16 * TRIANGLE_VERTEX_DATA_TEXELS &&
               sizeof(Sphere) == 16 * SPHERE_TEXELS && sizeof(Material) == 16 * MATERIAL_TEXELS &&
               sizeof(Texture) == 16 * TEXTURE_TEXELS && sizeof(PointLight) == 16 * POINT_LIGHT_TEXELS &&
-              sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(Medium) == 16 * MEDIUM_TEXELS && sizeof(Photon) == 16 * PHOTON_TEXELS && sizeof(PathState) == 16 * PATH_STATE_TEXELS &&
-              sizeof(Instance) == 16 * INSTANCE_TEXELS && sizeof(Hit) == 32 && sizeof(ShadowRay) == 16 * SHADOW_RAY_TEXELS);
+              sizeof(Emitter) == 16 * EMITTER_TEXELS && sizeof(Medium) == 16 * MEDIUM_TEXELS && sizeof(Photon) == 16 * PHOTON_TEXELS &&
+              sizeof(Instance) == 16 * INSTANCE_TEXELS && sizeof(Hit) == 32);
+// (PathState and ShadowRay, whose colours are a Spectrum, travel field by
+// field: kernel.glsl's read_path and write_path, and the ray caster's
+// write_shadow_rays.)
 static_assert(sizeof(BvhNode) == 32 && offsetof(BvhNode, bmax) == 16 && offsetof(BvhNode, count) == 28);
 static_assert(sizeof(WideNode) == 80 && offsetof(WideNode, childBase) == 16 && offsetof(WideNode, meta4567) == 28 &&
               offsetof(WideNode, qlo) == 32 && offsetof(WideNode, qhi) == 64);
@@ -46,13 +49,7 @@ static_assert(sizeof(SceneParams) == 240 && offsetof(SceneParams, mode) == 112 &
               offsetof(SceneParams, accel) == 144 && offsetof(SceneParams, kinds) == 160 && offsetof(SceneParams, mis) == 176 &&
               offsetof(SceneParams, camWindow) == 192 && offsetof(SceneParams, media) == 208 &&
               offsetof(SceneParams, photons) == 224);
-static_assert(sizeof(PathState) == 80 && offsetof(PathState, radiance) == 48 && offsetof(PathState, bsdfPdf) == 60 &&
-              offsetof(PathState, medium) == 64 && offsetof(PathState, crossings) == 72);
 static_assert(sizeof(Hit) == 32 && offsetof(Hit, instance) == 16);
-// write_shadow_ray and read_shadow_ray (kernel.glsl) move shadow rays as three
-// texels: origin and tmax, dir and path, contribution and media.
-static_assert(sizeof(ShadowRay) == 48 && offsetof(ShadowRay, tmax) == 12 && offsetof(ShadowRay, dir) == 16 &&
-              offsetof(ShadowRay, path) == 28 && offsetof(ShadowRay, contribution) == 32 && offsetof(ShadowRay, media) == 44);
 static_assert(sizeof(PixelAccum) == 32);
 static_assert(sizeof(AovSample) == 4 * AOV_CHANNELS && sizeof(AovAccum) == 8 * AOV_CHANNELS);
 static_assert(sizeof(KernelPush) == 48);

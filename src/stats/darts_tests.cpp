@@ -145,11 +145,11 @@ class TestRunner {
       q[i].origin = glm::vec3(u);
       q[i].tmax = u.w;
       if (t.kind == DartsTestKind::SampleSurface) {
-        q[i].contribution = glm::vec3(0.0f);  // darts samples surfaces as seen from the origin
+        q[i].contribution = glm::vec4(0.0f);  // darts samples surfaces as seen from the origin
         q[i].path = probe_path(PROBE_SURFACE_SAMPLE, 0);
       } else {
         q[i].dir = -t.incoming;
-        q[i].contribution = t.normal;
+        q[i].contribution = glm::vec4(t.normal, 0.0f);
         q[i].path = probe_path(PROBE_MATERIAL_SAMPLE, t.material);
       }
     }
@@ -165,12 +165,12 @@ class TestRunner {
     for (size_t i = 0; i < dirs.size(); ++i) {
       if (t.kind == DartsTestKind::SampleSurface) {
         q[i].dir = dirs[i];
-        q[i].contribution = glm::vec3(e, 0.0f, 0.0f);
+        q[i].contribution = glm::vec4(e, 0.0f, 0.0f, 0.0f);
         q[i].path = probe_path(PROBE_SURFACE_PDF, 0);
       } else {
         q[i].origin = dirs[i];
         q[i].dir = -t.incoming;
-        q[i].contribution = normal;
+        q[i].contribution = glm::vec4(normal, 0.0f);
         q[i].path = probe_path(PROBE_MATERIAL_PDF, t.material);
       }
     }

@@ -127,14 +127,15 @@ bool load_fuzzed(FuzzedInput kind, const uint8_t* data, size_t size) {
         // Lookups and majorant walks through whatever the grid holds: the
         // kernels' code reads it with PNanoVDB through bounded reads.
         shader::SceneView view = cs.view();
-        const shader::Medium m = view.load_medium(1);
+        shader::SceneView::MediumCoefficients c;
+        const shader::Medium m = view.load_medium_at(1, glm::vec4(0.0f), c);
         uint32_t rng = 1;
         for (int i = 0; i < 16; ++i) {
           const glm::vec3 o(float(i % 4) - 1.5f, float(i / 4) - 1.5f, 3.0f);
-          glm::vec3 throughput(1.0f);
+          shader::Spectrum throughput(1.0f);
           float t;
-          view.medium_free_flight(m, o, glm::normalize(glm::vec3(0.1f, 0.2f, -1.0f)), 6.0f, rng, throughput, t);
-          view.medium_transmittance(m, o, glm::vec3(-0.2f, 0.1f, -1.0f), 6.0f, rng);
+          view.medium_free_flight(m, c, o, glm::normalize(glm::vec3(0.1f, 0.2f, -1.0f)), 6.0f, rng, throughput, t);
+          view.medium_transmittance(m, c, o, glm::vec3(-0.2f, 0.1f, -1.0f), 6.0f, rng);
         }
         break;
       }

@@ -47,11 +47,11 @@ float cs184_lambda(float alpha, float c, bool skeleton) {
 
 // The course's Fresnel reflectance of air over a conductor eta + i k, at
 // cosine c.
-vec3 cs184_fresnel(vec3 eta, vec3 k, float c) {
-  vec3 t = eta * eta + k * k;
+Spectrum cs184_fresnel(Spectrum eta, Spectrum k, float c) {
+  Spectrum t = eta * eta + k * k;
   float c2 = c * c;
-  vec3 rs = (t - eta * (2.0f * c) + vec3(c2)) / (t + eta * (2.0f * c) + vec3(c2));
-  vec3 rp = (t * c2 - eta * (2.0f * c) + vec3(1.0f)) / (t * c2 + eta * (2.0f * c) + vec3(1.0f));
+  Spectrum rs = (t - eta * (2.0f * c) + Spectrum(c2)) / (t + eta * (2.0f * c) + Spectrum(c2));
+  Spectrum rp = (t * c2 - eta * (2.0f * c) + Spectrum(1.0f)) / (t * c2 + eta * (2.0f * c) + Spectrum(1.0f));
   return (rs + rp) * 0.5f;
 }
 
@@ -63,16 +63,17 @@ float beckmann_conductor_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return beckmann_d(l.params.x, cosH) * cosH / (4.0f * dot(wi, h));
 }
 
-vec3 beckmann_conductor_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum beckmann_conductor_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosO = dot(wo, ns);
   float cosI = dot(wi, ns);
-  if (cosO <= 0.0f || cosI <= 0.0f) return vec3(0.0f);
+  if (cosO <= 0.0f || cosI <= 0.0f) return Spectrum(0.0f);
   float alpha = l.params.x;
   vec3 h = normalize(wo + wi);
   // (params2.w above CONDUCTOR_NAMED names a metal: kinds.glsl.)
   bool skeleton = l.params2.w - CONDUCTOR_NAMED * floor(l.params2.w / CONDUCTOR_NAMED) > 0.5f;
   float g = 1.0f / (1.0f + cs184_lambda(alpha, cosI, skeleton) + cs184_lambda(alpha, cosO, skeleton));
-  vec3 fresnel = cs184_fresnel(vec3(l.params.y, l.params.z, l.params.w), vec3(l.params2.x, l.params2.y, l.params2.z), cosI);
+  Spectrum fresnel = cs184_fresnel(lobe_spectrum(l, vec3(l.params.y, l.params.z, l.params.w), LOBE_FOURTH_ETA),
+                                    lobe_spectrum(l, vec3(l.params2.x, l.params2.y, l.params2.z), LOBE_FOURTH_K), cosI);
   return l.color * fresnel * (g * beckmann_d(alpha, dot(h, ns)) / (4.0f * cosO));  // f cos_i
 }
 

@@ -11,7 +11,7 @@ float blinn_phong_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return woH > 0.0f ? cosine_power_pdf(dot(h, ns), l.params.x) / (4.0f * woH) : 0.0f;
 }
 
-vec3 blinn_phong_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum blinn_phong_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return l.color * blinn_phong_pdf(l, ns, wo, wi);
 }
 

@@ -36,7 +36,7 @@ float clearcoat_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return ggx_reflection_pdf(l.params.x, clearcoat_normal(l), wo, wi);
 }
 
-vec3 clearcoat_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum clearcoat_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return l.color * ggx_reflection_eval(l.params.x, clearcoat_normal(l), wo, wi);
 }
 

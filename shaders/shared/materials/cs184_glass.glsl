@@ -17,10 +17,10 @@ bool cs184_glass_is_delta(Lobe l) {
   return true;
 }
 
-vec3 cs184_glass_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+Spectrum cs184_glass_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   float ior = l.params.x;
   bool refractionOnly = l.params.y > 0.5f;
-  vec3 reflectance = vec3(l.params2.x, l.params2.y, l.params2.z);
+  Spectrum reflectance = lobe_spectrum(l, vec3(l.params2.x, l.params2.y, l.params2.z), LOBE_FOURTH_PARAMS2);
   float eta = l.front ? ior : 1.0f / ior;
   float cosO = dot(wo, ns);
   float sin2T = (1.0f - cosO * cosO) / (eta * eta);
@@ -29,11 +29,11 @@ vec3 cs184_glass_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OU
   float r = sin2T >= 1.0f ? 1.0f : r0 + (1.0f - r0) * pow(1.0f - cosO, 5.0f);
   if (refractionOnly ? sin2T >= 1.0f : uPick < r) {
     wi = reflect_about(wo, ns);
-    return dot(wi, ng) > 0.0f && !refractionOnly ? reflectance : vec3(0.0f);
+    return dot(wi, ng) > 0.0f && !refractionOnly ? reflectance : Spectrum(0.0f);
   }
   float cosT = sqrt(max(0.0f, 1.0f - sin2T));
   wi = normalize(ns * (cosO / eta - cosT) - wo / eta);
-  return dot(wi, ng) < 0.0f ? l.color * (eta * eta) : vec3(0.0f);
+  return dot(wi, ng) < 0.0f ? l.color * (eta * eta) : Spectrum(0.0f);
 }
 
 WP_NO_SMOOTH_LOBE(cs184_glass)

@@ -7,7 +7,7 @@ float lambertian_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return max(dot(ns, wi), 0.0f) * WP_INV_PI;
 }
 
-vec3 lambertian_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum lambertian_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return l.color * (max(dot(ns, wi), 0.0f) * WP_INV_PI);
 }
 

@@ -18,7 +18,7 @@ float metal_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return fuzzed_direction_pdf(wi, reflect_about(wo, ns), l.params.x);
 }
 
-vec3 metal_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum metal_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return l.color * metal_pdf(l, ns, wo, wi);
 }
 
@@ -28,9 +28,9 @@ vec3 metal_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
   return len > 0.0f ? d / len : vec3(0.0f);
 }
 
-vec3 metal_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+Spectrum metal_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   wi = reflect_about(wo, ns);
-  return dot(wi, ng) > 0.0f ? l.color : vec3(0.0f);
+  return dot(wi, ng) > 0.0f ? l.color : Spectrum(0.0f);
 }
 
 #endif  // WP_METAL_GLSL

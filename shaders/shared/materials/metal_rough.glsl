@@ -53,12 +53,13 @@ float metal_rough_f0(Lobe l) {
 // f90 = specular. Without the extension (specular and its colour 1) it is
 // Schlick's f0 + (1 - f0) w. params2 holds specularColor - 1 and
 // specular - 1, so that a material without the extension has zeros there.
-vec3 metal_rough_dielectric_fresnel(Lobe l, float w) {
+Spectrum metal_rough_dielectric_fresnel(Lobe l, float w) {
   float f0 = metal_rough_f0(l);
-  if (!FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) return vec3(f0 + (1.0f - f0) * w);
+  if (!FEATURE_COMPILED(FEATURE_SPECULAR_TINT)) return Spectrum(f0 + (1.0f - f0) * w);
   float specular = 1.0f + l.params2.w;
-  vec3 tinted = min(f0 * vec3(1.0f + l.params2.x, 1.0f + l.params2.y, 1.0f + l.params2.z), vec3(1.0f)) * specular;
-  return tinted + (vec3(specular) - tinted) * w;
+  Spectrum tint = lobe_spectrum(l, vec3(l.params2.x, l.params2.y, l.params2.z), LOBE_FOURTH_PARAMS2) + Spectrum(1.0f);
+  Spectrum tinted = min(f0 * tint, Spectrum(1.0f)) * specular;
+  return tinted + (Spectrum(specular) - tinted) * w;
 }
 
 // A thin film over the dielectric's and the metal's surfaces
@@ -66,17 +67,13 @@ vec3 metal_rough_dielectric_fresnel(Lobe l, float w) {
 // term mixed by the factor with the film's reflectance over it at c = wo.h
 // (README.md:124-245 at acfcbe6; the specification leaves the angle open,
 // and wo.h is where the microfacet model takes its Fresnel terms).
-void metal_rough_iridescence(Lobe l, float c, INOUT(vec3) fd, INOUT(vec3) fm) {
+void metal_rough_iridescence(Lobe l, float c, INOUT(Spectrum) fd, INOUT(Spectrum) fm) {
   if (!FEATURE_COMPILED(FEATURE_IRIDESCENCE) || !(l.extra[MR_LOBE_FILM].x > 0.0f)) return;
   vec4 film = l.extra[MR_LOBE_FILM];
-  vec3 filmD = thin_film_fresnel(film.y, film.z, metal_rough_dielectric_fresnel(l, 0.0f), c, film.w);
-  vec3 filmM = thin_film_fresnel(film.y, film.z, l.color, c, film.w);
+  Spectrum filmD = thin_film_fresnel(film.y, film.z, metal_rough_dielectric_fresnel(l, 0.0f), c, film.w);
+  Spectrum filmM = thin_film_fresnel(film.y, film.z, l.color, c, film.w);
   fd = fd + (filmD - fd) * l.extra[MR_LOBE_FILM].x;
   fm = fm + (filmM - fm) * l.extra[MR_LOBE_FILM].x;
-}
-
-float metal_rough_max3(vec3 v) {
-  return max(max(v.x, v.y), v.z);
 }
 
 // Whether the transmission refracts into a volume (KHR_materials_volume),
@@ -174,13 +171,19 @@ vec4 metal_rough_diffuse_transmission(Lobe l) {
   return FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION) ? l.extra[MR_LOBE_DIFFUSE_TRANSMISSION] : vec4(0.0f);
 }
 
+// The diffuse transmission's colour.
+Spectrum metal_rough_diffuse_transmission_colour(Lobe l) {
+  vec4 dt = metal_rough_diffuse_transmission(l);
+  return lobe_spectrum(l, vec3(dt.x, dt.y, dt.z), LOBE_FOURTH_TRANSMISSION);
+}
+
 // The share of the diffuse base's samples sent through the surface: by the
 // two lobes' mean colours.
 float metal_rough_diffuse_transmitted_share(Lobe l) {
-  vec4 dt = metal_rough_diffuse_transmission(l);
-  float through = dt.w * (dt.x + dt.y + dt.z);
-  float back = (1.0f - dt.w) * (l.color.x + l.color.y + l.color.z);
-  return through + back > 0.0f ? through / (through + back) : dt.w;
+  float dt = metal_rough_diffuse_transmission(l).w;
+  float through = dt * spectrum_sum(metal_rough_diffuse_transmission_colour(l));
+  float back = (1.0f - dt) * spectrum_sum(l.color);
+  return through + back > 0.0f ? through / (through + back) : dt;
 }
 
 // Probabilities of sampling the specular layer (x) and the transmission (y)
@@ -192,14 +195,14 @@ float metal_rough_diffuse_transmitted_share(Lobe l) {
 vec2 metal_rough_probabilities(Lobe l, float cosO) {
   float metallic = l.params.y;
   float transmission = metal_rough_transmission(l);
-  float fd = metal_rough_max3(metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, cosO)));
+  float fd = spectrum_max(metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, cosO)));
   float specular = (1.0f - metallic) * fd + metallic;
-  float base = (1.0f - metallic) * (1.0f - fd) * clamp((l.color.x + l.color.y + l.color.z) * (1.0f / 3.0f), 0.0f, 1.0f);
+  float base = (1.0f - metallic) * (1.0f - fd) * clamp(spectrum_average(l.color), 0.0f, 1.0f);
   if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) {
     // The diffuse base reflects (1 - dt) of the base colour and transmits dt of its own.
-    vec4 dt = metal_rough_diffuse_transmission(l);
-    vec3 mixed = l.color * (1.0f - dt.w) + vec3(dt.x, dt.y, dt.z) * dt.w;
-    float diffuse = (1.0f - metallic) * (1.0f - fd) * (1.0f - transmission) * clamp((mixed.x + mixed.y + mixed.z) * (1.0f / 3.0f), 0.0f, 1.0f);
+    float dt = metal_rough_diffuse_transmission(l).w;
+    Spectrum mixed = l.color * (1.0f - dt) + metal_rough_diffuse_transmission_colour(l) * dt;
+    float diffuse = (1.0f - metallic) * (1.0f - fd) * (1.0f - transmission) * clamp(spectrum_average(mixed), 0.0f, 1.0f);
     float all = specular + diffuse + base * transmission;
     if (!(all > 0.0f)) return vec2(1.0f, 0.0f);
     return vec2(specular, base * transmission) / all;
@@ -223,21 +226,20 @@ float metal_rough_diffuse_transmitted_pdf(Lobe l, vec2 p, vec3 ns, vec3 wo, vec3
 
 // The diffuse transmission's term f |cos_i| at wi below the surface, where
 // the base under the specular layer keeps `base` (1 - max3 F_d).
-vec3 metal_rough_diffuse_transmitted_under(Lobe l, float base, vec3 ns, vec3 wi) {
-  vec4 dt = metal_rough_diffuse_transmission(l);
-  float weight = (1.0f - l.params.y) * base * (1.0f - metal_rough_transmission(l)) * dt.w;
-  return vec3(dt.x, dt.y, dt.z) * (weight * max(-dot(wi, ns), 0.0f) * WP_INV_PI);
+Spectrum metal_rough_diffuse_transmitted_under(Lobe l, float base, vec3 ns, vec3 wi) {
+  float weight = (1.0f - l.params.y) * base * (1.0f - metal_rough_transmission(l)) * metal_rough_diffuse_transmission(l).w;
+  return metal_rough_diffuse_transmission_colour(l) * (weight * max(-dot(wi, ns), 0.0f) * WP_INV_PI);
 }
 
 // The same where the caller has no F_d at wo and wi mirrored (the refraction branch).
-vec3 metal_rough_diffuse_transmitted(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
-  if (!(metal_rough_diffuse_transmission(l).w > 0.0f)) return vec3(0.0f);
+Spectrum metal_rough_diffuse_transmitted(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+  if (!(metal_rough_diffuse_transmission(l).w > 0.0f)) return Spectrum(0.0f);
   vec3 wr = metal_rough_mirrored(ns, wi);
   float c = dot(wo, normalize(wo + wr));
-  vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
-  vec3 fm = vec3(0.0f);
+  Spectrum fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
+  Spectrum fm = Spectrum(0.0f);
   metal_rough_iridescence(l, c, fd, fm);
-  return metal_rough_diffuse_transmitted_under(l, 1.0f - metal_rough_max3(fd), ns, wi);
+  return metal_rough_diffuse_transmitted_under(l, 1.0f - spectrum_max(fd), ns, wi);
 }
 
 float metal_rough_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
@@ -263,10 +265,10 @@ float metal_rough_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return p.x * metal_rough_specular_pdf(l, ns, wo, wi) + diffuse * lambertian_pdf(l, ns, wo, wi);
 }
 
-vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosI = dot(wi, ns);
   float cosO = dot(wo, ns);
-  if (cosO <= 0.0f || cosI == 0.0f) return vec3(0.0f);
+  if (cosO <= 0.0f || cosI == 0.0f) return Spectrum(0.0f);
   float metallic = l.params.y;
   float transmission = metal_rough_transmission(l);
   if (cosI < 0.0f && metal_rough_refracts(l)) {
@@ -278,32 +280,32 @@ vec3 metal_rough_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
     float eta = metal_rough_eta(l);
     float woH = dot(wo, h);
     float wiH = dot(wi, h);
-    vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, woH));
-    vec3 fm = vec3(0.0f);
+    Spectrum fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, woH));
+    Spectrum fm = Spectrum(0.0f);
     metal_rough_iridescence(l, woH, fd, fm);
-    float base = 1.0f - metal_rough_max3(fd);
+    float base = 1.0f - spectrum_max(fd);
     float denom = woH + eta * wiH;
     float btdf = ggx_d(h, ns, l.params.x) * ggx_g2(cosO, -cosI, l.params.x) * eta * eta * woH * abs(wiH) / (cosO * denom * denom);
-    vec3 f = l.color * ((1.0f - metallic) * base * transmission * btdf);
+    Spectrum f = l.color * ((1.0f - metallic) * base * transmission * btdf);
     if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) f += metal_rough_diffuse_transmitted(l, ns, wo, wi);
     return f;
   }
   vec3 wr = cosI > 0.0f ? wi : metal_rough_mirrored(ns, wi);
   float c = dot(wo, normalize(wo + wr));
   float w = schlick_weight(c);
-  vec3 fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
-  vec3 fm = l.color + (vec3(1.0f) - l.color) * w;
+  Spectrum fd = metal_rough_dielectric_fresnel(l, metal_rough_fresnel_weight(l, c));
+  Spectrum fm = l.color + (Spectrum(1.0f) - l.color) * w;
   metal_rough_iridescence(l, c, fd, fm);
-  float base = 1.0f - metal_rough_max3(fd);  // the base's weight under the specular layer
+  float base = 1.0f - spectrum_max(fd);  // the base's weight under the specular layer
   float specular = metal_rough_specular_eval(l, ns, wo, wr);  // S |cos_i|
   if (cosI < 0.0f) {
-    vec3 f = l.color * ((1.0f - metallic) * base * transmission * specular);
+    Spectrum f = l.color * ((1.0f - metallic) * base * transmission * specular);
     if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) f += metal_rough_diffuse_transmitted_under(l, base, ns, wi);
     return f;
   }
   float diffuse = 1.0f - transmission;
   if (FEATURE_COMPILED(FEATURE_DIFFUSE_TRANSMISSION)) diffuse *= 1.0f - metal_rough_diffuse_transmission(l).w;
-  vec3 dielectric = l.color * (base * diffuse * cosI * WP_INV_PI) + fd * specular;
+  Spectrum dielectric = l.color * (base * diffuse * cosI * WP_INV_PI) + fd * specular;
   return dielectric * (1.0f - metallic) + fm * (metallic * specular);
 }
 

@@ -3,9 +3,9 @@
 // functions the BSDF dispatch calls (bsdf.glsl):
 //   bool  P_is_delta(l)                        whether the lobe is a delta lobe (for these parameters)
 //   float P_pdf(l, ns, wo, wi)                 density of P_sample's directions (smooth lobes)
-//   vec3  P_eval(l, ns, wo, wi)                f * |cos(wi)| (smooth lobes)
+//   Spectrum P_eval(l, ns, wo, wi)             f * |cos(wi)| (smooth lobes)
 //   vec3  P_sample(l, ns, wo, u)               a direction, or zero (smooth lobes)
-//   vec3  P_sample_delta(l, ns, ng, wo, uPick, wi)
+//   Spectrum P_sample_delta(l, ns, ng, wo, uPick, wi)
 //                                              a delta lobe's direction and f * |cos| / pdf
 // `l` is the lobe's Lobe (bsdf.glsl): its colour and parameters at the hit,
 // and l.front, whether wo is on the outer side. Conventions as in bsdf.glsl:
@@ -22,9 +22,9 @@
   bool P##_is_delta(Lobe l) {                                                           \
     return false;                                                                       \
   }                                                                                     \
-  vec3 P##_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) { \
-    wi = vec3(0.0f);                                                                    \
-    return vec3(0.0f);                                                                  \
+  Spectrum P##_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) { \
+    wi = vec3(0.0f);                                                                        \
+    return Spectrum(0.0f);                                                                  \
   }
 
 // P has no smooth lobe.
@@ -32,8 +32,8 @@
   float P##_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {  \
     return 0.0f;                                      \
   }                                                   \
-  vec3 P##_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {  \
-    return vec3(0.0f);                                \
+  Spectrum P##_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) { \
+    return Spectrum(0.0f);                               \
   }                                                   \
   vec3 P##_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) { \
     return vec3(0.0f);                                \

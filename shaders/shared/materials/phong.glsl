@@ -8,7 +8,7 @@ float phong_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return cosine_power_pdf(dot(wi, reflect_about(wo, ns)), l.params.x);
 }
 
-vec3 phong_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum phong_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return l.color * phong_pdf(l, ns, wo, wi);
 }
 

@@ -8,8 +8,9 @@
 #ifndef WP_ROUGH_CONDUCTOR_GLSL
 #define WP_ROUGH_CONDUCTOR_GLSL
 
-vec3 rough_conductor_fresnel(Lobe l, float cosI) {
-  return fresnel_conductor(cosI, vec3(l.params.y, l.params.z, l.params.w), vec3(l.params2.x, l.params2.y, l.params2.z));
+Spectrum rough_conductor_fresnel(Lobe l, float cosI) {
+  return fresnel_conductor(cosI, lobe_spectrum(l, vec3(l.params.y, l.params.z, l.params.w), LOBE_FOURTH_ETA),
+                           lobe_spectrum(l, vec3(l.params2.x, l.params2.y, l.params2.z), LOBE_FOURTH_K));
 }
 
 bool rough_conductor_is_delta(Lobe l) {
@@ -20,18 +21,18 @@ float rough_conductor_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return ggx_reflection_pdf(l.params.x, ns, wo, wi);
 }
 
-vec3 rough_conductor_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum rough_conductor_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float specular = ggx_reflection_eval(l.params.x, ns, wo, wi);
-  return specular > 0.0f ? l.color * rough_conductor_fresnel(l, dot(wo, normalize(wo + wi))) * specular : vec3(0.0f);
+  return specular > 0.0f ? l.color * rough_conductor_fresnel(l, dot(wo, normalize(wo + wi))) * specular : Spectrum(0.0f);
 }
 
 vec3 rough_conductor_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
   return ggx_reflection_sample(l.params.x, ns, wo, vec2(u.x, u.y));
 }
 
-vec3 rough_conductor_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+Spectrum rough_conductor_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   wi = reflect_about(wo, ns);
-  return dot(wi, ng) > 0.0f ? l.color * rough_conductor_fresnel(l, dot(wo, ns)) : vec3(0.0f);
+  return dot(wi, ng) > 0.0f ? l.color * rough_conductor_fresnel(l, dot(wo, ns)) : Spectrum(0.0f);
 }
 
 #endif  // WP_ROUGH_CONDUCTOR_GLSL

@@ -49,10 +49,10 @@ float rough_dielectric_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return (1.0f - f) * pdfH * eta * eta * abs(wiH) / (denom * denom);
 }
 
-vec3 rough_dielectric_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum rough_dielectric_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   float cosO = dot(wo, ns);
   vec3 h;
-  if (cosO <= 0.0f || !rough_dielectric_half_vector(l, ns, wo, wi, h)) return vec3(0.0f);
+  if (cosO <= 0.0f || !rough_dielectric_half_vector(l, ns, wo, wi, h)) return Spectrum(0.0f);
   float alpha = l.params.y;
   float eta = rough_dielectric_eta(l);
   float woH = dot(wo, h);
@@ -80,7 +80,7 @@ vec3 rough_dielectric_sample(Lobe l, vec3 ns, vec3 wo, vec3 u) {
   return dot(wi, ns) < 0.0f ? wi : vec3(0.0f);
 }
 
-vec3 rough_dielectric_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
+Spectrum rough_dielectric_sample_delta(Lobe l, vec3 ns, vec3 ng, vec3 wo, float uPick, OUT(vec3) wi) {
   return dielectric_sample_delta(l, ns, ng, wo, uPick, wi);
 }
 

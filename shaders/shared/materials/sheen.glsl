@@ -84,7 +84,7 @@ float sheen_pdf(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return lambertian_pdf(l, ns, wo, wi);
 }
 
-vec3 sheen_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
+Spectrum sheen_eval(Lobe l, vec3 ns, vec3 wo, vec3 wi) {
   return l.color * sheen_reflectance(l.params.x, ns, wo, wi);
 }
 
