@@ -157,7 +157,7 @@ Lobe lobe_of(Bsdf b, uint i) {
   l.color = b.lobeColor[i];
   l.front = b.front;
 #ifdef WP_SPECTRUM_W
-  l.fourth = SPECTRUM_CHANNELS == 4u ? b.lobeFourth[i] : vec4(0.0f);
+  l.fourth = b.lobeFourth[i];  // (zero unless the spectral mode set it: bsdf_at)
 #endif
   return l;
 }
