@@ -339,19 +339,36 @@ void disperse_lobes(INOUT(Bsdf) b, uint channel, vec4 lambdas) {
   }
 }
 
+// The film's weight of wavelength sample u: the colour matching functions
+// times D65 over the density, at the sample's wavelength
+// (sample_visible_wavelength(u)). The table holds it every
+// 1 / FILM_WEIGHT_SEGMENTS of u (at most 0.95 nm apart, at the range's ends)
+// and the film takes it linearly between: two fetches instead of the
+// wavelength's arctanh, the density's cosh and the fit's seven exponentials
+// (film_weight_exact, which the table is made of).
+vec3 film_weight(float u) {
+  float x = clamp(u, 0.0f, 1.0f) * float(FILM_WEIGHT_SEGMENTS);
+  int i = min(int(x), FILM_WEIGHT_SEGMENTS - 1);
+  float f = x - float(i);
+  vec4 a = texelFetch(spectrumTexels, SPECTRA_FILM_WEIGHTS + i);
+  vec4 b = texelFetch(spectrumTexels, SPECTRA_FILM_WEIGHTS + i + 1);
+  return vec3(a.x + (b.x - a.x) * f, a.y + (b.y - a.y) * f, a.z + (b.z - a.z) * f);
+}
+
+vec3 film_weight_exact(float u) {
+  float lambda = clamp(sample_visible_wavelength(u), SPECTRUM_MIN_NM, SPECTRUM_MAX_NM);  // (the ends, rounded outside)
+  return cie_xyz_bar(lambda) * (illuminant_d65(lambda) / visible_wavelength_pdf(lambda));
+}
+
 // The sample's linear sRGB: radiance l over D65 (light_spectrum) at the
-// wavelengths of sample u, times D65, through the colour matching
-// functions, each over its wavelength's density, averaged (a path that kept
-// one wavelength carries it at four times its weight: disperse), to XYZ
-// and to white-balanced sRGB (the film's gains put D65 at (1, 1, 1), as the
-// uplift's table assumes).
+// wavelengths of sample u (path_wavelengths' rotations of u), through each
+// one's film weight, averaged (a path that kept one wavelength carries it
+// at four times its weight: disperse), to XYZ and to white-balanced sRGB
+// (the film's gains put D65 at (1, 1, 1), as the uplift's table assumes).
 vec3 spectral_sample_rgb(Spectrum radiance, float u) {
-  vec4 lambdas = path_wavelengths(u);
   vec4 l = spectrum_values(radiance);
-  vec3 xyz = l.x * illuminant_d65(lambdas.x) / visible_wavelength_pdf(lambdas.x) * cie_xyz_bar(lambdas.x) +
-             l.y * illuminant_d65(lambdas.y) / visible_wavelength_pdf(lambdas.y) * cie_xyz_bar(lambdas.y) +
-             l.z * illuminant_d65(lambdas.z) / visible_wavelength_pdf(lambdas.z) * cie_xyz_bar(lambdas.z) +
-             l.w * illuminant_d65(lambdas.w) / visible_wavelength_pdf(lambdas.w) * cie_xyz_bar(lambdas.w);
+  vec3 xyz = l.x * film_weight(u) + l.y * film_weight(fract(u + 0.25f)) + l.z * film_weight(fract(u + 0.5f)) +
+             l.w * film_weight(fract(u + 0.75f));
   vec3 rgb = xyz_to_linear_srgb(xyz * (1.0f / (float(PATH_WAVELENGTHS) * CIE_Y_INTEGRAL)));
   vec4 gains = texelFetch(spectrumTexels, SPECTRA_FILM);
   return vec3(rgb.x / gains.x, rgb.y / gains.y, rgb.z / gains.z);

@@ -140,7 +140,10 @@ vec4 path_wavelengths(float u) {
 // wavelengths from 360 nm; from SPECTRA_METAL_RGB each metal's eta and k
 // (xyz, two texels) as an RGB render takes them: their spectra's linear
 // sRGB projections (spectrum_to_rgb), as Mitsuba's RGB modes take measured
-// spectra; and last, from SPECTRA_RGB_COEFFICIENTS, the uplift table's
+// spectra; from SPECTRA_FILM_WEIGHTS the film's weight of a wavelength
+// sample u (xyz: the matching functions times D65 over the density, at
+// sample_visible_wavelength(u)) at u = k / FILM_WEIGHT_SEGMENTS, k from 0 to
+// FILM_WEIGHT_SEGMENTS; and last, from SPECTRA_RGB_COEFFICIENTS, the uplift table's
 // coefficients (xyz) of colour (largest component l, brightness k, next
 // components j, i) at ((l * RES + k) * RES + j) * RES + i: 99 % of the
 // texels, which a scene whose kernels have no table
@@ -151,7 +154,9 @@ vec4 path_wavelengths(float u) {
 #define SPECTRA_RGB_SCALE (SPECTRA_D65 + CIE_D65_SAMPLES)
 #define SPECTRA_METALS (SPECTRA_RGB_SCALE + RGB_TO_SPECTRUM_RES)
 #define SPECTRA_METAL_RGB (SPECTRA_METALS + int(METAL_COUNT) * METAL_SPECTRUM_SAMPLES)
-#define SPECTRA_RGB_COEFFICIENTS (SPECTRA_METAL_RGB + 2 * int(METAL_COUNT))
+#define FILM_WEIGHT_SEGMENTS 2048
+#define SPECTRA_FILM_WEIGHTS (SPECTRA_METAL_RGB + 2 * int(METAL_COUNT))
+#define SPECTRA_RGB_COEFFICIENTS (SPECTRA_FILM_WEIGHTS + FILM_WEIGHT_SEGMENTS + 1)
 #define SPECTRA_TEXELS (SPECTRA_RGB_COEFFICIENTS + 3 * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES * RGB_TO_SPECTRUM_RES)
 
 #endif  // WP_SPECTRUM_GLSL

@@ -2,7 +2,7 @@
 // spectral mode's tables (BINDING_SPECTRA, laid out as spectrum.glsl's
 // SPECTRA_* say) as raw RGBA32F texels, which the build links into the
 // renderer (src/render/spectra.cpp): the film's white balance, D65
-// normalised to Y = 1, the RGB uplift's coefficient table (fitted here,
+// normalised to Y = 1, the film's weights of wavelength samples, the RGB uplift's coefficient table (fitted here,
 // rgb_to_spectrum.cpp) and the measured metals (metal_spectra.glsl).
 //
 //   wavepath-spectra OUT
@@ -27,6 +27,13 @@ int main(int argc, char** argv) {
   texels[SPECTRA_FILM] = glm::vec4(glm::vec3(film_white_gains()), 0.0f);
   const double d65 = d65_to_unit_luminance();
   for (int i = 0; i < CIE_D65_SAMPLES; ++i) texels[size_t(SPECTRA_D65 + i)].x = float(shader::ShaderMath::CIE_D65[i] * d65);
+  // The film's weights of wavelength samples, through the kernels' own
+  // functions over the D65 just written.
+  shader::SceneView view;
+  view.spectrumTexels = texels.data();
+  for (int k = 0; k <= FILM_WEIGHT_SEGMENTS; ++k) {
+    texels[size_t(SPECTRA_FILM_WEIGHTS + k)] = glm::vec4(view.film_weight_exact(float(k) / float(FILM_WEIGHT_SEGMENTS)), 0.0f);
+  }
   const RgbToSpectrumTable table = make_rgb_to_spectrum_table(RGB_TO_SPECTRUM_RES);
   for (int k = 0; k < RGB_TO_SPECTRUM_RES; ++k) texels[size_t(SPECTRA_RGB_SCALE + k)].x = table.scale[size_t(k)];
   for (size_t i = 0; i < table.coefficients.size() / 3; ++i) {
