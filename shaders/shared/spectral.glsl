@@ -213,11 +213,6 @@ Spectrum path_radiance(vec3 rgb, vec4 lambdas) {
   return spectral_mode() ? light_spectrum(rgb, lambdas) : spectrum_rgb(rgb);
 }
 
-// A reflectance (an albedo, a tint, a transmittance) in the path's terms:
-// as given in RGB, uplifted in the spectral mode.
-Spectrum path_reflectance(vec3 rgb, vec4 lambdas) {
-  return spectral_mode() ? reflectance_spectrum(rgb, lambdas) : spectrum_rgb(rgb);
-}
 
 // The index of refraction (and absorption) of metal `metal` (METAL_*,
 // spectrum.glsl) at lambda, linear between its table's samples.

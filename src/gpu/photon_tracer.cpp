@@ -17,7 +17,7 @@
 namespace wp {
 
 std::vector<shader::Photon> WavefrontRenderer::Impl::trace_photons(uint32_t count, uint32_t seed) {
-  if (!*photons) photons = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(photons)));
+  if (!*photons) photons = make_pipeline(kernel(WP_KERNEL(photons)));
   // Photons trace one ray an invocation: the scene's whole step cap, whatever
   // a megakernel's rays would share.
   shader::SceneParams params = device_params(true);

@@ -425,16 +425,16 @@ vk::raii::Pipeline WavefrontRenderer::Impl::make_pipeline(Kernel k, PipelineOpti
 }
 
 void WavefrontRenderer::Impl::create_tracing_pipelines() {
-  prepare = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(prepare)));
-  extend = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(extend), Folding::Branches));
+  prepare = make_pipeline(kernel(WP_KERNEL(prepare)));
+  extend = make_pipeline(kernel(WP_KERNEL(extend), Folding::Branches));
   if (scene.params.mode.w > 1u) {
     if (!ctx.info().floatAtomicAdd) {
       throw RenderError(ctx.info().name + " lacks float atomics (VK_EXT_shader_atomic_float), which " +
                         std::to_string(scene.params.mode.w) + " light samples per vertex need; use one (-l 1)");
     }
-    connect = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(connect_multi), Folding::Branches));
+    connect = make_pipeline(kernel(WP_KERNEL(connect_multi), Folding::Branches));
   } else {
-    connect = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(connect), Folding::Branches));
+    connect = make_pipeline(kernel(WP_KERNEL(connect), Folding::Branches));
   }
   raycast = vk::raii::Pipeline(nullptr);  // the ray caster's multi-ray pipelines are remade on use (ray_caster)
   occlude = vk::raii::Pipeline(nullptr);
@@ -489,21 +489,21 @@ void WavefrontRenderer::Impl::create_pipelines() {
   ctx.device().updateDescriptorSets(writes, {});
   tracingRays = rays_per_invocation();
   create_tracing_pipelines();
-  generate = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(generate)));
+  generate = make_pipeline(kernel(WP_KERNEL(generate)));
   if (sorting) {
-    sort = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(sort)));
+    sort = make_pipeline(kernel(WP_KERNEL(sort)));
     shadeKeys.push_back(SORT_KEY_MISS);
     for (uint32_t c = 0; c < scene.shadeClasses.size(); ++c) shadeKeys.push_back(c + 1);
     for (uint32_t key : shadeKeys) {
       PipelineOptions o;
       o.shadeKey = key;
-      shadeByKey.push_back(make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(shade)), o));
+      shadeByKey.push_back(make_pipeline(kernel(WP_KERNEL(shade)), o));
     }
   } else {
-    shade = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(shade)));
+    shade = make_pipeline(kernel(WP_KERNEL(shade)));
   }
-  accumulate = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(accumulate)));
-  if (settings.megakernel) megakernel = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(megakernel)), {false, true, false});
+  accumulate = make_pipeline(kernel(WP_KERNEL(accumulate)));
+  if (settings.megakernel) megakernel = make_pipeline(kernel(WP_KERNEL(megakernel)), {false, true, false});
   // probe (eval_textures and run_probes) is made on first use.
 }
 

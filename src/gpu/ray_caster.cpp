@@ -17,7 +17,7 @@ namespace wp {
 
 const vk::raii::Pipeline& WavefrontRenderer::Impl::ray_caster(bool single, bool anyHit) {
   vk::raii::Pipeline& p = anyHit ? (single ? occludeSingle : occlude) : (single ? raycastSingle : raycast);
-  if (!*p) p = make_pipeline(kernel(spectral_kernels(compiledParams), WP_KERNEL(raycast), Folding::Branches), {single, true, anyHit});
+  if (!*p) p = make_pipeline(kernel(WP_KERNEL(raycast), Folding::Branches), {single, true, anyHit});
   return p;
 }
 
@@ -128,7 +128,7 @@ std::vector<shader::Hit> WavefrontRenderer::cast_rays(const std::vector<shader::
 }
 
 std::vector<shader::Hit> WavefrontRenderer::run_probes(const std::vector<shader::ShadowRay>& queries) {
-  if (!*impl_->probe) impl_->probe = impl_->make_pipeline(kernel(spectral_kernels(impl_->compiledParams), WP_KERNEL(probe)));
+  if (!*impl_->probe) impl_->probe = impl_->make_pipeline(impl_->kernel(WP_KERNEL(probe)));
   return impl_->run_on_rays(impl_->probe, nullptr, queries, nullptr, nullptr);
 }
 

@@ -268,6 +268,11 @@ struct WavefrontRenderer::Impl {
     uint32_t shadeKey = SORT_KEYS;  // shade: the sort key it shades (SORT_KEYS: all paths, unsorted)
   };
 
+  // Kernel `WP_KERNEL(name)` as this renderer's scene runs it (RGB or spectral).
+  template <size_t N, size_t M>
+  Kernel kernel(const uint32_t (&rgb)[N], const uint32_t (&spectrum)[M], Folding folding = Folding::ThroughLocals) const {
+    return wp::kernel(spectral_kernels(compiledParams), rgb, spectrum, folding);
+  }
   vk::raii::Pipeline make_pipeline(Kernel k) { return make_pipeline(k, PipelineOptions()); }
   vk::raii::Pipeline make_pipeline(Kernel k, PipelineOptions o);
 
