@@ -8,13 +8,15 @@ geometry is N times larger, which is what the benchmark measures: how a
 renderer copes with instancing rather than with raw triangle counts.
 
   python3 scripts/gen-forest.py OUT.gltf [--instances N] [--triangles T]
-                                [--seed S] [--nodes]
+                                [--seed S] [--nodes] [--grid]
 
 Writes OUT.gltf and its buffer OUT.bin beside it. By default each tree mesh
 has one node with EXT_mesh_gpu_instancing (TRANSLATION, ROTATION, SCALE per
 instance); --nodes writes every instance as a plain node instead, in rows of
 at most 1000 under translated row nodes (for renderers without the
-extension; meant for small N). The placement depends only on --seed, so
+extension; meant for small N). --grid writes the plainer forest a new user
+would: one broadleaf mesh of T triangles on every point of the grid,
+unmoved, unturned and unscaled. The placement depends only on --seed, so
 both forms of one seed hold the same forest. Standard library only.
 """
 import argparse
@@ -309,23 +311,25 @@ def normalize(v):
     return [c / n for c in v]
 
 
-def place(count, seed):
-    """The trees: per tree mesh, flat lists of translations (x, y, z),
-    rotations (x, y, z, w) and scales (s, s, s); each tree's mesh in grid
-    order; and the grid's side."""
+def place(count, seed, kinds=3, regular=False):
+    """The trees: per tree mesh (of `kinds`), flat lists of translations
+    (x, y, z), rotations (x, y, z, w) and scales (s, s, s); each tree's mesh
+    in grid order; and the grid's side. `regular`: on the grid's points,
+    unturned, of scale 1."""
     rng = random.Random(seed)
     rand = rng.random
     side = max(1, math.ceil(math.sqrt(count)))
     half = (side - 1) / 2
-    trans, rots, scales = [[], [], []], [[], [], []], [[], [], []]
+    trans, rots, scales = [[] for _ in range(kinds)], [[] for _ in range(kinds)], [[] for _ in range(kinds)]
     choice = bytearray(count)
     s0, ds = SCALES[0], SCALES[1] - SCALES[0]
+    jitter = 0.0 if regular else JITTER
     for n in range(count):
-        x = (n % side - half + JITTER * (2 * rand() - 1)) * SPACING
-        z = (n // side - half + JITTER * (2 * rand() - 1)) * SPACING
-        angle = math.pi * rand()  # half the rotation angle about +Y, in [0, pi)
-        s = s0 + ds * rand()
-        k = choice[n] = min(2, int(3 * rand()))
+        x = (n % side - half + jitter * (2 * rand() - 1)) * SPACING
+        z = (n // side - half + jitter * (2 * rand() - 1)) * SPACING
+        angle = 0.0 if regular else math.pi * rand()  # half the rotation angle about +Y, in [0, pi)
+        s = 1.0 if regular else s0 + ds * rand()
+        k = choice[n] = min(kinds - 1, int(kinds * rand()))
         trans[k] += (x, 0.0, z)
         rots[k] += (0.0, math.sin(angle), 0.0, math.cos(angle))
         scales[k] += (s, s, s)
@@ -341,6 +345,8 @@ def main():
     ap.add_argument("--seed", type=int, default=1, metavar="S", help="seed of the placement (default 1)")
     ap.add_argument("--nodes", action="store_true",
                     help="one plain node per tree instead of EXT_mesh_gpu_instancing (for small N)")
+    ap.add_argument("--grid", action="store_true",
+                    help="one broadleaf mesh of T triangles on every grid point, unmoved, unturned, unscaled")
     args = ap.parse_args()
     if args.instances < 1:
         ap.error("--instances must be at least 1")
@@ -352,11 +358,14 @@ def main():
     stem = out[:-5] if out.endswith(".gltf") else out
     bin_path = stem + ".bin"
 
-    # The triangle budget, a third to each tree.
-    shares = [args.triangles // 3, args.triangles // 3, args.triangles - 2 * (args.triangles // 3)]
-    trees = [("conifer", "conifers", conifer(*conifer_params(shares[0])), [0.05, 0.20, 0.06, 1.0]),
-             ("broadleaf", "broadleaves", broadleaf(*broadleaf_params(shares[1])), [0.12, 0.34, 0.07, 1.0]),
-             ("bush", "bushes", bush(*bush_params(shares[2])), [0.20, 0.38, 0.10, 1.0])]
+    if args.grid:
+        trees = [("broadleaf", "broadleaves", broadleaf(*broadleaf_params(args.triangles)), [0.12, 0.34, 0.07, 1.0])]
+    else:
+        # The triangle budget, a third to each tree.
+        shares = [args.triangles // 3, args.triangles // 3, args.triangles - 2 * (args.triangles // 3)]
+        trees = [("conifer", "conifers", conifer(*conifer_params(shares[0])), [0.05, 0.20, 0.06, 1.0]),
+                 ("broadleaf", "broadleaves", broadleaf(*broadleaf_params(shares[1])), [0.12, 0.34, 0.07, 1.0]),
+                 ("bush", "bushes", bush(*bush_params(shares[2])), [0.20, 0.38, 0.10, 1.0])]
 
     buf = Buffer()
     meshes, materials, tree_tris = [], [], []
@@ -374,7 +383,7 @@ def main():
     if abs(unique - args.triangles) > 0.01 * args.triangles:
         print(f"gen-forest.py: warning: {unique} unique triangles, more than 1 % off {args.triangles}", file=sys.stderr)
 
-    trans, rots, scales, choice, side = place(args.instances, args.seed)
+    trans, rots, scales, choice, side = place(args.instances, args.seed, len(trees), args.grid)
     extent = side * SPACING  # the forest covers [-extent/2, extent/2] in x and z
 
     # The ground: a square a little larger than the forest, facing up.
@@ -382,18 +391,18 @@ def main():
     ground = {"attributes": {"POSITION": buf.accessor(array.array("f", [-h, 0, -h, h, 0, -h, h, 0, h, -h, 0, h]), "VEC3", ARRAY_BUFFER),
                              "NORMAL": buf.accessor(array.array("f", [0, 1, 0] * 4), "VEC3", ARRAY_BUFFER)},
               "indices": buf.accessor(array.array("I", [0, 2, 1, 0, 3, 2]), "SCALAR", ELEMENT_ARRAY_BUFFER),
-              "material": 3, "mode": 4}
+              "material": len(trees), "mode": 4}
     meshes.append({"name": "ground", "primitives": [ground]})
     materials.append({"name": "ground", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.35, 1.0],
                                                                  "metallicFactor": 0.0, "roughnessFactor": 0.9}})
 
-    nodes = [{"name": "ground", "mesh": 3}]
+    nodes = [{"name": "ground", "mesh": len(trees)}]
     top = [0]
     extensions_used = ["KHR_lights_punctual"]
     counts = [len(t) // 3 for t in trans]
     if not args.nodes:
         extensions_used.append("EXT_mesh_gpu_instancing")
-        for k in range(3):
+        for k in range(len(trees)):
             if counts[k] == 0:
                 continue  # an accessor may not be empty
             # Instance data is not vertex data: its views have no target.
@@ -461,8 +470,9 @@ def main():
         f.write("\n")
 
     instanced = sum(c * t for c, t in zip(counts, tree_tris))
-    print(f"{out}: {args.instances} instances ({counts[0]} conifers, {counts[1]} broadleaves, {counts[2]} bushes), "
-          f"{unique} unique triangles ({tree_tris[0]} + {tree_tris[1]} + {tree_tris[2]}, ground 2 more), "
+    kinds = ", ".join(f"{c} {tree[1]}" for c, tree in zip(counts, trees))
+    print(f"{out}: {args.instances} instances ({kinds}), "
+          f"{unique} unique triangles ({' + '.join(map(str, tree_tris))}, ground 2 more), "
           f"{instanced} instanced triangles; {os.path.getsize(out)} bytes + {bin_path} {os.path.getsize(bin_path)} bytes; "
           f"{time.time() - start:.1f} s")
 

@@ -22,36 +22,64 @@ namespace {
 
 RTCDevice new_device(const Scene& s) {
   if (!s.spheres.empty()) throw RenderError("the Embree baseline takes triangle scenes only");
-  if (!s.instances.empty()) throw RenderError("the Embree baseline takes flat scenes only, not instances");
   RTCDevice device = rtcNewDevice(nullptr);
   if (!device) throw RenderError("Embree: cannot create a device");
   return device;
 }
 
-// A new Embree scene of the triangles, built at the default quality on all
-// cores; `buildSeconds` receives the time of rtcCommitScene alone (the
-// vertex copy before it is not Embree's build).
-RTCScene new_scene(RTCDevice device, const Scene& s, double* buildSeconds) {
-  RTCScene scene = rtcNewScene(device);
+// Attaches the triangles to the scene as one triangle geometry.
+void attach_triangles(RTCDevice device, RTCScene scene, const std::vector<SceneTriangle>& triangles) {
+  if (triangles.empty()) return;
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                        s.triangles.size() * 3));
+                                                        triangles.size() * 3));
   auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                                             s.triangles.size()));
-  for (size_t i = 0; i < s.triangles.size(); ++i) {
+                                                             triangles.size()));
+  for (size_t i = 0; i < triangles.size(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      v[9 * i + 3 * size_t(c)] = s.triangles[i].v[c].x;
-      v[9 * i + 3 * size_t(c) + 1] = s.triangles[i].v[c].y;
-      v[9 * i + 3 * size_t(c) + 2] = s.triangles[i].v[c].z;
+      v[9 * i + 3 * size_t(c)] = triangles[i].v[c].x;
+      v[9 * i + 3 * size_t(c) + 1] = triangles[i].v[c].y;
+      v[9 * i + 3 * size_t(c) + 2] = triangles[i].v[c].z;
       idx[3 * i + size_t(c)] = unsigned(3 * i + size_t(c));
     }
   }
   rtcCommitGeometry(geom);
   rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
+}
+
+double commit(RTCScene scene) {
   auto t0 = std::chrono::steady_clock::now();
   rtcCommitScene(scene);
-  *buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A new Embree scene of the triangles, built at the default quality on all
+// cores; `buildSeconds` receives the time of the rtcCommitScene calls alone
+// (the vertex copies before them are not Embree's build). Instanced meshes
+// become scenes of their own, each placed by one instance geometry per
+// SceneInstance in the top scene: Embree's two levels, as the kernels'.
+RTCScene new_scene(RTCDevice device, const Scene& s, double* buildSeconds) {
+  *buildSeconds = 0.0;
+  std::vector<RTCScene> meshes;
+  for (const SceneInstancedMesh& m : s.instancedMeshes) {
+    meshes.push_back(rtcNewScene(device));
+    attach_triangles(device, meshes.back(), m.triangles);
+    *buildSeconds += commit(meshes.back());
+  }
+  RTCScene scene = rtcNewScene(device);
+  attach_triangles(device, scene, s.triangles);
+  for (const SceneInstance& inst : s.instances) {
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geom, meshes[inst.mesh]);
+    rtcSetGeometryTimeStepCount(geom, 1);
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.toWorld[0][0]);  // glm is column-major
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene, geom);
+    rtcReleaseGeometry(geom);
+  }
+  for (RTCScene m : meshes) rtcReleaseScene(m);  // the instances hold them
+  *buildSeconds += commit(scene);
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
     rtcReleaseScene(scene);
     throw RenderError("Embree: building the scene failed");

@@ -23,7 +23,8 @@ struct EmbreeRun {
 
 class EmbreeScene {
  public:
-  explicit EmbreeScene(const Scene& scene);  // triangles only; throws RenderError otherwise
+  // Triangles, flat or placed by instances; throws RenderError for spheres.
+  explicit EmbreeScene(const Scene& scene);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -40,8 +41,8 @@ class EmbreeScene {
   double buildSeconds_ = 0.0;
 };
 
-// Seconds Embree takes to build its BVH over the scene's triangles from
-// scratch (a new scene, rtcCommitScene at the default build quality, all
+// Seconds Embree takes to build its BVHs over the scene's triangles from
+// scratch (new scenes, rtcCommitScene at the default build quality, all
 // cores). Triangles only: throws RenderError otherwise.
 double embree_build_seconds(const Scene& scene);
 

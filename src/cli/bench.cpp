@@ -36,7 +36,9 @@ Command add_bench(CLI::App& app) {
       "replay the --raycast ray sets through a SIMT model of the walks (warps in lockstep, memory sectors, an L1) instead of timing; "
       "prints SIMD efficiency, sectors per warp iteration and a GPU's predicted rates");
   simtFlag->excludes(raycastFlag)->excludes(buildFlag);
-  benchCmd->add_option("--warps", bench->warpWidths, "--simt: warp widths (default 32,64)")->delimiter(',')->check(CLI::IsMember({32, 64}));
+  benchCmd->add_option("--warps", bench->warpWidths, "--simt: warp widths (default 32,64; 8: lavapipe's SIMD groups on AVX2)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({8, 16, 32, 64}));
   benchCmd->add_option("--gpu-model", bench->gpuModel, "--simt: the GPU the prediction models (default h200)");
   benchCmd->add_option("--reorder", bench->reorders, "--simt: also model the bounce and shadow rays sorted by direction octant (octant) or octant and origin Morton code (morton)")
       ->delimiter(',')
