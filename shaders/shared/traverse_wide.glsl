@@ -8,6 +8,14 @@
 
 // Hit-mask bits of interior children (bits 0-23 are primitives).
 #define WIDE_NODE_BITS 0xff000000u
+// The entry that takes the walk back out of an instance (wide_walk_enter.glsl)
+// in x: this bit, which no node index and no primitive index reaches (records
+// are fewer than EMITTER_UNSEEN_BIT, 2^28: compile_geometry), the count of
+// primitive groups set aside beneath it (bits 28-29) and the first primitive
+// of the top level's primitive group it keeps; that group's bits in y.
+#define WIDE_RETURN_X 0x80000000u
+#define WIDE_RETURN_SET_ASIDE_SHIFT 28u
+#define WIDE_RETURN_PRIM_MASK 0x0fffffffu
 
 // max / min for operands that are never NaN: a plain compare and select,
 // where GLSL's max / min compile to NaN-aware sequences on lavapipe.

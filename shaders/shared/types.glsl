@@ -14,9 +14,10 @@
 // node group per level below the root (scene.glsl, trace_wide).
 #define WIDE_STACK_PRIM_GROUPS 2u
 // Entries a walk sets aside when it enters an instance (traverse_*.glsl):
-// what remains of the top level (the wide walk's node group, node to visit
-// and primitive group) and the entry that returns to it.
-#define INSTANCE_ENTRY_SLOTS 4u
+// what remains of the top level (the wide walk's node group and, in octant
+// order, its node to visit; the binary walk's leaf) and the entry that
+// returns to it, with the wide walk's primitive group.
+#define INSTANCE_ENTRY_SLOTS 3u
 // Slots of the traversal stack in C++: enough for any two-level tree the
 // builders make (the binary walk keeps one entry per level, the wide walk the
 // above; an instance's tree stacks on the top level's). The kernels size

@@ -3,21 +3,23 @@
 // variant's order puts it). A fragment of a function body, not a header.
 {
   WP_NOTE_PHASE(WALK_PHASE_INSTANCE);
-  // Set aside the top level's node group, its node still to visit if this
-  // iteration did not visit it (as a group of that one node, its first in
-  // either order), its primitive group, then the way back, which keeps the
+  // Set aside the top level's node group, with its node still to visit if
+  // this iteration did not visit it (taken back into the group, nearest
+  // first; otherwise a group of that one node, its first in octant order),
+  // then the way back, which keeps the rest of the primitive group and the
   // count of primitive groups set aside: the instance's walk starts with none.
+  // Two entries or three, not four: each push moves the whole register stack.
+  if (WP_NEAREST_FIRST && visit != WP_INVALID) {
+    nodeGroup.y = ((nodeGroup.y & WIDE_NODE_BITS) + (1u << 24u)) | ((nodeGroup.y & 0x001fffffu) << 3u) | (visit - nodeGroup.x);
+  }
   if ((nodeGroup.y & WIDE_NODE_BITS) != 0u) {
     WP_WIDE_PUSH(nodeGroup);
   }
-  if (visit != WP_INVALID) {
-    WP_WIDE_PUSH(uvec2(visit, WP_NEAREST_FIRST ? 1u << 24u : 1u << (24u + xorSlot)));
+  if (!WP_NEAREST_FIRST && visit != WP_INVALID) {
+    WP_WIDE_PUSH(uvec2(visit, 1u << (24u + xorSlot)));
   }
-  if (primGroup.y != 0u) {
-    WP_WIDE_PUSH(primGroup);
-    primGroupsSetAside += 1u;
-  }
-  WP_WIDE_PUSH(uvec2(primGroupsSetAside, INSTANCE_RETURN_Y));
+  WP_WIDE_PUSH(uvec2(WIDE_RETURN_X | (primGroupsSetAside << WIDE_RETURN_SET_ASIDE_SHIFT) | (primGroup.x & WIDE_RETURN_PRIM_MASK),
+                     primGroup.y));
   WP_NOTE_STACK_DEPTH(sp);
   primGroupsSetAside = 0u;
   nodeGroup = uvec2(0u, 0u);

@@ -130,7 +130,7 @@ if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
   WP_NOTE_STACK_READ(sp - 1u);
   uvec2 top = inRegisters ? regs[0u] : stack[sp - 1u];
   bool isNodes = (top.y & WIDE_NODE_BITS) != 0u;
-  bool isReturn = FEATURE_COMPILED(FEATURE_INSTANCES) && top.y == INSTANCE_RETURN_Y;
+  bool isReturn = FEATURE_COMPILED(FEATURE_INSTANCES) && !isNodes && (top.x & WIDE_RETURN_X) != 0u;
   bool pop = isNodes || (primGroup.y == 0u && (!isReturn || visit == WP_INVALID));
   if (inRegisters) {
     WP_REGISTER_STACK_UP(regs, pop);
@@ -140,7 +140,8 @@ if ((nodeGroup.y & WIDE_NODE_BITS) == 0u && sp > 0u) {
     if (isNodes) {
       nodeGroup = top;
     } else if (isReturn) {
-      primGroupsSetAside = top.x;
+      primGroupsSetAside = (top.x >> WIDE_RETURN_SET_ASIDE_SHIFT) & 3u;
+      primGroup = uvec2(top.x & WIDE_RETURN_PRIM_MASK, top.y);
       instance = WP_INVALID;
       ro = o;
       rd = d;

@@ -133,6 +133,10 @@ CompiledGeometry compile_geometry(const Scene& scene, const RenderOptions& optio
   const size_t numSpheres = scene.spheres.size();
   size_t records = numTris + numSpheres + scene.lightOnlyTriangles.size() + scene.instances.size();
   for (const SceneInstancedMesh& m : scene.instancedMeshes) records += m.triangles.size();
+  // Fewer than 2^28 records: the wide walk's way back out of an instance
+  // keeps a primitive index and the count of primitive groups set aside
+  // (two bits) in one word (WIDE_RETURN_X, traverse_wide.glsl).
+  static_assert(EMITTER_UNSEEN_BIT == 0x10000000u && WIDE_STACK_PRIM_GROUPS <= 3u, "WIDE_RETURN_X's word");
   if (records >= size_t(EMITTER_UNSEEN_BIT)) throw InputError(scene.sourcePath + ": too many primitives");
 
   const bool wide = options.bvhLayout == BvhLayout::Wide;
