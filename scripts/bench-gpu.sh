@@ -9,7 +9,7 @@
 # without (scripts/bench-media.sh), grid media's majorants
 # (scripts/bench-majorants.sh), the photon mapper against the path tracer
 # (scripts/bench-photons.sh, the photon pass by the kernels included), an 8K
-# render in tiles (scripts/bench-tiles.sh), a forest of a million instances
+# render in tiles (scripts/bench-tiles.sh), two forests of a million instances
 # (scripts/bench-forest.sh), the spectral mode against RGB, and the 0.1 to
 # 10 M triangle grid. Builds nothing:
 # it runs the programs in BUILD_DIR (a build, or scripts/gpu-bundle.sh's
@@ -84,7 +84,7 @@ stage() { echo "== $1 (at $(awk -v a="$start" -v b="$(seconds)" 'BEGIN { printf 
   stage "ray casting, 4096x4096 rays per set, cornell-dragon.json"
   "$build/wavepath" bench --raycast "${dev[@]}" --scenes scenes/cornell-dragon.json \
     --variants gpu,gpu-bvh2,gpu-multiray,gpu-multiray-fetch,gpu-bvh2-loads,gpu-bvh2-fused --resolution 4096 4096 --repeats 7 --out "$out/raycast-4096-more.json"
-  stage "instancing: a forest of a million trees against the flat Cornell dragon"
+  stage "instancing: two forests of a million trees against the flat Cornell dragon"
   # gpu walks the forest nearest first; the others lost on lavapipe or are
   # predicted to win on a GPU by the SIMT model (docs/benchmarks.md).
   VARIANTS=gpu,gpu-octant,gpu-enter-root,gpu-bvh2 scripts/bench-forest.sh "$build" 1000000 1000000 -- "${dev[@]}"
