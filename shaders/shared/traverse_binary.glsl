@@ -90,9 +90,10 @@ bool meets_instance(Triangle tri, vec3 o, vec3 invDir, float tmax) {
 }
 
 // Both walks keep one stack across the two levels. Entering an instance sets
-// aside what remains of the top level, then an entry (INSTANCE_RETURN_Y in y,
-// which no other entry has) whose popping brings the walk back to world
-// space; the instance's tree is walked above it with the ray taken into its
+// aside what remains of the top level, then an entry (the binary walk's:
+// INSTANCE_RETURN_Y in y, which no other entry has; the wide walk's:
+// WIDE_RETURN_X, traverse_wide.glsl) whose popping brings the walk back to
+// world space; the instance's tree is walked above it with the ray taken into its
 // mesh's space. The ray is not renormalized there, so distances along it
 // stay those of the world ray and hit.t bounds both levels (as in pbrt-v4's
 // TransformedPrimitive).

@@ -8,7 +8,8 @@
   // first; otherwise a group of that one node, its first in octant order),
   // then the way back, which keeps the rest of the primitive group and the
   // count of primitive groups set aside: the instance's walk starts with none.
-  // Two entries or three, not four: each push moves the whole register stack.
+  // At most two entries nearest first, three in octant order: each push
+  // moves the whole register stack.
   if (WP_NEAREST_FIRST && visit != WP_INVALID) {
     nodeGroup.y = ((nodeGroup.y & WIDE_NODE_BITS) + (1u << 24u)) | ((nodeGroup.y & 0x001fffffu) << 3u) | (visit - nodeGroup.x);
   }
