@@ -178,7 +178,14 @@ void GltfImporter::check_what_tinygltf_passes(const std::vector<unsigned char>& 
   } else {
     text.assign(bytes.begin(), bytes.end());
   }
-  const nlohmann::json doc = nlohmann::json::parse(text, nullptr, false);
+  // Only the asset and the meshes are looked at: the rest (a million nodes,
+  // say) is read past without being stored.
+  const nlohmann::json doc = nlohmann::json::parse(
+      text,
+      [](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        return depth != 1 || event != nlohmann::json::parse_event_t::key || parsed == "asset" || parsed == "meshes";
+      },
+      false);
   if (doc.is_discarded() || !doc.is_object()) return;
   const auto asset = doc.find("asset");
   if (asset != doc.end() && asset->is_object()) {
