@@ -101,6 +101,8 @@ sys.exit(0 if ok else 1)' "$work/simt.json"; echo $?)
 "$wavepath" bench --simt --scenes "$data/furnace.json" --variants gpu,gpu-bvh2 --resolution 16 16 --reorder morton \
   --measured "$work/rc.json" --csv "$work/simt2.csv" >/dev/null 2>&1
 check "the same model twice gives the same figures" $(cmp -s "$work/simt.csv" "$work/simt2.csv"; echo $?)
+"$wavepath" bench --simt --scenes "$data/furnace.json" --resolution 8 8 --warps 8,12 >"$work/out" 2>"$work/err"
+check "a warp width the model does not know: exit 2 naming the option" $([ $? -eq 2 ] && grep -q -- "--warps" "$work/err"; echo $?)
 echo '{"render": []}' >"$work/notraycast.json"
 "$wavepath" bench --simt --scenes "$data/furnace.json" --resolution 8 8 --measured "$work/notraycast.json" >"$work/out" 2>"$work/err"
 check "a measured file without ray casting: exit 2 naming it" $([ $? -eq 2 ] && grep -q "notraycast.json: no \"raycast\" array" "$work/err"; echo $?)

@@ -166,7 +166,9 @@ void GltfImporter::load_model() {
 // empty or wrong further on: a glTF 1.0 file, a mesh whose primitives are
 // not an array. Anything else wrong with the JSON, tinygltf names.
 void GltfImporter::check_what_tinygltf_passes(const std::vector<unsigned char>& bytes, bool binary) const {
-  std::string text;
+  // The JSON's bytes, read where they lie (a GLB's first chunk).
+  const unsigned char* first = bytes.data();
+  const unsigned char* last = bytes.data() + bytes.size();
   if (binary) {
     uint32_t version = 0, length = 0;
     if (bytes.size() >= 8) std::memcpy(&version, bytes.data() + 4, 4);
@@ -174,14 +176,13 @@ void GltfImporter::check_what_tinygltf_passes(const std::vector<unsigned char>& 
     if (bytes.size() < 20) return;
     std::memcpy(&length, bytes.data() + 12, 4);
     if (size_t(length) > bytes.size() - 20) return;
-    text.assign(reinterpret_cast<const char*>(bytes.data() + 20), length);
-  } else {
-    text.assign(bytes.begin(), bytes.end());
+    first = bytes.data() + 20;
+    last = first + length;
   }
   // Only the asset and the meshes are looked at: the rest (a million nodes,
   // say) is read past without being stored.
   const nlohmann::json doc = nlohmann::json::parse(
-      text,
+      first, last,
       [](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
         return depth != 1 || event != nlohmann::json::parse_event_t::key || parsed == "asset" || parsed == "meshes";
       },
