@@ -145,7 +145,8 @@ TEST(Instances, HitsAndSurfacesAreThoseOfTheFlattenedScene) {
 // camera standing there casts them, besides rays from everywhere. Entering
 // an instance here often leaves top-level nodes and primitives of a leaf
 // waiting, which the walks set aside beneath the way back (a walk that loses
-// one misses the hits behind it); every walk finds the flattened wood's hits.
+// one misses the hits behind it); every walk finds the flattened wood's hits
+// within the stack the host sized.
 TEST(Instances, AWoodOfInstancesIsWalkedAsItsFlattenedCopy) {
   Scene scene;
   scene.sourcePath = "wood";
@@ -205,6 +206,8 @@ TEST(Instances, AWoodOfInstancesIsWalkedAsItsFlattenedCopy) {
     options.binaryFused = walk == 4;
     CompiledScene cs = compile_scene(scene, options);
     SceneView view = cs.view();
+    uint32_t deepest = 0;
+    view.stackDepthSeen = &deepest;
     int instanceHits = 0, wrong = 0, wrongAny = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
       const ShadowRay& r = rays[i];
@@ -223,6 +226,7 @@ TEST(Instances, AWoodOfInstancesIsWalkedAsItsFlattenedCopy) {
     EXPECT_EQ(wrong, 0) << "closest hits of " << rays.size() << " rays";
     EXPECT_EQ(wrongAny, 0) << "any hits";
     EXPECT_GT(instanceHits, 2500);
+    EXPECT_LE(deepest, cs.params.accel.z) << "the stack slots the host sized";
   }
 }
 
